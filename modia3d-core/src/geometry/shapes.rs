@@ -1,0 +1,396 @@
+//! Shapes of solids and their exact mass properties (geometry stage; touches nothing else).
+//!
+//! Every shape is given in its own *shape frame*, which is the frame of the object that carries
+//! it. Conventions (after Modia3D.jl):
+//! - `Sphere`, `Box`, `Ellipsoid`, `Cylinder`, `Capsule` are centred at the origin;
+//! - `Cylinder`, `Capsule` and `Cone` have their axis along the frame axis `axis`;
+//! - `Capsule::length` is the length of its cylindrical part (the total length is
+//!   `length + diameter`);
+//! - a `Cone`'s base circle (diameter `diameter`) lies in the plane `axis = 0`, its top circle
+//!   (diameter `top_diameter`, 0 for a pointed cone) at `axis = length`.
+
+use nalgebra::{Matrix3, Point3, Vector3};
+use std::f64::consts::PI;
+
+/// A frame axis: 1 = x, 2 = y, 3 = z (Modia's numbering).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Axis {
+    /// The x axis (Modia: 1).
+    X,
+    /// The y axis (Modia: 2).
+    Y,
+    /// The z axis (Modia: 3).
+    Z,
+}
+
+impl Axis {
+    /// The axis from Modia's number 1, 2 or 3; `None` for anything else.
+    pub fn from_index(i: i64) -> Option<Axis> {
+        match i {
+            1 => Some(Axis::X),
+            2 => Some(Axis::Y),
+            3 => Some(Axis::Z),
+            _ => None,
+        }
+    }
+
+    /// 0, 1 or 2.
+    pub fn index(self) -> usize {
+        match self {
+            Axis::X => 0,
+            Axis::Y => 1,
+            Axis::Z => 2,
+        }
+    }
+
+    /// The unit vector along this axis.
+    pub fn unit(self) -> Vector3<f64> {
+        let mut e = Vector3::zeros();
+        e[self.index()] = 1.0;
+        e
+    }
+}
+
+/// The geometry of a solid, in its shape frame. All lengths in [m].
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    /// A ball of the given diameter [m], centred at the origin.
+    Sphere {
+        /// Diameter [m].
+        diameter: f64,
+    },
+    /// A box with edge lengths along x, y, z [m], centred at the origin.
+    Box {
+        /// Edge lengths along the frame's x, y, z axes [m].
+        lengths: Vector3<f64>,
+    },
+    /// A circular cylinder along `axis`, centred at the origin.
+    Cylinder {
+        /// Axis of the cylinder.
+        axis: Axis,
+        /// Diameter [m].
+        diameter: f64,
+        /// Length along the axis [m].
+        length: f64,
+    },
+    /// A cylinder with hemispherical caps, along `axis`, centred at the origin.
+    Capsule {
+        /// Axis of the capsule.
+        axis: Axis,
+        /// Diameter of the cylinder and caps [m].
+        diameter: f64,
+        /// Length of the cylindrical part, without the caps [m].
+        length: f64,
+    },
+    /// A (truncated) cone along `axis`: base circle at `axis = 0`, top circle at `axis = length`.
+    Cone {
+        /// Axis of the cone.
+        axis: Axis,
+        /// Diameter of the base [m].
+        diameter: f64,
+        /// Height [m].
+        length: f64,
+        /// Diameter of the top (0 for a pointed cone) [m].
+        top_diameter: f64,
+    },
+    /// An ellipsoid with full axis lengths along x, y, z [m], centred at the origin.
+    Ellipsoid {
+        /// Full lengths of the three axes (twice the semi-axes) [m].
+        lengths: Vector3<f64>,
+    },
+    /// The convex hull of a set of points given in the shape frame [m].
+    ConvexHull {
+        /// Points whose convex hull is the solid [m].
+        points: Vec<Point3<f64>>,
+    },
+}
+
+/// Volume [m³], centre of mass [m] and inertia about the centre of mass [m⁵] (multiply by a
+/// density in [kg/m³] to get [kg·m²]) of a shape of unit density, in the shape frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitMassProperties {
+    /// Volume [m³].
+    pub volume: f64,
+    /// Centre of mass in the shape frame [m].
+    pub com: Vector3<f64>,
+    /// Inertia tensor about the centre of mass, for density 1, resolved in the shape frame [m⁵].
+    pub inertia: Matrix3<f64>,
+}
+
+/// The kind of a shape, for messages and dispatch tables.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ShapeKind {
+    /// [`Shape::Sphere`]
+    Sphere,
+    /// [`Shape::Box`]
+    Box,
+    /// [`Shape::Cylinder`]
+    Cylinder,
+    /// [`Shape::Capsule`]
+    Capsule,
+    /// [`Shape::Cone`]
+    Cone,
+    /// [`Shape::Ellipsoid`]
+    Ellipsoid,
+    /// [`Shape::ConvexHull`]
+    ConvexHull,
+}
+
+impl Shape {
+    /// The kind of this shape.
+    pub fn kind(&self) -> ShapeKind {
+        match self {
+            Shape::Sphere { .. } => ShapeKind::Sphere,
+            Shape::Box { .. } => ShapeKind::Box,
+            Shape::Cylinder { .. } => ShapeKind::Cylinder,
+            Shape::Capsule { .. } => ShapeKind::Capsule,
+            Shape::Cone { .. } => ShapeKind::Cone,
+            Shape::Ellipsoid { .. } => ShapeKind::Ellipsoid,
+            Shape::ConvexHull { .. } => ShapeKind::ConvexHull,
+        }
+    }
+
+    /// Every length parameter with its name, for validation (must be finite and > 0, except a
+    /// cone's top diameter, which may be 0).
+    pub fn dimensions(&self) -> Vec<(&'static str, f64)> {
+        match self {
+            Shape::Sphere { diameter } => vec![("diameter", *diameter)],
+            Shape::Box { lengths } | Shape::Ellipsoid { lengths } => vec![
+                ("lengths[0]", lengths.x),
+                ("lengths[1]", lengths.y),
+                ("lengths[2]", lengths.z),
+            ],
+            Shape::Cylinder {
+                diameter, length, ..
+            }
+            | Shape::Capsule {
+                diameter, length, ..
+            } => vec![("diameter", *diameter), ("length", *length)],
+            Shape::Cone {
+                diameter, length, ..
+            } => vec![("diameter", *diameter), ("length", *length)],
+            Shape::ConvexHull { .. } => vec![],
+        }
+    }
+
+    /// Exact volume, centre of mass and unit-density inertia. `None` only for a degenerate
+    /// convex hull (fewer than 4 points not in a plane).
+    pub fn unit_mass_properties(&self) -> Option<UnitMassProperties> {
+        let diag = |d: Vector3<f64>| Matrix3::from_diagonal(&d);
+        // Axisymmetric inertia (axial, transverse) placed on `axis`.
+        let axisym = |axis: Axis, axial: f64, transverse: f64| {
+            let mut d = Vector3::repeat(transverse);
+            d[axis.index()] = axial;
+            Matrix3::from_diagonal(&d)
+        };
+        let p = match self {
+            Shape::Sphere { diameter } => {
+                let r = 0.5 * diameter;
+                let v = 4.0 / 3.0 * PI * r.powi(3);
+                UnitMassProperties {
+                    volume: v,
+                    com: Vector3::zeros(),
+                    inertia: Matrix3::identity() * (0.4 * v * r * r),
+                }
+            }
+            Shape::Box { lengths: l } => {
+                let v = l.x * l.y * l.z;
+                let s = l.component_mul(l);
+                UnitMassProperties {
+                    volume: v,
+                    com: Vector3::zeros(),
+                    inertia: diag(Vector3::new(s.y + s.z, s.x + s.z, s.x + s.y) * (v / 12.0)),
+                }
+            }
+            Shape::Ellipsoid { lengths: l } => {
+                let a = l * 0.5;
+                let v = 4.0 / 3.0 * PI * a.x * a.y * a.z;
+                let s = a.component_mul(&a);
+                UnitMassProperties {
+                    volume: v,
+                    com: Vector3::zeros(),
+                    inertia: diag(Vector3::new(s.y + s.z, s.x + s.z, s.x + s.y) * (v / 5.0)),
+                }
+            }
+            Shape::Cylinder {
+                axis,
+                diameter,
+                length,
+            } => {
+                let r = 0.5 * diameter;
+                let v = PI * r * r * length;
+                UnitMassProperties {
+                    volume: v,
+                    com: Vector3::zeros(),
+                    inertia: axisym(
+                        *axis,
+                        0.5 * v * r * r,
+                        v * (3.0 * r * r + length * length) / 12.0,
+                    ),
+                }
+            }
+            Shape::Capsule {
+                axis,
+                diameter,
+                length,
+            } => {
+                let r = 0.5 * diameter;
+                let l = *length;
+                let vc = PI * r * r * l; // cylinder
+                let vh = 2.0 / 3.0 * PI * r.powi(3); // one hemisphere
+                // Hemisphere: centroid 3r/8 from its flat face, transverse inertia about its
+                // centroid 83/320 m r², axial 2/5 m r².
+                let d = 0.5 * l + 3.0 * r / 8.0;
+                let axial = 0.5 * vc * r * r + 2.0 * 0.4 * vh * r * r;
+                let transverse = vc * (3.0 * r * r + l * l) / 12.0
+                    + 2.0 * (83.0 / 320.0 * vh * r * r + vh * d * d);
+                UnitMassProperties {
+                    volume: vc + 2.0 * vh,
+                    com: Vector3::zeros(),
+                    inertia: axisym(*axis, axial, transverse),
+                }
+            }
+            Shape::Cone {
+                axis,
+                diameter,
+                length,
+                top_diameter,
+            } => {
+                // Frustum r(z) = a + b z, 0 ≤ z ≤ h: integrate z^m r^n exactly.
+                let (a, h) = (0.5 * diameter, *length);
+                let b = (0.5 * top_diameter - a) / h;
+                let v = PI * poly_moment(a, b, h, 0, 2);
+                let zc = PI * poly_moment(a, b, h, 1, 2) / v;
+                let axial = 0.5 * PI * poly_moment(a, b, h, 0, 4);
+                // About the base plane: ∫ (r⁴/4 + r² z²) π dz, then shift to the centroid.
+                let trans_base =
+                    PI * (0.25 * poly_moment(a, b, h, 0, 4) + poly_moment(a, b, h, 2, 2));
+                let mut com = Vector3::zeros();
+                com[axis.index()] = zc;
+                UnitMassProperties {
+                    volume: v,
+                    com,
+                    inertia: axisym(*axis, axial, trans_base - v * zc * zc),
+                }
+            }
+            Shape::ConvexHull { points } => {
+                let poly = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(points)?;
+                let mp = parry3d_f64::shape::Shape::mass_properties(&poly, 1.0);
+                if !(mp.mass() > 0.0) {
+                    return None;
+                }
+                let rot = mp.principal_inertia_local_frame.to_rotation_matrix();
+                let inertia = rot.matrix()
+                    * Matrix3::from_diagonal(&mp.principal_inertia())
+                    * rot.matrix().transpose();
+                UnitMassProperties {
+                    volume: mp.mass(),
+                    com: mp.local_com.coords,
+                    inertia,
+                }
+            }
+        };
+        Some(p)
+    }
+}
+
+/// ∫₀ʰ zᵐ (a + b z)ⁿ dz, exactly, by the binomial expansion.
+fn poly_moment(a: f64, b: f64, h: f64, m: i32, n: i32) -> f64 {
+    let mut sum = 0.0;
+    let mut binom = 1.0;
+    for k in 0..=n {
+        // term C(n,k) a^(n-k) b^k ∫ z^(m+k) dz
+        let p = m + k + 1;
+        sum += binom * a.powi(n - k) * b.powi(k) * h.powi(p) / f64::from(p);
+        binom = binom * f64::from(n - k) / f64::from(k + 1);
+    }
+    sum
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol * b.abs().max(1e-300)
+    }
+
+    #[test]
+    fn pointed_cone_matches_textbook() {
+        // Solid cone, base radius R, height h: V = πR²h/3, centroid h/4 above the base,
+        // axial I = 3/10 m R², transverse about centroid 3/20 m R² + 3/80 m h².
+        let (r, h) = (0.3, 1.2);
+        let p = Shape::Cone {
+            axis: Axis::Z,
+            diameter: 2.0 * r,
+            length: h,
+            top_diameter: 0.0,
+        }
+        .unit_mass_properties()
+        .unwrap();
+        let v = PI * r * r * h / 3.0;
+        assert!(close(p.volume, v, 1e-14));
+        assert!(close(p.com.z, h / 4.0, 1e-14));
+        assert!(close(p.inertia[(2, 2)], 0.3 * v * r * r, 1e-14));
+        assert!(close(p.inertia[(0, 0)], v * (0.15 * r * r + 3.0 / 80.0 * h * h), 1e-13));
+    }
+
+    #[test]
+    fn cone_with_equal_diameters_is_a_cylinder() {
+        let cone = Shape::Cone {
+            axis: Axis::X,
+            diameter: 0.4,
+            length: 0.7,
+            top_diameter: 0.4,
+        }
+        .unit_mass_properties()
+        .unwrap();
+        let cyl = Shape::Cylinder {
+            axis: Axis::X,
+            diameter: 0.4,
+            length: 0.7,
+        }
+        .unit_mass_properties()
+        .unwrap();
+        assert!(close(cone.volume, cyl.volume, 1e-14));
+        assert!(close(cone.com.x, 0.35, 1e-14));
+        for i in 0..3 {
+            assert!(close(cone.inertia[(i, i)], cyl.inertia[(i, i)], 1e-13));
+        }
+    }
+
+    #[test]
+    fn capsule_of_zero_length_is_a_sphere() {
+        let cap = Shape::Capsule {
+            axis: Axis::Y,
+            diameter: 0.2,
+            length: 0.0,
+        }
+        .unit_mass_properties()
+        .unwrap();
+        let sph = Shape::Sphere { diameter: 0.2 }
+            .unit_mass_properties()
+            .unwrap();
+        assert!(close(cap.volume, sph.volume, 1e-14));
+        for i in 0..3 {
+            assert!(close(cap.inertia[(i, i)], sph.inertia[(i, i)], 1e-13));
+        }
+    }
+
+    #[test]
+    fn convex_hull_of_box_corners_is_the_box() {
+        let l = Vector3::new(0.2, 0.5, 1.1);
+        let mut pts = Vec::new();
+        for i in 0..8 {
+            let s = |k: usize| if i & (1 << k) != 0 { 0.5 } else { -0.5 };
+            pts.push(Point3::new(s(0) * l.x, s(1) * l.y, s(2) * l.z + 3.0));
+        }
+        let hull = Shape::ConvexHull { points: pts }
+            .unit_mass_properties()
+            .unwrap();
+        let bx = Shape::Box { lengths: l }.unit_mass_properties().unwrap();
+        assert!(close(hull.volume, bx.volume, 1e-12));
+        assert!((hull.com - Vector3::new(0.0, 0.0, 3.0)).norm() < 1e-12);
+        assert!((hull.inertia - bx.inertia).norm() < 1e-12 * bx.inertia.norm());
+    }
+}
