@@ -2,3 +2,18 @@
 #![warn(missing_docs)]
 
 pub mod geometry;
+pub mod scene;
+pub mod dynamics;
+pub mod dae;
+pub mod results;
+pub mod simulation;
+pub mod solver;
+
+pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
+pub use scene::{
+    Feature, ForceElement, ForceFn, FreeRotation, Joint, JointKind, MassSpec, MaterialRef,
+    Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid,
+    SolidMaterial, Wrench,
+};
+pub use simulation::{Model, SimError, SimErrorKind, SimOptions};
+pub use geometry::{Axis, Shape};

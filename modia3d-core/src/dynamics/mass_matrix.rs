@@ -1,0 +1,88 @@
+//! Mass matrix and consistent accelerations, for initial values and event restarts (not on the
+//! residual's hot path): `M(q)` column by column with inverse dynamics, and `M v̇ = τ − C`.
+
+use super::forces::applied_forces;
+use super::kinematics::position_velocity;
+use super::spatial::Force;
+use super::{Plan, Workspace};
+use nalgebra::{DMatrix, DVector, Vector3};
+
+/// The joint-space mass matrix `M(q)` (nv × nv).
+pub fn mass_matrix(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatrix<f64> {
+    let nv = plan.nv;
+    let zero_v = vec![0.0; nv];
+    position_velocity(plan, ws, q, &zero_v);
+    ws.f_ext.fill(Force::default());
+    let mut m = DMatrix::zeros(nv, nv);
+    let mut e = vec![0.0; nv];
+    let mut col = vec![0.0; nv];
+    for k in 0..nv {
+        e[k] = 1.0;
+        super::rnea::inverse_dynamics(plan, ws, &e, &Vector3::zeros(), &mut col);
+        e[k] = 0.0;
+        m.column_mut(k).copy_from_slice(&col);
+    }
+    // Symmetrise the round-off.
+    let mt = m.transpose();
+    (m + mt) * 0.5
+}
+
+/// Cholesky factorisation `M = L Lᵀ` in place (lower triangle); `Err(k)` names the first
+/// pivot that is not clearly positive (relative to the largest diagonal entry).
+pub fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
+    let n = m.nrows();
+    let scale = (0..n).map(|i| m[(i, i)].abs()).fold(0.0, f64::max);
+    for k in 0..n {
+        let mut d = m[(k, k)];
+        for p in 0..k {
+            d -= m[(k, p)] * m[(k, p)];
+        }
+        if !(d > 1e-12 * scale) {
+            return Err(k);
+        }
+        let d = d.sqrt();
+        m[(k, k)] = d;
+        for i in k + 1..n {
+            let mut s = m[(i, k)];
+            for p in 0..k {
+                s -= m[(i, p)] * m[(k, p)];
+            }
+            m[(i, k)] = s / d;
+        }
+    }
+    Ok(())
+}
+
+/// Accelerations `v̇` consistent with `q`, `v` at time `t` [s]: solves `M v̇ = τ_applied − C`,
+/// where `C` holds gravity, velocity terms and external forces. `None` if `M` is singular.
+pub fn consistent_accelerations(
+    plan: &Plan,
+    ws: &mut Workspace,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+) -> Option<Vec<f64>> {
+    let nv = plan.nv;
+    let mut m = mass_matrix(plan, ws, q);
+    position_velocity(plan, ws, q, v);
+    applied_forces(plan, ws, t, q, v);
+    let mut bias = vec![0.0; nv];
+    super::rnea::inverse_dynamics(plan, ws, &vec![0.0; nv], &plan.gravity, &mut bias);
+    cholesky_in_place(&mut m).ok()?;
+    let rhs = DVector::from_iterator(nv, (0..nv).map(|k| ws.tau_applied[k] - bias[k]));
+    // Forward and back substitution with the lower factor.
+    let mut y = rhs.clone();
+    for i in 0..nv {
+        for p in 0..i {
+            y[i] -= m[(i, p)] * y[p];
+        }
+        y[i] /= m[(i, i)];
+    }
+    for i in (0..nv).rev() {
+        for p in i + 1..nv {
+            y[i] -= m[(p, i)] * y[p];
+        }
+        y[i] /= m[(i, i)];
+    }
+    Some(y.as_slice().to_vec())
+}

@@ -1,0 +1,326 @@
+//! Results stage: time points and states of a run, signals by name computed on demand from the
+//! stored states (so a run pays only for the signals asked for), statistics, events, CSV export.
+
+use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
+use crate::solver::IdaStats;
+use std::io::Write;
+use std::sync::Arc;
+
+/// Counters of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SimStats {
+    /// IDA's counters, accumulated over restarts.
+    pub solver: IdaStats,
+    /// Number of events (IDA restarts at a located root).
+    pub events: u64,
+    /// Number of root functions given to IDA (0 for a scene without collision pairs).
+    pub root_functions: usize,
+    /// Wall-clock time of the integration [s].
+    pub wall_time: f64,
+}
+
+/// An event: a located root at which the integration restarted.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Event {
+    /// Time [s].
+    pub t: f64,
+    /// What happened, in words.
+    pub description: String,
+}
+
+/// A signal: `dim` values per time point, row-major (`data[k * dim + i]`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Signal {
+    /// Its name, e.g. `"ball.r_abs"`.
+    pub name: String,
+    /// Unit, e.g. `"m"`.
+    pub unit: &'static str,
+    /// Values per time point.
+    pub dim: usize,
+    /// Row-major values.
+    pub data: Vec<f64>,
+}
+
+impl Signal {
+    /// Component `i` at every time point.
+    pub fn component(&self, i: usize) -> Vec<f64> {
+        self.data.iter().skip(i).step_by(self.dim).copied().collect()
+    }
+    /// The values at time point `k`.
+    pub fn at(&self, k: usize) -> &[f64] {
+        &self.data[k * self.dim..(k + 1) * self.dim]
+    }
+    /// The values of a scalar signal (component 0).
+    pub fn values(&self) -> Vec<f64> {
+        self.component(0)
+    }
+    /// The values at the last time point.
+    pub fn last(&self) -> &[f64] {
+        let n = self.data.len() / self.dim.max(1);
+        self.at(n - 1)
+    }
+}
+
+/// Errors of signal look-up and export.
+#[derive(thiserror::Error, Debug)]
+pub enum ResultError {
+    /// No such signal.
+    #[error("unknown signal `{name}`: {reason}")]
+    UnknownSignal {
+        /// The name asked for.
+        name: String,
+        /// Why, with a hint.
+        reason: String,
+    },
+    /// Writing a file failed.
+    #[error("cannot write `{path}`: {source}")]
+    Io {
+        /// The path.
+        path: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+}
+
+/// The outcome of a simulation: output time points, states `y = [q; v]` at each, statistics
+/// and events. Signals are derived on demand.
+#[derive(Clone, Debug)]
+pub struct SimulationResult {
+    plan: Arc<Plan>,
+    time: Vec<f64>,
+    states: Vec<f64>,
+    /// Counters of the run.
+    pub stats: SimStats,
+    /// Events in time order.
+    pub events: Vec<Event>,
+}
+
+#[derive(Clone, Copy)]
+enum Quantity {
+    Pos,
+    Vel,
+    Rot,
+    AngVel,
+}
+
+impl SimulationResult {
+    pub(crate) fn new(plan: Arc<Plan>) -> Self {
+        SimulationResult {
+            plan,
+            time: vec![],
+            states: vec![],
+            stats: SimStats::default(),
+            events: vec![],
+        }
+    }
+
+    pub(crate) fn push(&mut self, t: f64, y: &[f64]) {
+        self.time.push(t);
+        self.states.extend_from_slice(y);
+    }
+
+    /// Output time points [s].
+    pub fn time(&self) -> &[f64] {
+        &self.time
+    }
+
+    /// Number of unknowns per time point (`nq + nv`).
+    pub fn state_len(&self) -> usize {
+        self.plan.nq + self.plan.nv
+    }
+
+    /// State `y = [q; v]` at time point `k`.
+    pub fn state(&self, k: usize) -> &[f64] {
+        let n = self.state_len();
+        &self.states[k * n..(k + 1) * n]
+    }
+
+    /// The final state, if any time point was recorded.
+    pub fn final_state(&self) -> Option<&[f64]> {
+        (!self.time.is_empty()).then(|| self.state(self.time.len() - 1))
+    }
+
+    /// The plan the run was made with.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// Names of all signals: joint coordinates (`rev.phi`, `rev.w`; `slide.s`, `slide.v`;
+    /// `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
+    /// `obj.w_abs`, `obj.R_abs`).
+    pub fn signal_names(&self) -> Vec<String> {
+        let mut names = vec![];
+        for j in &self.plan.joints {
+            let sfx: &[&str] = match j.coord {
+                JointCoord::Revolute { .. } => &["phi", "w"],
+                JointCoord::Prismatic { .. } => &["s", "v"],
+                JointCoord::Free => &["r", "q", "w", "v"],
+            };
+            names.extend(sfx.iter().map(|s| format!("{}.{s}", j.name)));
+        }
+        for o in &self.plan.objects {
+            for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
+                names.push(format!("{}.{s}", o.name));
+            }
+        }
+        names
+    }
+
+    /// A signal by name, optionally with a component index: `"rev.phi"`, `"ball.r_abs"`,
+    /// `"ball.r_abs[2]"`. Object signals are resolved in world: `r_abs` [m], `v_abs` [m/s],
+    /// `w_abs` [rad/s], `R_abs` (rotation matrix, row-major, columns = object axes).
+    pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
+        let unknown = |reason: String| ResultError::UnknownSignal {
+            name: name.to_string(),
+            reason,
+        };
+        let (base, index) = match name.strip_suffix(']').and_then(|s| s.rsplit_once('[')) {
+            Some((b, i)) => (
+                b,
+                Some(
+                    i.parse::<usize>()
+                        .map_err(|_| unknown(format!("`{i}` is not an index")))?,
+                ),
+            ),
+            None => (name, None),
+        };
+        let (owner, field) = base
+            .rsplit_once('.')
+            .ok_or_else(|| unknown("expected `<joint or object>.<quantity>`".into()))?;
+        let full = self.full_signal(owner, field).ok_or_else(|| {
+            let names = self.signal_names();
+            let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));
+            unknown(match hint {
+                Some(h) => format!("no joint or object quantity of that name (hint: did you mean `{h}`?)"),
+                None => "no joint or object quantity of that name; see `signal_names()`".into(),
+            })
+        })?;
+        match index {
+            None => Ok(full),
+            Some(i) if i < full.dim => Ok(Signal {
+                name: name.to_string(),
+                unit: full.unit,
+                dim: 1,
+                data: full.component(i),
+            }),
+            Some(i) => Err(unknown(format!(
+                "index {i} out of range: `{base}` has {} components",
+                full.dim
+            ))),
+        }
+    }
+
+    fn full_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let plan = &*self.plan;
+        let nq = plan.nq;
+        let nt = self.time.len();
+        let make = |unit, dim, data| Signal {
+            name: format!("{owner}.{field}"),
+            unit,
+            dim,
+            data,
+        };
+        if let Some(ji) = plan.joint_index(owner) {
+            let j = &plan.joints[ji];
+            let (off, dim, unit) = match (j.coord, field) {
+                (JointCoord::Revolute { .. }, "phi") => (j.q_offset, 1, "rad"),
+                (JointCoord::Revolute { .. }, "w") => (nq + j.v_offset, 1, "rad/s"),
+                (JointCoord::Prismatic { .. }, "s") => (j.q_offset, 1, "m"),
+                (JointCoord::Prismatic { .. }, "v") => (nq + j.v_offset, 1, "m/s"),
+                (JointCoord::Free, "r") => (j.q_offset, 3, "m"),
+                (JointCoord::Free, "q") => (j.q_offset + 3, 4, "1"),
+                (JointCoord::Free, "w") => (nq + j.v_offset, 3, "rad/s"),
+                (JointCoord::Free, "v") => {
+                    // der(r), resolved in obj1: rotate the body-frame velocity.
+                    let mut data = Vec::with_capacity(3 * nt);
+                    for k in 0..nt {
+                        let y = self.state(k);
+                        let rot = crate::dynamics::spatial::quat_to_matrix(
+                            &y[j.q_offset + 3..j.q_offset + 7],
+                        );
+                        let o = nq + j.v_offset + 3;
+                        let v = rot * nalgebra::Vector3::new(y[o], y[o + 1], y[o + 2]);
+                        data.extend_from_slice(v.as_slice());
+                    }
+                    return Some(make("m/s", 3, data));
+                }
+                _ => return None,
+            };
+            let data = (0..nt)
+                .flat_map(|k| self.state(k)[off..off + dim].to_vec())
+                .collect();
+            return Some(make(unit, dim, data));
+        }
+        let o = plan.object_index(owner)?;
+        let (quantity, dim, unit) = match field {
+            "r_abs" => (Quantity::Pos, 3, "m"),
+            "v_abs" => (Quantity::Vel, 3, "m/s"),
+            "w_abs" => (Quantity::AngVel, 3, "rad/s"),
+            "R_abs" => (Quantity::Rot, 9, "1"),
+            _ => return None,
+        };
+        let mut ws = Workspace::new(plan);
+        let mut data = Vec::with_capacity(dim * nt);
+        for k in 0..nt {
+            let (q, v) = self.state(k).split_at(nq);
+            kinematics::position_velocity(plan, &mut ws, q, v);
+            let x = kinematics::object_in_world(plan, &ws, o);
+            match quantity {
+                Quantity::Pos => data.extend_from_slice(x.pos.as_slice()),
+                Quantity::Rot => data.extend(x.rot.transpose().iter().copied()),
+                Quantity::Vel | Quantity::AngVel => {
+                    let (vel, w) = kinematics::point_velocity(&ws, plan.objects[o].body, &x.pos);
+                    let val = if matches!(quantity, Quantity::Vel) { vel } else { w };
+                    data.extend_from_slice(val.as_slice());
+                }
+            }
+        }
+        Some(make(unit, dim, data))
+    }
+
+    /// Writes time and every joint coordinate and object position (`r_abs`) as CSV with a
+    /// header of signal names and units.
+    pub fn write_csv(&self, path: impl AsRef<std::path::Path>) -> Result<(), ResultError> {
+        let path = path.as_ref();
+        let io = |source| ResultError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        let mut names: Vec<String> = vec![];
+        for j in &self.plan.joints {
+            let sfx: &[&str] = match j.coord {
+                JointCoord::Revolute { .. } => &["phi", "w"],
+                JointCoord::Prismatic { .. } => &["s", "v"],
+                JointCoord::Free => &["r", "q", "w", "v"],
+            };
+            names.extend(sfx.iter().map(|s| format!("{}.{s}", j.name)));
+        }
+        for o in &self.plan.objects {
+            if o.body.is_some() {
+                names.push(format!("{}.r_abs", o.name));
+            }
+        }
+        let signals: Vec<Signal> = names
+            .iter()
+            .map(|n| self.signal(n))
+            .collect::<Result<_, _>>()?;
+        let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+        let mut header = vec!["time [s]".to_string()];
+        for s in &signals {
+            if s.dim == 1 {
+                header.push(format!("{} [{}]", s.name, s.unit));
+            } else {
+                header.extend((0..s.dim).map(|i| format!("{}[{i}] [{}]", s.name, s.unit)));
+            }
+        }
+        writeln!(out, "{}", header.join(",")).map_err(io)?;
+        for (k, t) in self.time.iter().enumerate() {
+            let mut row = vec![format!("{t:.17e}")];
+            for s in &signals {
+                row.extend(s.at(k).iter().map(|x| format!("{x:.17e}")));
+            }
+            writeln!(out, "{}", row.join(",")).map_err(io)?;
+        }
+        out.flush().map_err(io)
+    }
+}

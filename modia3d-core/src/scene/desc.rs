@@ -1,0 +1,484 @@
+//! Scene description: the plain-data builder API that `model!` expands into and that programs
+//! use to build scenes from data. Nothing here is checked; [`SceneDesc::validate`] does that.
+
+use super::materials::SolidMaterial;
+use crate::geometry::Shape;
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use std::fmt;
+use std::sync::Arc;
+
+/// Orientation of a frame relative to its parent.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum Rotation {
+    /// Same orientation as the parent.
+    #[default]
+    Identity,
+    /// Cardan angles [rad]: rotate about x, then about the new y, then about the new z
+    /// (Modia's default sequence `x-y-z`).
+    Cardan([f64; 3]),
+    /// The rotation matrix whose columns are this frame's axes resolved in the parent.
+    Matrix(Matrix3<f64>),
+}
+
+impl Rotation {
+    /// The rotation matrix whose columns are the frame's axes resolved in the parent.
+    pub fn to_matrix(&self) -> Matrix3<f64> {
+        match self {
+            Rotation::Identity => Matrix3::identity(),
+            Rotation::Cardan(a) => cardan_to_matrix(*a),
+            Rotation::Matrix(m) => *m,
+        }
+    }
+
+    /// All numbers of this rotation, for validation.
+    pub(crate) fn values(&self) -> Vec<f64> {
+        match self {
+            Rotation::Identity => vec![],
+            Rotation::Cardan(a) => a.to_vec(),
+            Rotation::Matrix(m) => m.iter().copied().collect(),
+        }
+    }
+}
+
+/// Rotation matrix of Cardan angles `[x, y, z]` in the sequence x, then new y, then new z [rad].
+pub fn cardan_to_matrix(a: [f64; 3]) -> Matrix3<f64> {
+    let rx = Rotation3::from_axis_angle(&Vector3::x_axis(), a[0]);
+    let ry = Rotation3::from_axis_angle(&Vector3::y_axis(), a[1]);
+    let rz = Rotation3::from_axis_angle(&Vector3::z_axis(), a[2]);
+    (rx * ry * rz).into_inner()
+}
+
+/// Options of a scene; every field has the default of the contact specification.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneOptions {
+    /// Gravity acceleration, resolved in world [m/s²]. Default `(0, 0, -9.81)`.
+    pub gravity: Vector3<f64>,
+}
+
+impl Default for SceneOptions {
+    fn default() -> Self {
+        SceneOptions {
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+        }
+    }
+}
+
+/// How the mass properties of a solid are obtained.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum MassSpec {
+    /// From the shape's volume and the solid material's density (default).
+    #[default]
+    FromShapeAndDensity,
+    /// From the shape, scaled to the given mass [kg].
+    FromShapeAndMass(f64),
+    /// Explicit values, in the object's frame.
+    Explicit {
+        /// Mass [kg].
+        mass: f64,
+        /// Centre of mass, resolved in the object's frame [m].
+        com: Vector3<f64>,
+        /// Inertia tensor about the centre of mass, resolved in the object's frame [kg·m²].
+        inertia: Matrix3<f64>,
+    },
+}
+
+/// A solid material given by name (looked up in the palette) or by value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialRef {
+    /// A name of the palette, e.g. `"Steel"`.
+    Name(String),
+    /// A material given by value.
+    Value(SolidMaterial),
+}
+
+/// A solid body part: shape, material, mass properties and collision data.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Solid {
+    /// Geometry; may be `None` only with explicit mass properties.
+    pub shape: Option<Shape>,
+    /// Solid material; needed for mass from density and for contact.
+    pub material: Option<MaterialRef>,
+    /// How mass properties are obtained.
+    pub mass_properties: MassSpec,
+    /// Whether this solid takes part in collision handling.
+    pub collision: bool,
+    /// Name of its contact material (default: the solid material's name).
+    pub contact_material: Option<String>,
+    /// Radius that rounds edges of non-smooth shapes [m]; default of the scene when `None`.
+    pub smoothing_radius: Option<f64>,
+}
+
+impl Solid {
+    /// A solid with this shape and defaults otherwise.
+    pub fn new(shape: Shape) -> Self {
+        Solid {
+            shape: Some(shape),
+            ..Default::default()
+        }
+    }
+    /// Sets the solid material by palette name.
+    pub fn material(mut self, name: &str) -> Self {
+        self.material = Some(MaterialRef::Name(name.to_string()));
+        self
+    }
+    /// Sets the solid material by value.
+    pub fn material_value(mut self, m: SolidMaterial) -> Self {
+        self.material = Some(MaterialRef::Value(m));
+        self
+    }
+    /// Sets the mass [kg]; inertia follows from the shape.
+    pub fn mass(mut self, mass: f64) -> Self {
+        self.mass_properties = MassSpec::FromShapeAndMass(mass);
+        self
+    }
+    /// Sets explicit mass properties in the object's frame: mass [kg], centre of mass [m],
+    /// inertia about the centre of mass [kg·m²].
+    pub fn mass_properties(mut self, mass: f64, com: Vector3<f64>, inertia: Matrix3<f64>) -> Self {
+        self.mass_properties = MassSpec::Explicit { mass, com, inertia };
+        self
+    }
+    /// Enables collision handling for this solid.
+    pub fn collision(mut self, on: bool) -> Self {
+        self.collision = on;
+        self
+    }
+    /// Sets the contact material's name.
+    pub fn contact_material(mut self, name: &str) -> Self {
+        self.contact_material = Some(name.to_string());
+        self
+    }
+    /// Sets the smoothing radius [m].
+    pub fn smoothing_radius(mut self, r: f64) -> Self {
+        self.smoothing_radius = Some(r);
+        self
+    }
+}
+
+/// What an object is, besides a frame.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum Feature {
+    /// A bare frame.
+    #[default]
+    None,
+    /// The scene: exactly one, at the root (the world frame).
+    Scene(SceneOptions),
+    /// A solid part.
+    Solid(Solid),
+    /// A shape that is only drawn.
+    Visual(Shape),
+}
+
+/// A frame in the assembly, with an optional parent and a feature.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object3D {
+    /// Unique name; paths into assemblies use dots (`arm1.tip`).
+    pub name: String,
+    /// Name of the parent object; the object is rigidly attached to it.
+    pub parent: Option<String>,
+    /// Position of this frame's origin relative to the parent, resolved in the parent [m].
+    pub translation: Vector3<f64>,
+    /// Orientation relative to the parent.
+    pub rotation: Rotation,
+    /// Scene, solid, visual or nothing.
+    pub feature: Feature,
+}
+
+impl Object3D {
+    /// A bare frame without parent.
+    pub fn new(name: &str) -> Self {
+        Object3D {
+            name: name.to_string(),
+            parent: None,
+            translation: Vector3::zeros(),
+            rotation: Rotation::Identity,
+            feature: Feature::None,
+        }
+    }
+    /// Sets the parent by name.
+    pub fn parent(mut self, parent: &str) -> Self {
+        self.parent = Some(parent.to_string());
+        self
+    }
+    /// Sets the translation relative to the parent, resolved in the parent [m].
+    pub fn translation(mut self, t: [f64; 3]) -> Self {
+        self.translation = Vector3::from(t);
+        self
+    }
+    /// Sets the rotation relative to the parent.
+    pub fn rotation(mut self, r: Rotation) -> Self {
+        self.rotation = r;
+        self
+    }
+    /// Sets the feature.
+    pub fn feature(mut self, f: Feature) -> Self {
+        self.feature = f;
+        self
+    }
+    /// Makes this object the scene with the given options.
+    pub fn scene(self, options: SceneOptions) -> Self {
+        self.feature(Feature::Scene(options))
+    }
+    /// Makes this object a solid.
+    pub fn solid(self, solid: Solid) -> Self {
+        self.feature(Feature::Solid(solid))
+    }
+}
+
+/// Initial orientation of a free-moving object relative to `obj1`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FreeRotation {
+    /// Cardan angles x-y-z [rad].
+    Cardan([f64; 3]),
+    /// A unit quaternion.
+    Quaternion(UnitQuaternion<f64>),
+}
+
+/// The kind of a joint and its initial values.
+#[derive(Clone, Debug, PartialEq)]
+pub enum JointKind {
+    /// Rigid: `obj2`'s frame coincides with `obj1`'s.
+    Fix,
+    /// Rotation of `obj2` relative to `obj1` about `axis` (resolved in `obj1`, unit length after
+    /// normalisation); the frames coincide at `phi = 0`.
+    Revolute {
+        /// Axis, resolved in obj1 (any non-zero vector; normalised).
+        axis: Vector3<f64>,
+        /// Initial angle [rad].
+        phi: f64,
+        /// Initial angular velocity [rad/s].
+        w: f64,
+    },
+    /// Translation of `obj2` relative to `obj1` along `axis` (resolved in `obj1`).
+    Prismatic {
+        /// Axis, resolved in obj1 (any non-zero vector; normalised).
+        axis: Vector3<f64>,
+        /// Initial position [m].
+        s: f64,
+        /// Initial velocity [m/s].
+        v: f64,
+    },
+    /// Six degrees of freedom of `obj2` relative to `obj1` (unit quaternion internally).
+    FreeMotion {
+        /// Initial position of obj2's origin relative to obj1, resolved in obj1 [m].
+        r: Vector3<f64>,
+        /// Initial orientation of obj2 relative to obj1.
+        rot: FreeRotation,
+        /// Initial velocity `der(r)`, resolved in obj1 [m/s].
+        v: Vector3<f64>,
+        /// Initial angular velocity of obj2 relative to obj1, resolved in obj2 [rad/s].
+        w: Vector3<f64>,
+    },
+}
+
+impl JointKind {
+    /// Modia's axis numbering: ±1, ±2, ±3 for ±x, ±y, ±z; `None` otherwise.
+    pub fn axis_from_index(i: i64) -> Option<Vector3<f64>> {
+        let a = crate::geometry::Axis::from_index(i.abs())?;
+        Some(a.unit() * (i.signum() as f64))
+    }
+    /// A revolute joint about Modia axis `axis` (±1..3), at rest at angle 0.
+    /// An invalid axis gives the zero vector, which validation reports.
+    pub fn revolute(axis: i64) -> Self {
+        JointKind::Revolute {
+            axis: Self::axis_from_index(axis).unwrap_or_else(Vector3::zeros),
+            phi: 0.0,
+            w: 0.0,
+        }
+    }
+    /// A prismatic joint along Modia axis `axis` (±1..3), at rest at position 0.
+    pub fn prismatic(axis: i64) -> Self {
+        JointKind::Prismatic {
+            axis: Self::axis_from_index(axis).unwrap_or_else(Vector3::zeros),
+            s: 0.0,
+            v: 0.0,
+        }
+    }
+    /// A free motion at rest with frames coinciding.
+    pub fn free() -> Self {
+        JointKind::FreeMotion {
+            r: Vector3::zeros(),
+            rot: FreeRotation::Cardan([0.0; 3]),
+            v: Vector3::zeros(),
+            w: Vector3::zeros(),
+        }
+    }
+    /// A short name for messages.
+    pub fn name(&self) -> &'static str {
+        match self {
+            JointKind::Fix => "Fix",
+            JointKind::Revolute { .. } => "Revolute",
+            JointKind::Prismatic { .. } => "Prismatic",
+            JointKind::FreeMotion { .. } => "FreeMotion",
+        }
+    }
+}
+
+/// A joint between two objects.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// Unique name (signals: `"<name>.phi"`, …).
+    pub name: String,
+    /// The object on the world side.
+    pub obj1: String,
+    /// The moved object.
+    pub obj2: String,
+    /// Kind and initial values.
+    pub kind: JointKind,
+    /// Whether solids of the two joined bodies may collide (default false).
+    pub can_collide: bool,
+}
+
+impl Joint {
+    /// A joint of `kind` moving `obj2` relative to `obj1`.
+    pub fn new(name: &str, obj1: &str, obj2: &str, kind: JointKind) -> Self {
+        Joint {
+            name: name.to_string(),
+            obj1: obj1.to_string(),
+            obj2: obj2.to_string(),
+            kind,
+            can_collide: false,
+        }
+    }
+    /// Sets `can_collide`.
+    pub fn can_collide(mut self, on: bool) -> Self {
+        self.can_collide = on;
+        self
+    }
+    /// Sets the initial angle [rad] (revolute) or position [m] (prismatic); ignored otherwise.
+    pub fn init_position(mut self, x: f64) -> Self {
+        match &mut self.kind {
+            JointKind::Revolute { phi, .. } => *phi = x,
+            JointKind::Prismatic { s, .. } => *s = x,
+            _ => {}
+        }
+        self
+    }
+    /// Sets the initial angular velocity [rad/s] (revolute) or velocity [m/s] (prismatic).
+    pub fn init_velocity(mut self, x: f64) -> Self {
+        match &mut self.kind {
+            JointKind::Revolute { w, .. } => *w = x,
+            JointKind::Prismatic { v, .. } => *v = x,
+            _ => {}
+        }
+        self
+    }
+}
+
+/// Position and velocity of an object, handed to user force closures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectMotion {
+    /// Position of the object's origin, resolved in world [m].
+    pub r_abs: Vector3<f64>,
+    /// Rotation matrix: columns are the object's axes resolved in world.
+    pub rot_abs: Matrix3<f64>,
+    /// Velocity of the object's origin, resolved in world [m/s].
+    pub v_abs: Vector3<f64>,
+    /// Angular velocity, resolved in world [rad/s].
+    pub w_abs: Vector3<f64>,
+}
+
+/// A force [N] and a torque [N·m], both resolved in world, acting at an object's origin.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Wrench {
+    /// Force, resolved in world [N].
+    pub force: Vector3<f64>,
+    /// Torque, resolved in world [N·m].
+    pub torque: Vector3<f64>,
+}
+
+/// A user force law: time [s] and the object's motion → wrench at the object's origin.
+#[derive(Clone)]
+pub struct ForceFn(pub Arc<dyn Fn(f64, &ObjectMotion) -> Wrench + Send + Sync>);
+
+impl ForceFn {
+    /// Wraps a closure.
+    pub fn new(f: impl Fn(f64, &ObjectMotion) -> Wrench + Send + Sync + 'static) -> Self {
+        ForceFn(Arc::new(f))
+    }
+}
+
+impl fmt::Debug for ForceFn {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("ForceFn(..)")
+    }
+}
+
+/// An element that applies forces.
+#[derive(Clone, Debug)]
+pub enum ForceElement {
+    /// Linear spring-damper between the origins of `obj1` and `obj2`:
+    /// force `c (L − L0) + d L̇` along the line, pulling them together when positive.
+    SpringDamper {
+        /// Name (for messages).
+        name: String,
+        /// First object.
+        obj1: String,
+        /// Second object.
+        obj2: String,
+        /// Stiffness [N/m].
+        stiffness: f64,
+        /// Damping [N·s/m].
+        damping: f64,
+        /// Unstretched length [m].
+        length0: f64,
+    },
+    /// Spring and damper on a revolute [N·m/rad, N·m·s/rad] or prismatic [N/m, N·s/m] joint:
+    /// generalised force `−c (x − x0) − d ẋ`.
+    JointSpringDamper {
+        /// Name of the joint.
+        joint: String,
+        /// Stiffness.
+        stiffness: f64,
+        /// Damping.
+        damping: f64,
+        /// Position where the spring is relaxed [rad or m].
+        offset: f64,
+    },
+    /// A force and torque on an object's origin given by a closure.
+    ObjectForce {
+        /// Name of the object.
+        object: String,
+        /// The force law.
+        law: ForceFn,
+    },
+}
+
+/// An unchecked scene: objects, joints and force elements, referring to each other by name.
+#[derive(Clone, Debug, Default)]
+pub struct SceneDesc {
+    /// Objects in declaration order.
+    pub objects: Vec<Object3D>,
+    /// Joints in declaration order.
+    pub joints: Vec<Joint>,
+    /// Force elements.
+    pub forces: Vec<ForceElement>,
+    /// User-defined solid materials (added to the built-in palette).
+    pub solid_materials: Vec<(String, SolidMaterial)>,
+}
+
+impl SceneDesc {
+    /// An empty scene description.
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// Adds an object.
+    pub fn add(&mut self, object: Object3D) -> &mut Self {
+        self.objects.push(object);
+        self
+    }
+    /// Adds a joint.
+    pub fn add_joint(&mut self, joint: Joint) -> &mut Self {
+        self.joints.push(joint);
+        self
+    }
+    /// Adds a force element.
+    pub fn add_force(&mut self, force: ForceElement) -> &mut Self {
+        self.forces.push(force);
+        self
+    }
+    /// Defines (or redefines) a solid material by name.
+    pub fn add_solid_material(&mut self, name: &str, m: SolidMaterial) -> &mut Self {
+        self.solid_materials.push((name.to_string(), m));
+        self
+    }
+}

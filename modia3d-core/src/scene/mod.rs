@@ -1,0 +1,13 @@
+//! Scene stage: the description (builder API), the material palette and validation.
+//! Touches only plain data; nothing here knows about dynamics or the solver.
+
+pub mod desc;
+pub mod materials;
+pub mod validate;
+
+pub use desc::*;
+pub use materials::{builtin_solid_material, SolidMaterial, SOLID_MATERIALS};
+pub use validate::{
+    did_you_mean, MassProps, SceneError, SceneErrors, ValidForce, ValidJoint, ValidJointKind,
+    ValidObject, ValidScene, ValidSolid,
+};
