@@ -1,0 +1,936 @@
+//! Solver stage: the only FFI module of the crate — the safe wrapper over SUNDIALS IDA.
+//!
+//! This is the one file of `modia3d-core` that contains `unsafe`. It may touch the `sundials-sys`
+//! bindings, the standard library and the plain-data types of the sibling modules
+//! ([`super::IdaOptions`], [`super::IdaStats`], [`super::IdaError`]); nothing else in the crate
+//! calls C.
+//!
+//! Invariants that make the safe API sound:
+//! * [`Ida`] owns every SUNDIALS object (context, vectors, matrix, linear solver, IDA memory)
+//!   through raw pointers that are either null or valid, and frees them exactly once
+//!   (`free_ffi`, called by `Drop` and `into_system`).
+//! * The system lives in a heap block (`CallbackState`) created with `Box::into_raw`, whose
+//!   address is IDA's user data. Rust references into it are only created while no IDA call is
+//!   running (they borrow `self`), and the callbacks create theirs only for the duration of the
+//!   callback, so they never alias.
+//! * Callbacks never unwind into C: each wraps the user code in `catch_unwind`, stores what
+//!   happened in the `CallbackState`, and returns a SUNDIALS status code.
+//! * SUNDIALS never prints: its error handlers are replaced by one that appends the message to an
+//!   `ErrorSink` read after each call, and warnings go to the null device.
+
+use std::any::Any;
+use std::ffi::{c_char, c_int, c_long, c_void, CStr};
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ptr;
+use std::slice;
+
+use sundials_sys as sys;
+
+use super::error::flag_hint;
+use super::{Atol, DaeSystem, IdaError, IdaOptions, IdaStats, ResidualError, SolveStatus};
+
+/// Longest SUNDIALS message text kept per call (bytes); later messages are dropped.
+const MAX_SINK_LEN: usize = 4096;
+
+/// What the callbacks share with the wrapper: the system and what went wrong inside it.
+struct CallbackState<S> {
+    system: S,
+    n: usize,
+    n_roots: usize,
+    /// Panic message and time of the first panic in the current call.
+    panic: Option<(String, f64)>,
+    /// Message and time of the first fatal residual error in the current call.
+    fatal: Option<(String, f64)>,
+    /// Earliest (component, time, value text) at which the residual was non-finite in the
+    /// current call.
+    non_finite: Option<(usize, f64, &'static str)>,
+}
+
+impl<S> CallbackState<S> {
+    fn clear(&mut self) {
+        self.panic = None;
+        self.fatal = None;
+        self.non_finite = None;
+    }
+
+    fn record_non_finite(&mut self, index: usize, t: f64, value: f64) {
+        let earlier = self.non_finite.is_none_or(|(_, t_prev, _)| t < t_prev);
+        if earlier {
+            let text = if value.is_nan() {
+                "NaN"
+            } else if value > 0.0 {
+                "inf"
+            } else {
+                "-inf"
+            };
+            self.non_finite = Some((index, t, text));
+        }
+    }
+}
+
+/// Collects the messages SUNDIALS passes to the error handler during one call.
+#[derive(Default)]
+struct ErrorSink {
+    text: String,
+}
+
+/// The IDA integrator for a [`DaeSystem`].
+///
+/// Owns the SUNDIALS context, the solution vectors, the dense matrix and linear solver, and the
+/// IDA memory; dropping it frees all of them. Statistics accumulate over [`Ida::reinit`].
+pub struct Ida<S: DaeSystem> {
+    ctx: sys::SUNContext,
+    mem: *mut c_void,
+    /// Current solution y (also the output vector of IDASolve).
+    y: sys::N_Vector,
+    /// Current derivative y'.
+    yp: sys::N_Vector,
+    /// Differential (1) / algebraic (0) flags for IDASetId.
+    id: sys::N_Vector,
+    /// Vector absolute tolerance, or null for a scalar one.
+    atol: sys::N_Vector,
+    mat: sys::SUNMatrix,
+    ls: sys::SUNLinearSolver,
+    state: *mut CallbackState<S>,
+    sink: *mut ErrorSink,
+    n: usize,
+    t: f64,
+    root_info: Vec<i32>,
+    /// Statistics of the segments before the last re-initialisation.
+    base_stats: IdaStats,
+}
+
+// SAFETY: all SUNDIALS objects are owned exclusively by this value and reached only through it;
+// serial SUNDIALS keeps no thread-local or global state tied to them, so moving the whole solver
+// to another thread is sound when the system itself may move.
+unsafe impl<S: DaeSystem + Send> Send for Ida<S> {}
+
+fn bad(msg: impl Into<String>) -> IdaError {
+    IdaError::BadArgument(msg.into())
+}
+
+fn check_finite(what: &str, v: f64) -> Result<(), IdaError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(bad(format!(
+            "{what} = {v} is not finite; pass a finite number"
+        )))
+    }
+}
+
+fn check_state(what: &str, v: &[f64], n: usize) -> Result<(), IdaError> {
+    if v.len() != n {
+        return Err(bad(format!(
+            "{what} has length {} but the system has n = {n} unknowns; pass a slice of length {n}",
+            v.len()
+        )));
+    }
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(bad(format!(
+            "{what}[{i}] = {} is not finite; pass finite initial values",
+            v[i]
+        )));
+    }
+    Ok(())
+}
+
+fn validate(
+    n: usize,
+    n_roots: usize,
+    t0: f64,
+    y0: &[f64],
+    yp0: &[f64],
+    opts: &IdaOptions,
+) -> Result<(), IdaError> {
+    if n == 0 {
+        return Err(bad(
+            "the system has no unknowns (len() == 0); IDA needs n >= 1",
+        ));
+    }
+    if i64::try_from(n).is_err() || c_int::try_from(n_roots).is_err() {
+        return Err(bad(format!(
+            "system too large: n = {n}, num_roots = {n_roots}"
+        )));
+    }
+    check_finite("t0", t0)?;
+    check_state("y0", y0, n)?;
+    check_state("yp0", yp0, n)?;
+    if !(opts.rtol.is_finite() && opts.rtol > 0.0) {
+        return Err(bad(format!(
+            "rtol = {} must be finite and > 0 (typical: 1e-4 .. 1e-10)",
+            opts.rtol
+        )));
+    }
+    match &opts.atol {
+        Atol::Scalar(a) => {
+            if !(a.is_finite() && *a > 0.0) {
+                return Err(bad(format!("atol = {a} must be finite and > 0")));
+            }
+        }
+        Atol::Vector(v) => {
+            if v.len() != n {
+                return Err(bad(format!(
+                    "atol vector has length {} but the system has n = {n} unknowns",
+                    v.len()
+                )));
+            }
+            if let Some(i) = v.iter().position(|a| !(a.is_finite() && *a > 0.0)) {
+                return Err(bad(format!("atol[{i}] = {} must be finite and > 0", v[i])));
+            }
+        }
+    }
+    if let Some(h) = opts.max_step {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(bad(format!(
+                "max_step = {h} s must be finite and > 0 (or None)"
+            )));
+        }
+    }
+    if opts.max_num_steps == 0 || c_long::try_from(opts.max_num_steps).is_err() {
+        return Err(bad(format!(
+            "max_num_steps = {} must be >= 1 and fit a C long",
+            opts.max_num_steps
+        )));
+    }
+    if let Some(d) = &opts.differential {
+        if d.len() != n {
+            return Err(bad(format!(
+                "differential has length {} but the system has n = {n} unknowns",
+                d.len()
+            )));
+        }
+    }
+    if let Some(dirs) = &opts.root_directions {
+        if dirs.len() != n_roots {
+            return Err(bad(format!(
+                "root_directions has length {} but the system has {n_roots} root functions",
+                dirs.len()
+            )));
+        }
+        if let Some(i) = dirs.iter().position(|d| !(-1..=1).contains(d)) {
+            return Err(bad(format!(
+                "root_directions[{i}] = {} must be -1, 0 or +1",
+                dirs[i]
+            )));
+        }
+    }
+    if let Some(h) = opts.init_step {
+        if !(h.is_finite() && h != 0.0) {
+            return Err(bad(format!(
+                "init_step = {h} s must be finite and non-zero (or None)"
+            )));
+        }
+    }
+    Ok(())
+}
+
+fn panic_message(payload: &(dyn Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "panic with a non-string payload".to_string()
+    }
+}
+
+/// Reads a C string returned by an `IDAGet*ReturnFlagName` function and frees it.
+///
+/// # Safety
+/// `p` must be null or a NUL-terminated string allocated with C `malloc`.
+unsafe fn take_c_string(p: *mut c_char, flag: c_int) -> String {
+    if p.is_null() {
+        return format!("IDA flag {flag}");
+    }
+    // SAFETY: per the contract, p is a valid NUL-terminated malloc'ed string that we own.
+    let s = unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
+    // SAFETY: allocated by SUNDIALS with malloc, freed once here.
+    unsafe { sys::free(p.cast()) };
+    s
+}
+
+fn flag_name(flag: c_int) -> String {
+    // SAFETY: IDAGetReturnFlagName accepts any flag and returns a fresh malloc'ed string.
+    unsafe { take_c_string(sys::IDAGetReturnFlagName(flag as c_long), flag) }
+}
+
+fn lin_flag_name(flag: c_int) -> String {
+    // SAFETY: as for IDAGetReturnFlagName.
+    unsafe { take_c_string(sys::IDAGetLinReturnFlagName(flag as c_long), flag) }
+}
+
+/// SUNDIALS error handler: appends the message to the `ErrorSink` passed as user data.
+unsafe extern "C" fn error_handler(
+    _line: c_int,
+    func: *const c_char,
+    _file: *const c_char,
+    msg: *const c_char,
+    err_code: sys::SUNErrCode,
+    err_user_data: *mut c_void,
+    _sunctx: sys::SUNContext,
+) {
+    let _ = catch_unwind(AssertUnwindSafe(|| {
+        if err_user_data.is_null() {
+            return;
+        }
+        // SAFETY: err_user_data is the ErrorSink pushed with this handler; it outlives the
+        // context and no Rust reference to it is live while SUNDIALS runs.
+        let sink = unsafe { &mut *err_user_data.cast::<ErrorSink>() };
+        if sink.text.len() >= MAX_SINK_LEN {
+            return;
+        }
+        let text = |p: *const c_char| {
+            if p.is_null() {
+                None
+            } else {
+                // SAFETY: SUNDIALS passes NUL-terminated strings or null.
+                Some(
+                    unsafe { CStr::from_ptr(p) }
+                        .to_string_lossy()
+                        .trim()
+                        .to_string(),
+                )
+            }
+        };
+        let msg = text(msg).unwrap_or_else(|| format!("error code {err_code}"));
+        if !sink.text.is_empty() {
+            sink.text.push_str("; ");
+        }
+        match text(func) {
+            Some(f) => sink.text.push_str(&format!("{f}: {msg}")),
+            None => sink.text.push_str(&msg),
+        }
+    }));
+}
+
+/// IDA residual callback: F(t, y, y') into `rr`. Returns 0 on success, 1 for a recoverable
+/// failure (including a non-finite residual), -1 for a fatal one or a caught panic.
+unsafe extern "C" fn residual_callback<S: DaeSystem>(
+    t: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    rr: sys::N_Vector,
+    user_data: *mut c_void,
+) -> c_int {
+    let state = user_data.cast::<CallbackState<S>>();
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: user_data is the CallbackState of the Ida that is running this call; no other
+        // reference to it is live (see the module invariants). yy, yp, rr are distinct serial
+        // vectors of length n owned by IDA for the duration of the call.
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let (y, ypv, res) = unsafe {
+            (
+                slice::from_raw_parts(sys::N_VGetArrayPointer(yy), n),
+                slice::from_raw_parts(sys::N_VGetArrayPointer(yp), n),
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(rr), n),
+            )
+        };
+        match st.system.residual(t, y, ypv, res) {
+            Ok(()) => match res.iter().position(|v| !v.is_finite()) {
+                None => 0,
+                Some(i) => {
+                    st.record_non_finite(i, t, res[i]);
+                    1
+                }
+            },
+            Err(ResidualError::Recoverable) => 1,
+            Err(ResidualError::Fatal(msg)) => {
+                if st.fatal.is_none() {
+                    st.fatal = Some((msg, t));
+                }
+                -1
+            }
+        }
+    }));
+    match outcome {
+        Ok(code) => code,
+        Err(payload) => {
+            let message = panic_message(payload.as_ref());
+            // SAFETY: the closure's borrow of the state has ended.
+            let st = unsafe { &mut *state };
+            if st.panic.is_none() {
+                st.panic = Some((message, t));
+            }
+            -1
+        }
+    }
+}
+
+/// IDA root callback: g(t, y, y') into `gout` (length num_roots). Returns 0, or -1 after a
+/// caught panic.
+unsafe extern "C" fn root_callback<S: DaeSystem>(
+    t: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    gout: *mut f64,
+    user_data: *mut c_void,
+) -> c_int {
+    let state = user_data.cast::<CallbackState<S>>();
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: as in residual_callback; gout has num_roots entries (IDARootInit was called
+        // with that number).
+        let st = unsafe { &mut *state };
+        let (n, m) = (st.n, st.n_roots);
+        let (y, ypv, g) = unsafe {
+            (
+                slice::from_raw_parts(sys::N_VGetArrayPointer(yy), n),
+                slice::from_raw_parts(sys::N_VGetArrayPointer(yp), n),
+                slice::from_raw_parts_mut(gout, m),
+            )
+        };
+        st.system.roots(t, y, ypv, g);
+    }));
+    match outcome {
+        Ok(()) => 0,
+        Err(payload) => {
+            let message = panic_message(payload.as_ref());
+            // SAFETY: the closure's borrow of the state has ended.
+            let st = unsafe { &mut *state };
+            if st.panic.is_none() {
+                st.panic = Some((format!("in roots(): {message}"), t));
+            }
+            -1
+        }
+    }
+}
+
+impl<S: DaeSystem> Ida<S> {
+    /// Creates the integrator for `system` starting at time `t0` [s] with y(t0) = `y0` and
+    /// y'(t0) = `yp0` (both of length `system.len()`).
+    ///
+    /// The initial values need not be consistent if [`Ida::calc_ic_ya_ydp`] or
+    /// [`Ida::calc_ic_y`] is called before the first [`Ida::solve`]. Invalid arguments return
+    /// [`IdaError::BadArgument`] (the system is dropped).
+    pub fn new(
+        system: S,
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        opts: &IdaOptions,
+    ) -> Result<Self, IdaError> {
+        let n = system.len();
+        let n_roots = system.num_roots();
+        validate(n, n_roots, t0, y0, yp0, opts)?;
+        let state = Box::into_raw(Box::new(CallbackState {
+            system,
+            n,
+            n_roots,
+            panic: None,
+            fatal: None,
+            non_finite: None,
+        }));
+        let sink = Box::into_raw(Box::<ErrorSink>::default());
+        let mut ida = Ida {
+            ctx: ptr::null_mut(),
+            mem: ptr::null_mut(),
+            y: ptr::null_mut(),
+            yp: ptr::null_mut(),
+            id: ptr::null_mut(),
+            atol: ptr::null_mut(),
+            mat: ptr::null_mut(),
+            ls: ptr::null_mut(),
+            state,
+            sink,
+            n,
+            t: t0,
+            root_info: vec![0; n_roots],
+            base_stats: IdaStats::default(),
+        };
+        // On error `ida` is dropped here, which frees whatever was created so far.
+        ida.setup(t0, y0, yp0, opts)?;
+        Ok(ida)
+    }
+
+    /// Creates all SUNDIALS objects and applies `opts` (already validated).
+    fn setup(
+        &mut self,
+        t0: f64,
+        y0: &[f64],
+        yp0: &[f64],
+        opts: &IdaOptions,
+    ) -> Result<(), IdaError> {
+        // SAFETY: every pointer passed below was just created and checked for null; slices have
+        // length n (validated).
+        unsafe {
+            let mut ctx: sys::SUNContext = ptr::null_mut();
+            let rc = sys::SUNContext_Create(sys::SUN_COMM_NULL, &mut ctx);
+            if rc != 0 || ctx.is_null() {
+                return Err(self.creation_error("SUNContext_Create", rc));
+            }
+            self.ctx = ctx;
+            sys::SUNContext_ClearErrHandlers(ctx);
+            sys::SUNContext_PushErrHandler(ctx, Some(error_handler), self.sink.cast());
+            self.silence_warnings();
+
+            self.y = self.new_vector(y0)?;
+            self.yp = self.new_vector(yp0)?;
+            let id: Vec<f64> = match &opts.differential {
+                Some(d) => d.iter().map(|&b| if b { 1.0 } else { 0.0 }).collect(),
+                None => vec![1.0; self.n],
+            };
+            self.id = self.new_vector(&id)?;
+
+            self.mem = sys::IDACreate(ctx);
+            if self.mem.is_null() {
+                return Err(self.creation_error("IDACreate", 0));
+            }
+            let mem = self.mem;
+            self.check(
+                sys::IDAInit(mem, Some(residual_callback::<S>), t0, self.y, self.yp),
+                "IDAInit",
+            )?;
+            match &opts.atol {
+                Atol::Scalar(a) => {
+                    self.check(sys::IDASStolerances(mem, opts.rtol, *a), "IDASStolerances")?
+                }
+                Atol::Vector(v) => {
+                    self.atol = self.new_vector(v)?;
+                    self.check(
+                        sys::IDASVtolerances(mem, opts.rtol, self.atol),
+                        "IDASVtolerances",
+                    )?;
+                }
+            }
+            self.check(
+                sys::IDASetUserData(mem, self.state.cast()),
+                "IDASetUserData",
+            )?;
+            self.check(sys::IDASetId(mem, self.id), "IDASetId")?;
+            if opts.suppress_algebraic_error {
+                self.check(sys::IDASetSuppressAlg(mem, 1), "IDASetSuppressAlg")?;
+            }
+            self.check(
+                sys::IDASetMaxNumSteps(mem, opts.max_num_steps as c_long),
+                "IDASetMaxNumSteps",
+            )?;
+            if let Some(h) = opts.max_step {
+                self.check(sys::IDASetMaxStep(mem, h), "IDASetMaxStep")?;
+            }
+            if let Some(h) = opts.init_step {
+                self.check(sys::IDASetInitStep(mem, h), "IDASetInitStep")?;
+            }
+            self.attach_linear_solver()?;
+            let n_roots = self.root_info.len();
+            if n_roots > 0 {
+                self.check(
+                    sys::IDARootInit(mem, n_roots as c_int, Some(root_callback::<S>)),
+                    "IDARootInit",
+                )?;
+                if let Some(dirs) = &opts.root_directions {
+                    let mut dirs: Vec<c_int> = dirs.iter().map(|&d| d as c_int).collect();
+                    // IDA copies the directions into its own array.
+                    self.check(
+                        sys::IDASetRootDirection(mem, dirs.as_mut_ptr()),
+                        "IDASetRootDirection",
+                    )?;
+                }
+                // A root function that is exactly zero at the start (e.g. right after an impact)
+                // is normal for event handling; do not warn about it.
+                self.check(
+                    sys::IDASetNoInactiveRootWarn(mem),
+                    "IDASetNoInactiveRootWarn",
+                )?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Creates (once) the dense matrix and dense direct linear solver and attaches them to IDA.
+    ///
+    /// This is the single place to change for another linear solver (banded, sparse KLU,
+    /// iterative) or to add a user Jacobian (`IDASetJacFn` must follow `IDASetLinearSolver`).
+    /// It is called again after `IDAReInit`, which gives fresh linear-solver counters.
+    fn attach_linear_solver(&mut self) -> Result<(), IdaError> {
+        let n = self.n as sys::sunindextype;
+        // SAFETY: ctx, y and mem are valid (created in setup); mat/ls are null or valid.
+        unsafe {
+            if self.mat.is_null() {
+                self.mat = sys::SUNDenseMatrix(n, n, self.ctx);
+                if self.mat.is_null() {
+                    return Err(self.creation_error("SUNDenseMatrix", 0));
+                }
+            }
+            if self.ls.is_null() {
+                self.ls = sys::SUNLinSol_Dense(self.y, self.mat, self.ctx);
+                if self.ls.is_null() {
+                    return Err(self.creation_error("SUNLinSol_Dense", 0));
+                }
+            }
+            let rc = sys::IDASetLinearSolver(self.mem, self.ls, self.mat);
+            if rc != 0 {
+                let message = self.take_sink();
+                return Err(IdaError::Flag {
+                    flag: rc,
+                    name: lin_flag_name(rc),
+                    t: self.t,
+                    hint: "attaching the dense linear solver failed; this is a bug in the \
+                           wrapper, please report it"
+                        .to_string(),
+                    message,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Sends SUNDIALS warnings (which would go to stdout) to the null device.
+    fn silence_warnings(&mut self) {
+        #[cfg(unix)]
+        // SAFETY: ctx is valid; the logger belongs to it and copies the file name.
+        unsafe {
+            let mut logger: sys::SUNLogger = ptr::null_mut();
+            if sys::SUNContext_GetLogger(self.ctx, &mut logger) == 0 && !logger.is_null() {
+                sys::SUNLogger_SetWarningFilename(logger, c"/dev/null".as_ptr());
+            }
+        }
+    }
+
+    /// A new serial vector holding `values` (length n).
+    fn new_vector(&mut self, values: &[f64]) -> Result<sys::N_Vector, IdaError> {
+        debug_assert_eq!(values.len(), self.n);
+        // SAFETY: ctx is valid; the new vector has n entries.
+        unsafe {
+            let v = sys::N_VNew_Serial(self.n as sys::sunindextype, self.ctx);
+            if v.is_null() {
+                return Err(self.creation_error("N_VNew_Serial", 0));
+            }
+            slice::from_raw_parts_mut(sys::N_VGetArrayPointer(v), self.n).copy_from_slice(values);
+            Ok(v)
+        }
+    }
+
+    fn creation_error(&mut self, what: &str, rc: c_int) -> IdaError {
+        let message = self.take_sink();
+        IdaError::Flag {
+            flag: if rc != 0 { rc } else { sys::IDA_MEM_FAIL },
+            name: format!("{what} failed"),
+            t: self.t,
+            hint: format!(
+                "SUNDIALS could not create an object ({what}); the system may be out of memory"
+            ),
+            message,
+        }
+    }
+
+    fn take_sink(&mut self) -> String {
+        // SAFETY: sink is valid for the lifetime of self and not borrowed elsewhere.
+        unsafe { std::mem::take(&mut (*self.sink).text) }
+    }
+
+    fn state_mut(&mut self) -> &mut CallbackState<S> {
+        // SAFETY: state is valid until Drop/into_system, and borrowing self mutably ensures no
+        // IDA call (hence no callback) is running.
+        unsafe { &mut *self.state }
+    }
+
+    fn state_ref(&self) -> &CallbackState<S> {
+        // SAFETY: as for state_mut.
+        unsafe { &*self.state }
+    }
+
+    /// Clears what the callbacks and the error handler recorded before a new IDA call.
+    fn begin_call(&mut self) {
+        self.state_mut().clear();
+        self.take_sink();
+    }
+
+    /// Maps a non-success return code of an IDA call to an error.
+    fn check(&mut self, rc: c_int, _what: &str) -> Result<(), IdaError> {
+        if rc >= 0 {
+            Ok(())
+        } else {
+            Err(self.failure(rc))
+        }
+    }
+
+    /// The error for failure flag `rc`: a caught panic or fatal residual error wins over a
+    /// non-finite residual, which wins over the plain IDA flag.
+    fn failure(&mut self, rc: c_int) -> IdaError {
+        let message = self.take_sink();
+        let t = self.t;
+        let st = self.state_mut();
+        if let Some((message, t)) = st.panic.take() {
+            return IdaError::Panic { message, t };
+        }
+        if let Some((message, t)) = st.fatal.take() {
+            return IdaError::ResidualFatal { message, t };
+        }
+        if let Some((index, t, value)) = st.non_finite.take() {
+            return IdaError::NonFiniteResidual {
+                index,
+                t,
+                value: value.to_string(),
+                flag_name: flag_name(rc),
+            };
+        }
+        IdaError::Flag {
+            flag: rc,
+            name: flag_name(rc),
+            t,
+            hint: flag_hint(rc).to_string(),
+            message,
+        }
+    }
+
+    fn calc_ic(&mut self, icopt: c_int, t_out1: f64) -> Result<(), IdaError> {
+        check_finite("t_out1", t_out1)?;
+        if t_out1 == self.t {
+            return Err(bad(format!(
+                "t_out1 = {t_out1} s equals the current time; pass the first output time, which \
+                 only sets the direction and scale of the initial-condition search"
+            )));
+        }
+        self.begin_call();
+        // SAFETY: mem, y, yp are valid; callbacks get the state through user data.
+        let rc = unsafe { sys::IDACalcIC(self.mem, icopt, t_out1) };
+        if rc < 0 {
+            return Err(self.failure(rc));
+        }
+        // SAFETY: y and yp are valid vectors of length n.
+        let rc = unsafe { sys::IDAGetConsistentIC(self.mem, self.y, self.yp) };
+        self.check(rc, "IDAGetConsistentIC")
+    }
+
+    /// `IDACalcIC(IDA_YA_YDP_INIT)`: given the differential components of y (see
+    /// [`IdaOptions::differential`]; `None` means all differential), computes the algebraic
+    /// components of y and all of y' so that F = 0 at the current time. `t_out1` [s] is the
+    /// first output time (it sets the direction and scale of the search). Afterwards
+    /// [`Ida::y`]/[`Ida::yp`] hold the consistent values.
+    pub fn calc_ic_ya_ydp(&mut self, t_out1: f64) -> Result<(), IdaError> {
+        self.calc_ic(sys::IDA_YA_YDP_INIT, t_out1)
+    }
+
+    /// `IDACalcIC(IDA_Y_INIT)`: computes all of y given y' at the current time; `t_out1` [s] as
+    /// for [`Ida::calc_ic_ya_ydp`].
+    pub fn calc_ic_y(&mut self, t_out1: f64) -> Result<(), IdaError> {
+        self.calc_ic(sys::IDA_Y_INIT, t_out1)
+    }
+
+    /// Sets a time [s] past which IDA must not step (`IDASetStopTime`); `solve` then returns
+    /// [`SolveStatus::StopTime`] there. The stop time is cleared once it is reached.
+    pub fn set_stop_time(&mut self, t_stop: f64) -> Result<(), IdaError> {
+        check_finite("t_stop", t_stop)?;
+        self.begin_call();
+        // SAFETY: mem is valid.
+        let rc = unsafe { sys::IDASetStopTime(self.mem, t_stop) };
+        self.check(rc, "IDASetStopTime")
+    }
+
+    /// Removes the stop time (`IDAClearStopTime`).
+    pub fn clear_stop_time(&mut self) -> Result<(), IdaError> {
+        self.begin_call();
+        // SAFETY: mem is valid.
+        let rc = unsafe { sys::IDAClearStopTime(self.mem) };
+        self.check(rc, "IDAClearStopTime")
+    }
+
+    /// Sets the largest step size [s] (`None` = unlimited).
+    pub fn set_max_step(&mut self, h: Option<f64>) -> Result<(), IdaError> {
+        let h = match h {
+            Some(h) if h.is_finite() && h > 0.0 => h,
+            Some(h) => {
+                return Err(bad(format!(
+                    "max_step = {h} s must be finite and > 0 (or None)"
+                )))
+            }
+            None => 0.0, // IDA's code for "no limit"
+        };
+        self.begin_call();
+        // SAFETY: mem is valid.
+        let rc = unsafe { sys::IDASetMaxStep(self.mem, h) };
+        self.check(rc, "IDASetMaxStep")
+    }
+
+    /// Integrates towards `t_out` [s] (`IDASolve`): in `IDA_NORMAL` mode it returns the
+    /// interpolated solution at `t_out`, unless a root or the stop time comes first; with
+    /// `one_step` it returns after one internal step (`IDA_ONE_STEP`). The solution is then in
+    /// [`Ida::y`]/[`Ida::yp`] at [`Ida::t`].
+    pub fn solve(&mut self, t_out: f64, one_step: bool) -> Result<SolveStatus, IdaError> {
+        check_finite("t_out", t_out)?;
+        self.begin_call();
+        let itask = if one_step {
+            sys::IDA_ONE_STEP
+        } else {
+            sys::IDA_NORMAL
+        };
+        let mut tret = self.t;
+        // SAFETY: mem, y, yp are valid; y/yp are only written by IDA as outputs.
+        let rc = unsafe { sys::IDASolve(self.mem, t_out, &mut tret, self.y, self.yp, itask) };
+        if tret.is_finite() {
+            self.t = tret;
+        }
+        match rc {
+            sys::IDA_ROOT_RETURN => {
+                // SAFETY: root_info has num_roots entries, as IDA expects.
+                let rc2 = unsafe { sys::IDAGetRootInfo(self.mem, self.root_info.as_mut_ptr()) };
+                self.check(rc2, "IDAGetRootInfo")?;
+                Ok(SolveStatus::Root { t: self.t })
+            }
+            sys::IDA_TSTOP_RETURN => Ok(SolveStatus::StopTime { t: self.t }),
+            rc if rc >= 0 => Ok(SolveStatus::Reached { t: self.t }),
+            rc => Err(self.failure(rc)),
+        }
+    }
+
+    /// Re-initialises after an event (`IDAReInit`) at time `t` [s] with new y and y' (length n).
+    /// Keeps the options, root functions and linear solver; statistics keep accumulating.
+    pub fn reinit(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), IdaError> {
+        check_finite("t", t)?;
+        check_state("y", y, self.n)?;
+        check_state("yp", yp, self.n)?;
+        self.base_stats += self.segment_stats();
+        // SAFETY: y and yp are valid vectors of length n (validated lengths).
+        unsafe {
+            slice::from_raw_parts_mut(sys::N_VGetArrayPointer(self.y), self.n).copy_from_slice(y);
+            slice::from_raw_parts_mut(sys::N_VGetArrayPointer(self.yp), self.n).copy_from_slice(yp);
+        }
+        self.t = t;
+        self.root_info.iter_mut().for_each(|r| *r = 0);
+        self.begin_call();
+        // SAFETY: mem, y, yp are valid; IDA copies y and yp.
+        let rc = unsafe { sys::IDAReInit(self.mem, t, self.y, self.yp) };
+        self.check(rc, "IDAReInit")?;
+        // IDAReInit resets the integrator counters but the linear solver's only at the next
+        // solve; re-attaching resets them now, so stats() never counts a segment twice.
+        self.attach_linear_solver()
+    }
+
+    /// Time [s] of the current [`Ida::y`] and [`Ida::yp`].
+    pub fn t(&self) -> f64 {
+        self.t
+    }
+
+    /// Current solution y (length n): the initial values, or the result of the last
+    /// `solve`/`calc_ic_*`/`reinit`.
+    pub fn y(&self) -> &[f64] {
+        // SAFETY: y is a valid serial vector of length n, written only by IDA calls that need
+        // `&mut self`.
+        unsafe { slice::from_raw_parts(sys::N_VGetArrayPointer(self.y), self.n) }
+    }
+
+    /// Current derivative y' (length n), as for [`Ida::y`].
+    pub fn yp(&self) -> &[f64] {
+        // SAFETY: as for y().
+        unsafe { slice::from_raw_parts(sys::N_VGetArrayPointer(self.yp), self.n) }
+    }
+
+    /// After [`SolveStatus::Root`]: for each root function, +1 if it crossed zero upwards, -1
+    /// downwards, 0 if it did not cross (`IDAGetRootInfo`). All 0 otherwise.
+    pub fn root_info(&self) -> &[i32] {
+        &self.root_info
+    }
+
+    /// Counters of the current segment (since the last IDAInit/IDAReInit).
+    fn segment_stats(&self) -> IdaStats {
+        let mem = self.mem;
+        let get = |f: unsafe extern "C" fn(*mut c_void, *mut c_long) -> c_int| -> u64 {
+            let mut v: c_long = 0;
+            // SAFETY: mem is valid; f is one of IDA's counter getters.
+            unsafe { f(mem, &mut v) };
+            v.max(0) as u64
+        };
+        let mut last_step = 0.0;
+        let mut last_order: c_int = 0;
+        // SAFETY: mem is valid.
+        unsafe {
+            sys::IDAGetLastStep(mem, &mut last_step);
+            sys::IDAGetLastOrder(mem, &mut last_order);
+        }
+        IdaStats {
+            steps: get(sys::IDAGetNumSteps),
+            residual_evals: get(sys::IDAGetNumResEvals),
+            jacobian_evals: get(sys::IDAGetNumJacEvals),
+            residual_evals_for_jacobian: get(sys::IDAGetNumLinResEvals),
+            error_test_failures: get(sys::IDAGetNumErrTestFails),
+            nonlinear_iterations: get(sys::IDAGetNumNonlinSolvIters),
+            nonlinear_convergence_failures: get(sys::IDAGetNumNonlinSolvConvFails),
+            root_evals: get(sys::IDAGetNumGEvals),
+            last_step,
+            last_order,
+        }
+    }
+
+    /// Statistics of the whole run, accumulated across [`Ida::reinit`].
+    pub fn stats(&self) -> IdaStats {
+        self.base_stats + self.segment_stats()
+    }
+
+    /// The system.
+    pub fn system(&self) -> &S {
+        &self.state_ref().system
+    }
+
+    /// The system, mutably (e.g. to change a parameter before [`Ida::reinit`]).
+    pub fn system_mut(&mut self) -> &mut S {
+        &mut self.state_mut().system
+    }
+
+    /// Frees the SUNDIALS objects and returns the system.
+    pub fn into_system(mut self) -> S {
+        self.free_ffi();
+        let state = std::mem::replace(&mut self.state, ptr::null_mut());
+        // SAFETY: state came from Box::into_raw and is taken exactly once (nulled above, so Drop
+        // skips it); IDA no longer references it.
+        let state = unsafe { Box::from_raw(state) };
+        state.system
+    }
+
+    /// Frees every SUNDIALS object (in dependency order) and the error sink; idempotent.
+    fn free_ffi(&mut self) {
+        // SAFETY: each pointer is null or owned by self and freed exactly once, then nulled.
+        unsafe {
+            if !self.mem.is_null() {
+                sys::IDAFree(&mut self.mem);
+                self.mem = ptr::null_mut();
+            }
+            if !self.ls.is_null() {
+                sys::SUNLinSolFree(self.ls);
+                self.ls = ptr::null_mut();
+            }
+            if !self.mat.is_null() {
+                sys::SUNMatDestroy(self.mat);
+                self.mat = ptr::null_mut();
+            }
+            for v in [&mut self.y, &mut self.yp, &mut self.id, &mut self.atol] {
+                if !v.is_null() {
+                    sys::N_VDestroy(*v);
+                    *v = ptr::null_mut();
+                }
+            }
+            if !self.ctx.is_null() {
+                sys::SUNContext_Free(&mut self.ctx);
+                self.ctx = ptr::null_mut();
+            }
+            // The sink must outlive the context (its error handler points at it).
+            if !self.sink.is_null() {
+                drop(Box::from_raw(self.sink));
+                self.sink = ptr::null_mut();
+            }
+        }
+    }
+}
+
+impl<S: DaeSystem> Drop for Ida<S> {
+    fn drop(&mut self) {
+        self.free_ffi();
+        if !self.state.is_null() {
+            // SAFETY: state came from Box::into_raw and was not yet taken.
+            drop(unsafe { Box::from_raw(self.state) });
+            self.state = ptr::null_mut();
+        }
+    }
+}
+
+impl<S: DaeSystem + std::fmt::Debug> std::fmt::Debug for Ida<S> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Ida")
+            .field("system", self.system())
+            .field("n", &self.n)
+            .field("t", &self.t)
+            .field("y", &self.y())
+            .field("yp", &self.yp())
+            .finish()
+    }
+}

@@ -1,0 +1,97 @@
+//! Solver stage: the safe interface to the SUNDIALS IDA DAE integrator.
+//!
+//! This module may touch only the standard library, `thiserror` and (in [`ida`], the only file
+//! of the crate that contains `unsafe`) the `sundials-sys` FFI bindings. It knows nothing about
+//! scenes, bodies or contacts: the multibody stages describe their equations through the
+//! [`DaeSystem`] trait and drive the integration with [`Ida`].
+//!
+//! A DAE is written in fully implicit form `F(t, y, y') = 0` with `n` unknowns `y`, plus optional
+//! root (zero-crossing) functions `g(t, y, y')` whose sign changes IDA locates precisely, which is
+//! how events such as impacts are detected.
+
+mod error;
+mod ida;
+mod options;
+mod stats;
+
+pub use error::IdaError;
+pub use ida::Ida;
+pub use options::{Atol, IdaOptions};
+pub use stats::IdaStats;
+
+/// A DAE `F(t, y, y') = 0` with optional root (zero-crossing) functions.
+///
+/// Units of `t`, `y` and `y'` are the system's own; in modia3d `t` is always in seconds [s].
+pub trait DaeSystem {
+    /// Number of unknowns n.
+    fn len(&self) -> usize;
+
+    /// True when the system has no unknowns (such a system cannot be integrated).
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Fills `res` (len n) with F(t, y, y'). `Err(Recoverable)` asks IDA to retry with a smaller
+    /// step; `Err(Fatal(msg))` stops the integration with that message.
+    ///
+    /// Every component of `res` must be finite after an `Ok` return; a NaN or infinity is
+    /// treated as a recoverable error, and if IDA cannot step around it the integration ends
+    /// with [`IdaError::NonFiniteResidual`].
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        res: &mut [f64],
+    ) -> Result<(), ResidualError>;
+
+    /// Number of root functions (fixed for the lifetime of the solver). Default 0.
+    fn num_roots(&self) -> usize {
+        0
+    }
+
+    /// Fills `g` (len num_roots) with the root functions at (t, y, y'). Default: nothing.
+    fn roots(&mut self, _t: f64, _y: &[f64], _yp: &[f64], _g: &mut [f64]) {}
+}
+
+/// How a [`DaeSystem::residual`] evaluation failed.
+#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+pub enum ResidualError {
+    /// The residual cannot be evaluated at this point (e.g. outside a model's domain); IDA
+    /// retries the step with a smaller step size.
+    #[error("recoverable residual error: IDA should retry with a smaller step")]
+    Recoverable,
+    /// The residual cannot be evaluated at all; the integration stops with this message.
+    #[error("fatal residual error: {0}")]
+    Fatal(String),
+}
+
+/// What [`Ida::solve`] reached.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SolveStatus {
+    /// The requested output time (or, in one-step mode, the end of one internal step) was
+    /// reached; `t` [s] is the time of [`Ida::y`] (IDA_SUCCESS).
+    Reached {
+        /// Time of the returned solution [s].
+        t: f64,
+    },
+    /// The stop time set with [`Ida::set_stop_time`] was reached (IDA_TSTOP_RETURN).
+    StopTime {
+        /// Time of the returned solution, equal to the stop time [s].
+        t: f64,
+    },
+    /// A root function changed sign; see [`Ida::root_info`] for which (IDA_ROOT_RETURN).
+    Root {
+        /// Time of the located root [s].
+        t: f64,
+    },
+}
+
+impl SolveStatus {
+    /// Time of the returned solution [s], whatever the status.
+    pub fn t(&self) -> f64 {
+        match *self {
+            SolveStatus::Reached { t } | SolveStatus::StopTime { t } | SolveStatus::Root { t } => t,
+        }
+    }
+}

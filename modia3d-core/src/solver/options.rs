@@ -1,0 +1,117 @@
+//! Solver stage: options of the IDA integrator (plain data, no FFI).
+//!
+//! May touch only the standard library; [`super::ida`] translates these options into IDA calls
+//! and validates them against the system size.
+
+/// Absolute tolerance: one value for all components or one per component.
+///
+/// In the units of the corresponding component of `y`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Atol {
+    /// The same absolute tolerance for every component (must be > 0).
+    Scalar(f64),
+    /// One absolute tolerance per component (length n, every entry > 0).
+    Vector(Vec<f64>),
+}
+
+impl Default for Atol {
+    fn default() -> Self {
+        Atol::Scalar(1e-8)
+    }
+}
+
+/// Options for [`super::Ida::new`]. Build with `IdaOptions::default()` and the builder methods,
+/// or set the public fields directly.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdaOptions {
+    /// Relative tolerance (dimensionless, > 0). Default 1e-6.
+    pub rtol: f64,
+    /// Absolute tolerance. Default `Atol::Scalar(1e-8)`.
+    pub atol: Atol,
+    /// Largest step size [s]; `None` = unlimited.
+    pub max_step: Option<f64>,
+    /// Largest number of internal steps per `solve` call (> 0). Default 100_000.
+    pub max_num_steps: usize,
+    /// Which components are differential (`true`) and which algebraic (`false`), for
+    /// `IDASetId`; length n. `None` = all differential.
+    pub differential: Option<Vec<bool>>,
+    /// Leave algebraic components out of the local error test (`IDASetSuppressAlg`). Needs
+    /// `differential`. Default false.
+    pub suppress_algebraic_error: bool,
+    /// Direction of root crossings to report, one per root function (`IDASetRootDirection`):
+    /// +1 only increasing, -1 only decreasing, 0 both. `None` = both for all roots.
+    pub root_directions: Option<Vec<i32>>,
+    /// First step size to try [s]; `None` lets IDA estimate it.
+    pub init_step: Option<f64>,
+}
+
+impl Default for IdaOptions {
+    fn default() -> Self {
+        IdaOptions {
+            rtol: 1e-6,
+            atol: Atol::default(),
+            max_step: None,
+            max_num_steps: 100_000,
+            differential: None,
+            suppress_algebraic_error: false,
+            root_directions: None,
+            init_step: None,
+        }
+    }
+}
+
+impl IdaOptions {
+    /// Sets the relative tolerance (dimensionless).
+    pub fn rtol(mut self, rtol: f64) -> Self {
+        self.rtol = rtol;
+        self
+    }
+
+    /// Sets one absolute tolerance for all components.
+    pub fn atol(mut self, atol: f64) -> Self {
+        self.atol = Atol::Scalar(atol);
+        self
+    }
+
+    /// Sets one absolute tolerance per component (length n).
+    pub fn atol_vector(mut self, atol: Vec<f64>) -> Self {
+        self.atol = Atol::Vector(atol);
+        self
+    }
+
+    /// Sets the largest step size [s] (`None` = unlimited).
+    pub fn max_step(mut self, max_step: Option<f64>) -> Self {
+        self.max_step = max_step;
+        self
+    }
+
+    /// Sets the largest number of internal steps per `solve` call.
+    pub fn max_num_steps(mut self, max_num_steps: usize) -> Self {
+        self.max_num_steps = max_num_steps;
+        self
+    }
+
+    /// Marks components as differential (`true`) or algebraic (`false`); length n.
+    pub fn differential(mut self, differential: Vec<bool>) -> Self {
+        self.differential = Some(differential);
+        self
+    }
+
+    /// Leaves algebraic components out of the local error test.
+    pub fn suppress_algebraic_error(mut self, suppress: bool) -> Self {
+        self.suppress_algebraic_error = suppress;
+        self
+    }
+
+    /// Sets the root crossing directions (+1 up, -1 down, 0 both), one per root function.
+    pub fn root_directions(mut self, directions: Vec<i32>) -> Self {
+        self.root_directions = Some(directions);
+        self
+    }
+
+    /// Sets the first step size to try [s].
+    pub fn init_step(mut self, h: Option<f64>) -> Self {
+        self.init_step = h;
+        self
+    }
+}
