@@ -636,13 +636,16 @@ impl<S: DaeSystem> Ida<S> {
         self.take_sink();
     }
 
-    /// Maps a non-success return code of an IDA call to an error.
-    fn check(&mut self, rc: c_int, _what: &str) -> Result<(), IdaError> {
+    /// Maps a non-success return code of the IDA call `what` to an error.
+    fn check(&mut self, rc: c_int, what: &str) -> Result<(), IdaError> {
         if rc >= 0 {
-            Ok(())
-        } else {
-            Err(self.failure(rc))
+            return Ok(());
         }
+        let mut err = self.failure(rc);
+        if let IdaError::Flag { hint, .. } = &mut err {
+            *hint = format!("{what} failed: {hint}");
+        }
+        Err(err)
     }
 
     /// The error for failure flag `rc`: a caught panic or fatal residual error wins over a
