@@ -31,6 +31,7 @@
 //! ```
 
 mod error;
+#[allow(unsafe_code)] // the one FFI module of the crate
 mod ida;
 mod options;
 mod stats;
