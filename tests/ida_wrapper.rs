@@ -367,6 +367,53 @@ fn panic_in_residual_becomes_an_error() {
     drop(ida);
 }
 
+/// Ball whose root function panics after the first evaluations past t = 0.2.
+struct PanickingRoots(Ball);
+
+impl DaeSystem for PanickingRoots {
+    fn len(&self) -> usize {
+        2
+    }
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        res: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        self.0.residual(t, y, yp, res)
+    }
+    fn num_roots(&self) -> usize {
+        1
+    }
+    fn roots(&mut self, t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) {
+        g[0] = y[0];
+        if t > 0.2 {
+            panic!("root function gave up at t = {t}");
+        }
+    }
+}
+
+#[test]
+fn panic_in_roots_becomes_an_error() {
+    let g = 9.81;
+    let mut ida = Ida::new(
+        PanickingRoots(Ball { g }),
+        0.0,
+        &[1.0, 0.0],
+        &[0.0, -g],
+        &IdaOptions::default(),
+    )
+    .unwrap();
+    match ida.solve(1.0, false).unwrap_err() {
+        IdaError::Panic { message, t } => {
+            assert!(message.contains("in roots()") && message.contains("gave up"));
+            assert!(t > 0.2 && t < 0.5, "t = {t}");
+        }
+        other => panic!("expected IdaError::Panic, got {other:?}"),
+    }
+}
+
 #[test]
 fn nan_residual_ends_with_an_error_naming_the_time() {
     let mut ida = faulty(0.3, Fault::Nan);

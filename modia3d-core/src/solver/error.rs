@@ -6,7 +6,7 @@
 use sundials_sys as sys;
 
 /// Everything that can go wrong in [`super::Ida`]. Every message says what went wrong, at which
-/// time `t` [s], and what to try.
+/// time `t` \[s\], and what to try.
 #[derive(thiserror::Error, Debug, Clone, PartialEq)]
 pub enum IdaError {
     /// IDA returned a failure flag.
@@ -16,7 +16,7 @@ pub enum IdaError {
         flag: i32,
         /// Its name as given by `IDAGetReturnFlagName`, e.g. `IDA_CONV_FAIL`.
         name: String,
-        /// Time [s] reached when the failure happened (last successful time).
+        /// Time \[s\] reached when the failure happened (last successful time).
         t: f64,
         /// What to try, written for this flag.
         hint: String,
@@ -31,7 +31,7 @@ pub enum IdaError {
     Panic {
         /// The panic payload as text.
         message: String,
-        /// Time [s] passed to the callback that panicked.
+        /// Time \[s\] passed to the callback that panicked.
         t: f64,
     },
     /// [`super::DaeSystem::residual`] returned `ResidualError::Fatal`.
@@ -41,7 +41,7 @@ pub enum IdaError {
     ResidualFatal {
         /// The message given by the residual.
         message: String,
-        /// Time [s] passed to the residual.
+        /// Time \[s\] passed to the residual.
         t: f64,
     },
     /// The residual produced a NaN or infinite value that IDA could not step around.
@@ -53,7 +53,7 @@ pub enum IdaError {
     NonFiniteResidual {
         /// Index of the (first) non-finite residual component.
         index: usize,
-        /// Earliest time [s] at which the residual was non-finite during the failed call.
+        /// Earliest time \[s\] at which the residual was non-finite during the failed call.
         t: f64,
         /// `"NaN"`, `"inf"` or `"-inf"`.
         value: String,

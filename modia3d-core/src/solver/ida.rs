@@ -397,7 +397,7 @@ unsafe extern "C" fn root_callback<S: DaeSystem>(
 }
 
 impl<S: DaeSystem> Ida<S> {
-    /// Creates the integrator for `system` starting at time `t0` [s] with y(t0) = `y0` and
+    /// Creates the integrator for `system` starting at time `t0` \[s\] with y(t0) = `y0` and
     /// y'(t0) = `yp0` (both of length `system.len()`).
     ///
     /// The initial values need not be consistent if [`Ida::calc_ic_ya_ydp`] or
@@ -636,13 +636,16 @@ impl<S: DaeSystem> Ida<S> {
         self.take_sink();
     }
 
-    /// Maps a non-success return code of an IDA call to an error.
-    fn check(&mut self, rc: c_int, _what: &str) -> Result<(), IdaError> {
+    /// Maps a non-success return code of the IDA call `what` to an error.
+    fn check(&mut self, rc: c_int, what: &str) -> Result<(), IdaError> {
         if rc >= 0 {
-            Ok(())
-        } else {
-            Err(self.failure(rc))
+            return Ok(());
         }
+        let mut err = self.failure(rc);
+        if let IdaError::Flag { hint, .. } = &mut err {
+            *hint = format!("{what} failed: {hint}");
+        }
+        Err(err)
     }
 
     /// The error for failure flag `rc`: a caught panic or fatal residual error wins over a
@@ -695,20 +698,20 @@ impl<S: DaeSystem> Ida<S> {
 
     /// `IDACalcIC(IDA_YA_YDP_INIT)`: given the differential components of y (see
     /// [`IdaOptions::differential`]; `None` means all differential), computes the algebraic
-    /// components of y and all of y' so that F = 0 at the current time. `t_out1` [s] is the
+    /// components of y and all of y' so that F = 0 at the current time. `t_out1` \[s\] is the
     /// first output time (it sets the direction and scale of the search). Afterwards
     /// [`Ida::y`]/[`Ida::yp`] hold the consistent values.
     pub fn calc_ic_ya_ydp(&mut self, t_out1: f64) -> Result<(), IdaError> {
         self.calc_ic(sys::IDA_YA_YDP_INIT, t_out1)
     }
 
-    /// `IDACalcIC(IDA_Y_INIT)`: computes all of y given y' at the current time; `t_out1` [s] as
+    /// `IDACalcIC(IDA_Y_INIT)`: computes all of y given y' at the current time; `t_out1` \[s\] as
     /// for [`Ida::calc_ic_ya_ydp`].
     pub fn calc_ic_y(&mut self, t_out1: f64) -> Result<(), IdaError> {
         self.calc_ic(sys::IDA_Y_INIT, t_out1)
     }
 
-    /// Sets a time [s] past which IDA must not step (`IDASetStopTime`); `solve` then returns
+    /// Sets a time \[s\] past which IDA must not step (`IDASetStopTime`); `solve` then returns
     /// [`SolveStatus::StopTime`] there. The stop time is cleared once it is reached.
     pub fn set_stop_time(&mut self, t_stop: f64) -> Result<(), IdaError> {
         check_finite("t_stop", t_stop)?;
@@ -726,7 +729,7 @@ impl<S: DaeSystem> Ida<S> {
         self.check(rc, "IDAClearStopTime")
     }
 
-    /// Sets the largest step size [s] (`None` = unlimited).
+    /// Sets the largest step size \[s\] (`None` = unlimited).
     pub fn set_max_step(&mut self, h: Option<f64>) -> Result<(), IdaError> {
         let h = match h {
             Some(h) if h.is_finite() && h > 0.0 => h,
@@ -743,7 +746,7 @@ impl<S: DaeSystem> Ida<S> {
         self.check(rc, "IDASetMaxStep")
     }
 
-    /// Integrates towards `t_out` [s] (`IDASolve`): in `IDA_NORMAL` mode it returns the
+    /// Integrates towards `t_out` \[s\] (`IDASolve`): in `IDA_NORMAL` mode it returns the
     /// interpolated solution at `t_out`, unless a root or the stop time comes first; with
     /// `one_step` it returns after one internal step (`IDA_ONE_STEP`). The solution is then in
     /// [`Ida::y`]/[`Ida::yp`] at [`Ida::t`].
@@ -774,7 +777,7 @@ impl<S: DaeSystem> Ida<S> {
         }
     }
 
-    /// Re-initialises after an event (`IDAReInit`) at time `t` [s] with new y and y' (length n).
+    /// Re-initialises after an event (`IDAReInit`) at time `t` \[s\] with new y and y' (length n).
     /// Keeps the options, root functions and linear solver; statistics keep accumulating.
     pub fn reinit(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), IdaError> {
         check_finite("t", t)?;
@@ -797,7 +800,7 @@ impl<S: DaeSystem> Ida<S> {
         self.attach_linear_solver()
     }
 
-    /// Time [s] of the current [`Ida::y`] and [`Ida::yp`].
+    /// Time \[s\] of the current [`Ida::y`] and [`Ida::yp`].
     pub fn t(&self) -> f64 {
         self.t
     }

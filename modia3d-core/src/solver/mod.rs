@@ -1,6 +1,6 @@
 //! Solver stage: the safe interface to the SUNDIALS IDA DAE integrator.
 //!
-//! This module may touch only the standard library, `thiserror` and (in [`ida`], the only file
+//! This module may touch only the standard library, `thiserror` and (in `ida.rs`, the only file
 //! of the crate that contains `unsafe`) the `sundials-sys` FFI bindings. It knows nothing about
 //! scenes, bodies or contacts: the multibody stages describe their equations through the
 //! [`DaeSystem`] trait and drive the integration with [`Ida`].
@@ -8,8 +8,30 @@
 //! A DAE is written in fully implicit form `F(t, y, y') = 0` with `n` unknowns `y`, plus optional
 //! root (zero-crossing) functions `g(t, y, y')` whose sign changes IDA locates precisely, which is
 //! how events such as impacts are detected.
+//!
+//! ```
+//! use modia3d_core::solver::{DaeSystem, Ida, IdaOptions, ResidualError, SolveStatus};
+//!
+//! /// y' = -y as the implicit residual F = y' + y.
+//! struct Decay;
+//! impl DaeSystem for Decay {
+//!     fn len(&self) -> usize { 1 }
+//!     fn residual(&mut self, _t: f64, y: &[f64], yp: &[f64], res: &mut [f64])
+//!         -> Result<(), ResidualError> {
+//!         res[0] = yp[0] + y[0];
+//!         Ok(())
+//!     }
+//! }
+//!
+//! let opts = IdaOptions::default().rtol(1e-8).atol(1e-10);
+//! let mut ida = Ida::new(Decay, 0.0, &[1.0], &[-1.0], &opts)?;
+//! assert_eq!(ida.solve(1.0, false)?, SolveStatus::Reached { t: 1.0 });
+//! assert!((ida.y()[0] - (-1.0f64).exp()).abs() < 1e-6);
+//! # Ok::<(), modia3d_core::solver::IdaError>(())
+//! ```
 
 mod error;
+#[allow(unsafe_code)] // the one FFI module of the crate
 mod ida;
 mod options;
 mod stats;
@@ -21,7 +43,7 @@ pub use stats::IdaStats;
 
 /// A DAE `F(t, y, y') = 0` with optional root (zero-crossing) functions.
 ///
-/// Units of `t`, `y` and `y'` are the system's own; in modia3d `t` is always in seconds [s].
+/// Units of `t`, `y` and `y'` are the system's own; in modia3d `t` is always in seconds \[s\].
 pub trait DaeSystem {
     /// Number of unknowns n.
     fn len(&self) -> usize;
@@ -70,25 +92,25 @@ pub enum ResidualError {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum SolveStatus {
     /// The requested output time (or, in one-step mode, the end of one internal step) was
-    /// reached; `t` [s] is the time of [`Ida::y`] (IDA_SUCCESS).
+    /// reached; `t` \[s\] is the time of [`Ida::y`] (IDA_SUCCESS).
     Reached {
-        /// Time of the returned solution [s].
+        /// Time of the returned solution \[s\].
         t: f64,
     },
     /// The stop time set with [`Ida::set_stop_time`] was reached (IDA_TSTOP_RETURN).
     StopTime {
-        /// Time of the returned solution, equal to the stop time [s].
+        /// Time of the returned solution, equal to the stop time \[s\].
         t: f64,
     },
     /// A root function changed sign; see [`Ida::root_info`] for which (IDA_ROOT_RETURN).
     Root {
-        /// Time of the located root [s].
+        /// Time of the located root \[s\].
         t: f64,
     },
 }
 
 impl SolveStatus {
-    /// Time of the returned solution [s], whatever the status.
+    /// Time of the returned solution \[s\], whatever the status.
     pub fn t(&self) -> f64 {
         match *self {
             SolveStatus::Reached { t } | SolveStatus::StopTime { t } | SolveStatus::Root { t } => t,

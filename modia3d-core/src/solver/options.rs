@@ -28,7 +28,7 @@ pub struct IdaOptions {
     pub rtol: f64,
     /// Absolute tolerance. Default `Atol::Scalar(1e-8)`.
     pub atol: Atol,
-    /// Largest step size [s]; `None` = unlimited.
+    /// Largest step size \[s\]; `None` = unlimited.
     pub max_step: Option<f64>,
     /// Largest number of internal steps per `solve` call (> 0). Default 100_000.
     pub max_num_steps: usize,
@@ -41,7 +41,7 @@ pub struct IdaOptions {
     /// Direction of root crossings to report, one per root function (`IDASetRootDirection`):
     /// +1 only increasing, -1 only decreasing, 0 both. `None` = both for all roots.
     pub root_directions: Option<Vec<i32>>,
-    /// First step size to try [s]; `None` lets IDA estimate it.
+    /// First step size to try \[s\]; `None` lets IDA estimate it.
     pub init_step: Option<f64>,
 }
 
@@ -79,7 +79,7 @@ impl IdaOptions {
         self
     }
 
-    /// Sets the largest step size [s] (`None` = unlimited).
+    /// Sets the largest step size \[s\] (`None` = unlimited).
     pub fn max_step(mut self, max_step: Option<f64>) -> Self {
         self.max_step = max_step;
         self
@@ -109,7 +109,7 @@ impl IdaOptions {
         self
     }
 
-    /// Sets the first step size to try [s].
+    /// Sets the first step size to try \[s\].
     pub fn init_step(mut self, h: Option<f64>) -> Self {
         self.init_step = h;
         self

@@ -25,7 +25,7 @@ pub struct IdaStats {
     pub nonlinear_convergence_failures: u64,
     /// Root function evaluations.
     pub root_evals: u64,
-    /// Size of the last internal step taken [s] (0 before the first step).
+    /// Size of the last internal step taken \[s\] (0 before the first step).
     pub last_step: f64,
     /// Order of the last internal step taken (0 before the first step).
     pub last_order: i32,
