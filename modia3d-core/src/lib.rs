@@ -3,14 +3,15 @@
 // Only the solver stage's FFI module (solver/ida.rs) may use `unsafe`; it opts back in explicitly.
 #![deny(unsafe_code)]
 
-pub mod geometry;
-pub mod scene;
-pub mod dynamics;
 pub mod dae;
+pub mod dynamics;
+pub mod geometry;
 pub mod results;
+pub mod scene;
 pub mod simulation;
 pub mod solver;
 
+pub use geometry::{Axis, Shape};
 pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
 pub use scene::{
     Feature, ForceElement, ForceFn, FreeRotation, Joint, JointKind, MassSpec, MaterialRef,
@@ -18,4 +19,3 @@ pub use scene::{
     SolidMaterial, Wrench,
 };
 pub use simulation::{Model, SimError, SimErrorKind, SimOptions};
-pub use geometry::{Axis, Shape};

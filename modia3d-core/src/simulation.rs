@@ -67,7 +67,8 @@ impl SimOptions {
 
     fn check(&self) -> Result<(), String> {
         let finite = |x: f64| x.is_finite();
-        if !finite(self.start_time) || !finite(self.stop_time) || self.stop_time <= self.start_time {
+        if !finite(self.start_time) || !finite(self.stop_time) || self.stop_time <= self.start_time
+        {
             return Err(format!(
                 "stop time {} s must be finite and after the start time {} s",
                 self.stop_time, self.start_time

@@ -36,7 +36,11 @@ impl MultibodyDae {
         let mut yp = vec![0.0; nq + nv];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
         let vd = crate::dynamics::mass_matrix::consistent_accelerations(
-            &self.plan, &mut self.ws, t, q, v,
+            &self.plan,
+            &mut self.ws,
+            t,
+            q,
+            v,
         )?;
         yp[nq..].copy_from_slice(&vd);
         Some(yp)

@@ -110,7 +110,11 @@ pub fn object_in_world(plan: &Plan, ws: &Workspace, o: usize) -> Transform {
 /// Velocity [m/s] and angular velocity [rad/s], both resolved in world, of the material point
 /// `p` (given in world [m]) of body `b` (`None` = world: at rest).
 #[inline]
-pub fn point_velocity(ws: &Workspace, b: Option<usize>, p: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+pub fn point_velocity(
+    ws: &Workspace,
+    b: Option<usize>,
+    p: &Vector3<f64>,
+) -> (Vector3<f64>, Vector3<f64>) {
     match b {
         None => (Vector3::zeros(), Vector3::zeros()),
         Some(b) => {

@@ -164,7 +164,9 @@ impl Inertia {
         }
         let c2 = x.pos + x.rot * other.com;
         let com = (self.com * self.mass + c2 * other.mass) / m;
-        let shift = |mass: f64, d: Vector3<f64>| (Matrix3::identity() * d.dot(&d) - d * d.transpose()) * mass;
+        let shift = |mass: f64, d: Vector3<f64>| {
+            (Matrix3::identity() * d.dot(&d) - d * d.transpose()) * mass
+        };
         let inertia_com = self.inertia_com
             + shift(self.mass, self.com - com)
             + x.rot * other.inertia_com * x.rot.transpose()
@@ -229,7 +231,12 @@ mod tests {
         let w = Vector3::new(0.4, -0.7, 1.3);
         let h = 1e-7;
         let q2 = uq * UnitQuaternion::from_scaled_axis(w * h);
-        let fd = [(q2.w - uq.w) / h, (q2.i - uq.i) / h, (q2.j - uq.j) / h, (q2.k - uq.k) / h];
+        let fd = [
+            (q2.w - uq.w) / h,
+            (q2.i - uq.i) / h,
+            (q2.j - uq.j) / h,
+            (q2.k - uq.k) / h,
+        ];
         let an = quat_rate(&q, &w);
         for i in 0..4 {
             assert!((fd[i] - an[i]).abs() < 1e-6, "{i}: {} vs {}", fd[i], an[i]);

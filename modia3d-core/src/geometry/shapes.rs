@@ -238,8 +238,8 @@ impl Shape {
                 let l = *length;
                 let vc = PI * r * r * l; // cylinder
                 let vh = 2.0 / 3.0 * PI * r.powi(3); // one hemisphere
-                // Hemisphere: centroid 3r/8 from its flat face, transverse inertia about its
-                // centroid 83/320 m r², axial 2/5 m r².
+                                                     // Hemisphere: centroid 3r/8 from its flat face, transverse inertia about its
+                                                     // centroid 83/320 m r², axial 2/5 m r².
                 let d = 0.5 * l + 3.0 * r / 8.0;
                 let axial = 0.5 * vc * r * r + 2.0 * 0.4 * vh * r * r;
                 let transverse = vc * (3.0 * r * r + l * l) / 12.0
@@ -332,7 +332,11 @@ mod tests {
         assert!(close(p.volume, v, 1e-14));
         assert!(close(p.com.z, h / 4.0, 1e-14));
         assert!(close(p.inertia[(2, 2)], 0.3 * v * r * r, 1e-14));
-        assert!(close(p.inertia[(0, 0)], v * (0.15 * r * r + 3.0 / 80.0 * h * h), 1e-13));
+        assert!(close(
+            p.inertia[(0, 0)],
+            v * (0.15 * r * r + 3.0 / 80.0 * h * h),
+            1e-13
+        ));
     }
 
     #[test]

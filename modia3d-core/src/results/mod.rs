@@ -44,7 +44,12 @@ pub struct Signal {
 impl Signal {
     /// Component `i` at every time point.
     pub fn component(&self, i: usize) -> Vec<f64> {
-        self.data.iter().skip(i).step_by(self.dim).copied().collect()
+        self.data
+            .iter()
+            .skip(i)
+            .step_by(self.dim)
+            .copied()
+            .collect()
     }
     /// The values at time point `k`.
     pub fn at(&self, k: usize) -> &[f64] {
@@ -191,7 +196,9 @@ impl SimulationResult {
             let names = self.signal_names();
             let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));
             unknown(match hint {
-                Some(h) => format!("no joint or object quantity of that name (hint: did you mean `{h}`?)"),
+                Some(h) => {
+                    format!("no joint or object quantity of that name (hint: did you mean `{h}`?)")
+                }
                 None => "no joint or object quantity of that name; see `signal_names()`".into(),
             })
         })?;
@@ -270,7 +277,11 @@ impl SimulationResult {
                 Quantity::Rot => data.extend(x.rot.transpose().iter().copied()),
                 Quantity::Vel | Quantity::AngVel => {
                     let (vel, w) = kinematics::point_velocity(&ws, plan.objects[o].body, &x.pos);
-                    let val = if matches!(quantity, Quantity::Vel) { vel } else { w };
+                    let val = if matches!(quantity, Quantity::Vel) {
+                        vel
+                    } else {
+                        w
+                    };
                     data.extend_from_slice(val.as_slice());
                 }
             }

@@ -4,8 +4,7 @@
 //! Touches only the scene description; the dynamics plan is compiled from the result.
 
 use super::desc::{
-    Feature, ForceElement, FreeRotation, JointKind, MassSpec, MaterialRef, SceneDesc,
-    SceneOptions,
+    Feature, ForceElement, FreeRotation, JointKind, MassSpec, MaterialRef, SceneDesc, SceneOptions,
 };
 use super::materials::{builtin_solid_material, SolidMaterial};
 use crate::geometry::Shape;
@@ -720,8 +719,14 @@ fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {
         );
     }
     if let Shape::ConvexHull { points } = shape {
-        let flat: Vec<f64> = points.iter().flat_map(|p| p.coords.iter().copied()).collect();
-        c.finite(|| format!("object `{object}`: ConvexHull points [m]"), &flat);
+        let flat: Vec<f64> = points
+            .iter()
+            .flat_map(|p| p.coords.iter().copied())
+            .collect();
+        c.finite(
+            || format!("object `{object}`: ConvexHull points [m]"),
+            &flat,
+        );
         if flat.iter().all(|v| v.is_finite()) && shape.unit_mass_properties().is_none() {
             c.errors.push(SceneError::InvalidValue {
                 what: format!("object `{object}`: ConvexHull volume [m³]"),
@@ -749,7 +754,8 @@ fn solid_mass(
             let Some(m) = material else {
                 c.errors.push(SceneError::NoMassSource {
                     object: object.into(),
-                    reason: "mass from density needs a solid material; set `material` or give a mass",
+                    reason:
+                        "mass from density needs a solid material; set `material` or give a mass",
                 });
                 return zero;
             };
@@ -837,7 +843,10 @@ fn check_joint_kind(c: &mut Checker, joint: &str, k: &JointKind) -> Option<Valid
     let kind = match k {
         JointKind::Fix => ValidJointKind::Fix,
         JointKind::Revolute { axis, phi, w } => {
-            c.finite(|| format!("joint `{joint}`: initial phi [rad], w [rad/s]"), &[*phi, *w]);
+            c.finite(
+                || format!("joint `{joint}`: initial phi [rad], w [rad/s]"),
+                &[*phi, *w],
+            );
             ValidJointKind::Revolute {
                 axis: axis_of(c, axis),
                 phi: *phi,
@@ -845,7 +854,10 @@ fn check_joint_kind(c: &mut Checker, joint: &str, k: &JointKind) -> Option<Valid
             }
         }
         JointKind::Prismatic { axis, s, v } => {
-            c.finite(|| format!("joint `{joint}`: initial s [m], v [m/s]"), &[*s, *v]);
+            c.finite(
+                || format!("joint `{joint}`: initial s [m], v [m/s]"),
+                &[*s, *v],
+            );
             ValidJointKind::Prismatic {
                 axis: axis_of(c, axis),
                 s: *s,
@@ -859,7 +871,10 @@ fn check_joint_kind(c: &mut Checker, joint: &str, k: &JointKind) -> Option<Valid
             );
             let q = match rot {
                 FreeRotation::Cardan(a) => {
-                    c.finite(|| format!("joint `{joint}`: initial Cardan angles [rad]"), a);
+                    c.finite(
+                        || format!("joint `{joint}`: initial Cardan angles [rad]"),
+                        a,
+                    );
                     UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
                         super::desc::cardan_to_matrix(*a),
                     ))

@@ -511,6 +511,12 @@ impl<S: DaeSystem> Ida<S> {
             if let Some(h) = opts.init_step {
                 self.check(sys::IDASetInitStep(mem, h), "IDASetInitStep")?;
             }
+            if let Some(c) = opts.nonlinear_convergence_coefficient {
+                self.check(sys::IDASetNonlinConvCoef(mem, c), "IDASetNonlinConvCoef")?;
+            }
+            if let Some(k) = opts.max_order {
+                self.check(sys::IDASetMaxOrd(mem, k as c_int), "IDASetMaxOrd")?;
+            }
             self.attach_linear_solver()?;
             let n_roots = self.root_info.len();
             if n_roots > 0 {

@@ -43,6 +43,12 @@ pub struct IdaOptions {
     pub root_directions: Option<Vec<i32>>,
     /// First step size to try \[s\]; `None` lets IDA estimate it.
     pub init_step: Option<f64>,
+    /// Safety factor of the Newton convergence test (`IDASetNonlinConvCoef`), as a fraction of
+    /// the local error tolerance; `None` keeps IDA's 0.33. Smaller values make every corrector
+    /// solve more exact, which reduces the drift of invariants at tight tolerances.
+    pub nonlinear_convergence_coefficient: Option<f64>,
+    /// Largest BDF order, 1 to 5 (`IDASetMaxOrd`); `None` keeps IDA's 5.
+    pub max_order: Option<i32>,
 }
 
 impl Default for IdaOptions {
@@ -56,6 +62,8 @@ impl Default for IdaOptions {
             suppress_algebraic_error: false,
             root_directions: None,
             init_step: None,
+            nonlinear_convergence_coefficient: None,
+            max_order: None,
         }
     }
 }
