@@ -232,6 +232,8 @@ impl Plan {
         let mut ref_obj: Vec<usize> = vec![usize::MAX; n];
         ref_obj[world_cluster] = scene.world;
         let mut used = vec![false; scene.joints.len()];
+        // Tree edge that reached each cluster: (parent cluster, scene joint).
+        let mut reached_by: Vec<Option<(usize, usize)>> = vec![None; n];
         let mut queue = VecDeque::from([world_cluster]);
         // (joint, parent cluster, child-side object, parent-side object, flipped)
         let mut tree_edges = vec![];
@@ -252,12 +254,45 @@ impl Plan {
                 used[j] = true;
                 let cc = cluster[child_obj];
                 if visited[cc] {
+                    // The loop: both ends' tree paths up to their common ancestor, closed by j.
+                    // (cluster, joint to its parent cluster) up to the world.
+                    let path = |mut k: usize| {
+                        let mut p = vec![];
+                        loop {
+                            let r = reached_by[k];
+                            p.push((k, r.map(|x: (usize, usize)| x.1)));
+                            match r {
+                                Some((up, _)) => k = up,
+                                None => return p,
+                            }
+                        }
+                    };
+                    let (p1, p2) = (path(c1), path(c2));
+                    let mut ids = vec![sj.obj1, sj.obj2];
+                    for p in [&p1, &p2] {
+                        for &(k, via) in p {
+                            if p1.iter().any(|x| x.0 == k) && p2.iter().any(|x| x.0 == k) {
+                                break; // common ancestor reached
+                            }
+                            if let Some(via) = via {
+                                let tj = &scene.joints[via];
+                                ids.extend([tj.obj1, tj.obj2]);
+                            }
+                        }
+                    }
+                    let mut seen = vec![];
+                    ids.retain(|i| {
+                        let new = !seen.contains(i);
+                        seen.push(*i);
+                        new
+                    });
                     errors.push(SceneError::KinematicLoop {
-                        objects: names(&[sj.obj1, sj.obj2]),
+                        objects: names(&ids),
                     });
                     continue;
                 }
                 visited[cc] = true;
+                reached_by[cc] = Some((c, j));
                 ref_obj[cc] = child_obj;
                 tree_edges.push((j, c, child_obj, parent_obj, flipped));
                 queue.push_back(cc);

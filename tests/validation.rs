@@ -1,0 +1,336 @@
+//! Every validation error names its culprit (and hints at a fix where one exists).
+
+use modia3d::prelude::*;
+
+fn base() -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()));
+    s
+}
+
+fn ball(name: &str) -> Object3D {
+    Object3D::new(name).solid(Solid::new(Shape::Sphere { diameter: 0.1 }).material("Steel"))
+}
+
+/// Builds `s` and returns the error messages.
+fn errors(s: &SceneDesc) -> Vec<String> {
+    match s.build() {
+        Ok(_) => panic!("the scene should be rejected"),
+        Err(e) => e.0.iter().map(|e| e.to_string()).collect(),
+    }
+}
+
+fn assert_one(s: &SceneDesc, needles: &[&str]) {
+    let errs = errors(s);
+    assert!(
+        errs.iter().any(|e| needles.iter().all(|n| e.contains(n))),
+        "no error contains all of {needles:?}: {errs:#?}"
+    );
+}
+
+#[test]
+fn unknown_parent_with_hint() {
+    let mut s = base();
+    s.add(ball("arm")).add(Object3D::new("tip").parent("amr"));
+    assert_one(
+        &s,
+        &["object `tip`'s parent", "`amr`", "did you mean `arm`"],
+    );
+}
+
+#[test]
+fn unknown_joint_end() {
+    let mut s = base();
+    s.add(ball("ball"))
+        .add_joint(Joint::new("j", "wrld", "ball", JointKind::free()));
+    assert_one(&s, &["joint `j`'s obj1", "`wrld`", "did you mean `world`"]);
+}
+
+#[test]
+fn parent_cycle() {
+    let mut s = base();
+    s.add(ball("a").parent("c"))
+        .add(Object3D::new("b").parent("a"))
+        .add(Object3D::new("c").parent("b"));
+    assert_one(&s, &["parent cycle", "`a`", "`b`", "`c`"]);
+}
+
+#[test]
+fn no_scene_and_several_scenes() {
+    let mut s = SceneDesc::new();
+    s.add(ball("ball"));
+    assert_one(&s, &["no `Scene` object"]);
+    let mut s = base();
+    s.add(Object3D::new("world2").scene(SceneOptions::default()));
+    assert_one(&s, &["several `Scene` objects", "`world`", "`world2`"]);
+}
+
+#[test]
+fn scene_with_parent() {
+    let mut s = SceneDesc::new();
+    s.add(
+        Object3D::new("world")
+            .parent("holder")
+            .scene(SceneOptions::default()),
+    )
+    .add(Object3D::new("holder"));
+    assert_one(&s, &["`Scene` object `world` has a parent"]);
+}
+
+#[test]
+fn duplicate_names() {
+    let mut s = base();
+    s.add(ball("ball").parent("world"))
+        .add(ball("ball").parent("world"));
+    assert_one(&s, &["duplicate object name `ball`"]);
+}
+
+#[test]
+fn two_parents() {
+    let mut s = base();
+    s.add(ball("ball"))
+        .add(Object3D::new("a").parent("world"))
+        .add_joint(Joint::new("j1", "world", "ball", JointKind::revolute(1)))
+        .add_joint(Joint::new("j2", "a", "ball", JointKind::revolute(2)));
+    assert_one(&s, &["object `ball` has two parents", "`j1`", "`j2`"]);
+}
+
+#[test]
+fn identical_joint_ends() {
+    let mut s = base();
+    s.add(ball("ball"))
+        .add_joint(Joint::new("j", "ball", "ball", JointKind::revolute(1)));
+    assert_one(&s, &["joint `j` joins `ball` to itself"]);
+}
+
+#[test]
+fn kinematic_loop_lists_its_objects() {
+    let mut s = base();
+    s.add(ball("a"))
+        .add(ball("b"))
+        .add_joint(Joint::new("j1", "world", "a", JointKind::revolute(1)))
+        .add_joint(Joint::new("j2", "a", "b", JointKind::revolute(1)))
+        .add_joint(Joint::new("j3", "b", "world", JointKind::revolute(1)));
+    assert_one(&s, &["kinematic loop", "`b`", "`world`"]);
+    // A parent link closing a loop through a joint is a loop too.
+    let mut s = base();
+    s.add(ball("a").parent("world")).add_joint(Joint::new(
+        "j",
+        "world",
+        "a",
+        JointKind::revolute(1),
+    ));
+    assert_one(&s, &["kinematic loop", "`world`", "`a`"]);
+}
+
+#[test]
+fn not_connected() {
+    let mut s = base();
+    s.add(ball("floating"));
+    assert_one(&s, &["`floating` is not connected to the world"]);
+}
+
+#[test]
+fn massless_and_singular_bodies() {
+    // A revolute joint moving a bare frame: no mass at all.
+    let mut s = base();
+    s.add(Object3D::new("frame")).add_joint(Joint::new(
+        "rev",
+        "world",
+        "frame",
+        JointKind::revolute(1),
+    ));
+    assert_one(&s, &["joint `rev`", "`frame`", "has no mass"]);
+    // A point mass on a free joint: mass but no rotational inertia.
+    let mut s = base();
+    s.add(Object3D::new("point").solid(
+        Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+            1.0,
+            Vector3::zeros(),
+            Matrix3::zeros(),
+        ),
+    ))
+    .add_joint(Joint::new("free", "world", "point", JointKind::free()));
+    assert_one(&s, &["joint `free`", "`point`", "singular inertia"]);
+}
+
+#[test]
+fn bad_numbers_name_the_value() {
+    let mut s = base();
+    s.add(
+        Object3D::new("a")
+            .parent("world")
+            .solid(Solid::new(Shape::Sphere { diameter: f64::NAN }).material("Steel")),
+    )
+    .add(
+        Object3D::new("b").parent("world").solid(
+            Solid::new(Shape::Box {
+                lengths: Vector3::new(1.0, -0.1, 1.0),
+            })
+            .material("Steel"),
+        ),
+    )
+    .add(
+        Object3D::new("c")
+            .parent("world")
+            .solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(-2.0)),
+    )
+    .add(
+        Object3D::new("d")
+            .parent("world")
+            .translation([0.0, f64::INFINITY, 0.0]),
+    )
+    .add(Object3D::new("e").parent("world").solid(
+        Solid::new(Shape::Sphere { diameter: 0.1 }).material_value(SolidMaterial {
+            density: -1.0,
+            young_modulus: 1e9,
+            poisson_ratio: 0.3,
+        }),
+    ));
+    let errs = errors(&s);
+    let has = |needles: &[&str]| errs.iter().any(|e| needles.iter().all(|n| e.contains(n)));
+    assert!(has(&["object `a`", "diameter", "NaN"]), "{errs:#?}");
+    assert!(has(&["object `b`", "lengths[1]", "-0.1"]), "{errs:#?}");
+    assert!(has(&["solid `c`", "mass", "-2"]), "{errs:#?}");
+    assert!(has(&["object `d`", "translation", "inf"]), "{errs:#?}");
+    assert!(has(&["solid `e`", "density", "-1"]), "{errs:#?}");
+    // All errors come in one pass.
+    assert_eq!(errs.len(), 5, "{errs:#?}");
+}
+
+#[test]
+fn unknown_material_with_hint() {
+    let mut s = base();
+    s.add(
+        Object3D::new("ball")
+            .parent("world")
+            .solid(Solid::new(Shape::Sphere { diameter: 0.1 }).material("Steell")),
+    );
+    assert_one(&s, &["solid `ball`", "`Steell`", "did you mean `Steel`"]);
+}
+
+#[test]
+fn bad_rotation_matrix_and_axis() {
+    let mut s = base();
+    s.add(
+        Object3D::new("a")
+            .parent("world")
+            .rotation(Rotation::Matrix(Matrix3::identity() * 2.0)),
+    )
+    .add(ball("b"))
+    .add_joint(Joint::new("j", "world", "b", JointKind::revolute(4)));
+    let errs = errors(&s);
+    assert!(
+        errs.iter()
+            .any(|e| e.contains("object `a`") && e.contains("rotation")),
+        "{errs:#?}"
+    );
+    assert!(
+        errs.iter()
+            .any(|e| e.contains("joint `j`") && e.contains("axis")),
+        "{errs:#?}"
+    );
+}
+
+#[test]
+fn reversed_free_motion() {
+    let mut s = base();
+    s.add(ball("ball"))
+        .add_joint(Joint::new("free", "ball", "world", JointKind::free()));
+    assert_one(&s, &["FreeMotion `free`", "swap obj1 and obj2"]);
+}
+
+#[test]
+fn reversed_revolute_is_fine() {
+    // obj1 on the far side: the tree runs from obj2 to obj1 with the axis negated, which must
+    // give the same motion as the joint written the other way round with phi negated.
+    let make = |reversed: bool| {
+        let mut s = base();
+        s.add(ball("bob")).add(
+            Object3D::new("pivot")
+                .parent("bob")
+                .translation([0.0, 0.0, 1.0]),
+        );
+        if reversed {
+            s.add_joint(
+                Joint::new("rev", "pivot", "world", JointKind::revolute(1)).init_position(-0.4),
+            );
+        } else {
+            s.add_joint(
+                Joint::new("rev", "world", "pivot", JointKind::revolute(1)).init_position(0.4),
+            );
+        }
+        s.build()
+            .unwrap()
+            .simulate(&SimOptions::new(1.0).tolerance(1e-10))
+            .unwrap()
+    };
+    let (a, b) = (make(false), make(true));
+    let ra = a.signal("bob.r_abs").unwrap();
+    let rb = b.signal("bob.r_abs").unwrap();
+    let diff = ra
+        .data
+        .iter()
+        .zip(&rb.data)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    assert!(diff < 1e-9, "{diff:e}");
+}
+
+#[test]
+fn unknown_signal_has_a_hint() {
+    let mut s = base();
+    s.add(ball("ball"))
+        .add_joint(Joint::new("rev", "world", "ball", JointKind::revolute(1)));
+    let r = s.build().unwrap().simulate(&SimOptions::new(0.1)).unwrap();
+    let e = r.signal("rev.ph").unwrap_err().to_string();
+    assert!(
+        e.contains("`rev.ph`") && e.contains("did you mean `rev.phi`"),
+        "{e}"
+    );
+    let e = r.signal("ball.r_abs[3]").unwrap_err().to_string();
+    assert!(e.contains("index 3 out of range"), "{e}");
+}
+
+#[test]
+fn invalid_options_return_partial_results() {
+    let mut s = base();
+    s.add(ball("ball"))
+        .add_joint(Joint::new("rev", "world", "ball", JointKind::revolute(1)));
+    let m = s.build().unwrap();
+    let e = m.simulate(&SimOptions::new(-1.0)).unwrap_err();
+    assert!(e.to_string().contains("stop time"), "{e}");
+    assert!(e.partial.time().is_empty());
+}
+
+#[test]
+fn failed_run_carries_results_up_to_the_failure() {
+    // A force law that panics after 0.3 s: the run fails with an error naming the time, and
+    // the results up to then are kept.
+    let mut s = base();
+    s.add(ball("ball"))
+        .add(
+            Object3D::new("pivot")
+                .parent("ball")
+                .translation([0.0, 0.0, 1.0]),
+        )
+        .add_joint(Joint::new("rev", "world", "pivot", JointKind::revolute(1)).init_position(0.3))
+        .add_force(ForceElement::ObjectForce {
+            object: "ball".into(),
+            law: ForceFn::new(|t, _| {
+                if t > 0.3 {
+                    panic!("sensor failed");
+                }
+                Wrench::default()
+            }),
+        });
+    let e = s
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(1.0).interval(0.01))
+        .unwrap_err();
+    let msg = e.to_string();
+    assert!(msg.contains("sensor failed"), "{msg}");
+    let last = *e.partial.time().last().unwrap();
+    assert!(last > 0.25 && last <= 0.31, "last output at {last}");
+}
