@@ -6,6 +6,7 @@
 
 mod closed_form;
 mod dispatch;
+mod gjk_distance;
 mod mpr;
 
 pub use dispatch::signed_distance;

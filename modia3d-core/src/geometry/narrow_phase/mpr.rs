@@ -19,14 +19,15 @@
 //!
 //! Fallback for degenerate portals: parry's GJK/EPA on the same cores (it allocates, but only
 //! there). When the cores come out separated and `exact_separation` is set, their distance is
-//! made exact by parry's GJK started from MPR's normal (allocation-free).
+//! made exact by GJK started from MPR's normal (`gjk_distance.rs`, allocation-free).
 
+use super::gjk_distance::gjk_distance;
 use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
 use crate::geometry::error::GeometryError;
 use crate::geometry::support::CoreShape;
 use nalgebra::{Isometry3, Point3, Unit, Vector3};
-use parry3d_f64::query::gjk::{self, CSOPoint, GJKResult, VoronoiSimplex};
+use parry3d_f64::query::gjk::{GJKResult, VoronoiSimplex};
 
 /// A support point of `M` with the two core points it came from (all in world [m]).
 #[derive(Clone, Copy, Debug)]
@@ -115,7 +116,7 @@ pub fn mpr_signed_distance(
     {
         return Err(GeometryError::NotFinite);
     }
-    let (ra, rb) = (a.margin() - ia, b.margin() - ib);
+    let (mut ra, mut rb) = (a.margin() - ia, b.margin() - ib);
     let (mut method, m, h, ca, cb) = match mpr_core(&pair, size, opts) {
         Portal::Done { m, h, a, b } => (Method::Mpr, m, h, a, b),
         Portal::Degenerate => return fallback(a, pose_a, b, pose_b).map(|r| (r, Method::Fallback)),
@@ -123,12 +124,19 @@ pub fn mpr_signed_distance(
     let mut n = -m;
     let mut delta = -h;
     let (mut ca, mut cb) = (ca, cb);
-    if delta > 0.0 && opts.exact_separation && !both_thin {
-        if let Some((d, nn, pa, pb)) = gjk_core_distance(a, pose_a, b, pose_b, &n) {
-            delta = d;
-            n = nn;
-            ca = pa;
-            cb = pb;
+    // `delta > 0`: the cores are separated (MPR's sign is reliable: at convergence the origin
+    // lies beyond the portal exactly when it is outside M). For inflated point/segment cores
+    // MPR's sign refers to the full shapes, so GJK on the true cores decides (it is cheap there).
+    if (delta > 0.0 || both_thin) && opts.exact_separation {
+        let pos12 = pose_a.inv_mul(pose_b);
+        let init = pose_a.rotation.inverse_transform_vector(&n);
+        let tol = opts.mpr_tolerance * size;
+        if let Some(c) = gjk_distance(&pos12, a.core(), b.core(), &init, tol, opts.max_iterations) {
+            delta = c.distance;
+            n = pose_a.rotation * c.normal;
+            ca = pose_a * c.point_a;
+            cb = pose_a * c.point_b;
+            (ra, rb) = (a.margin(), b.margin());
             method = Method::MprThenGjk;
         }
     }
@@ -288,38 +296,6 @@ fn barycentric_clamped(
     let l = [(1.0 - v - w).max(0.0), v.max(0.0), w.max(0.0)];
     let s = l[0] + l[1] + l[2];
     [l[0] / s, l[1] / s, l[2] / s]
-}
-
-/// `(distance [m], unit normal a → b, point on core a, point on core b)`, all in world.
-type CoreClosest = (f64, Vector3<f64>, Point3<f64>, Point3<f64>);
-
-/// Exact distance of separated cores by parry's GJK (allocation-free), started in direction
-/// `n_world` (from a to b). Returns `(distance, normal a→b, point on core a, point on core b)`
-/// in world, or `None` when GJK finds the cores touching.
-fn gjk_core_distance(
-    a: &CollisionShape,
-    pose_a: &Isometry3<f64>,
-    b: &CollisionShape,
-    pose_b: &Isometry3<f64>,
-    n_world: &Vector3<f64>,
-) -> Option<CoreClosest> {
-    let pos12 = pose_a.inv_mul(pose_b);
-    let dir = pose_a.rotation.inverse_transform_vector(n_world);
-    let mut simplex = VoronoiSimplex::new();
-    simplex.reset(CSOPoint::from_shapes(&pos12, a.core(), b.core(), &dir));
-    match gjk::closest_points(&pos12, a.core(), b.core(), f64::MAX, true, &mut simplex) {
-        GJKResult::ClosestPoints(p1, p2, dir) => {
-            let d = p2 - p1;
-            let dist = d.norm();
-            let n_local = if dist > 0.0 {
-                d / dist
-            } else {
-                dir.into_inner()
-            };
-            Some((dist, pose_a.rotation * n_local, pose_a * p1, pose_a * p2))
-        }
-        _ => None,
-    }
 }
 
 /// Parry's GJK/EPA on the cores, margins subtracted afterwards (degenerate MPR cases only).
