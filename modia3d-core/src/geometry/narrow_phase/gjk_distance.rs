@@ -147,7 +147,7 @@ impl Simplex {
             return self.keep(&[j, k], &[1.0 - w, w]);
         }
         let s = va + vb + vc;
-        if !(s > 0.0) {
+        if s.is_nan() || s <= 0.0 {
             // Degenerate (collinear) triangle: the best of its edges.
             let mut e = Simplex {
                 v: self.v,
