@@ -26,7 +26,7 @@ use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
 use crate::geometry::error::GeometryError;
 use crate::geometry::support::CoreShape;
-use nalgebra::{Isometry3, Point3, Unit, Vector3};
+use nalgebra::{Isometry3, Matrix3, Point3, Unit, Vector3};
 use parry3d_f64::query::gjk::{GJKResult, VoronoiSimplex};
 
 /// A support point of `M` with the two core points it came from (all in world [m]).
@@ -37,13 +37,16 @@ struct Sv {
     b: Point3<f64>,
 }
 
-/// The pair of cores MPR works on, each possibly inflated by a ball of radius `inflate_*`.
+/// The pair of cores MPR works on, each possibly inflated by a ball of radius `i*`; poses as
+/// rotation matrices (cheaper than quaternions for the two rotations per support point).
 struct Pair<'s> {
-    a: &'s CollisionShape,
-    pa: &'s Isometry3<f64>,
+    a: &'s CoreShape,
+    ra: Matrix3<f64>,
+    ta: Vector3<f64>,
     ia: f64,
-    b: &'s CollisionShape,
-    pb: &'s Isometry3<f64>,
+    b: &'s CoreShape,
+    rb: Matrix3<f64>,
+    tb: Vector3<f64>,
     ib: f64,
 }
 
@@ -51,8 +54,8 @@ impl Pair<'_> {
     /// Support point of `M` in world direction `d` (unit or not).
     #[inline]
     fn support(&self, d: &Vector3<f64>) -> Sv {
-        let mut sa = self.a.core_support_world(self.pa, &-d);
-        let mut sb = self.b.core_support_world(self.pb, d);
+        let mut sa = Point3::from(self.ra * self.a.support(&-self.ra.tr_mul(d)).coords + self.ta);
+        let mut sb = Point3::from(self.rb * self.b.support(&self.rb.tr_mul(d)).coords + self.tb);
         if self.ia > 0.0 || self.ib > 0.0 {
             let u = d.normalize();
             sa -= u * self.ia;
@@ -102,11 +105,13 @@ pub fn mpr_signed_distance(
         (0.0, 0.0)
     };
     let pair = Pair {
-        a,
-        pa: pose_a,
+        a: a.core(),
+        ra: *pose_a.rotation.to_rotation_matrix().matrix(),
+        ta: pose_a.translation.vector,
         ia,
-        b,
-        pb: pose_b,
+        b: b.core(),
+        rb: *pose_b.rotation.to_rotation_matrix().matrix(),
+        tb: pose_b.translation.vector,
         ib,
     };
     let size = a.bounding_radius() + b.bounding_radius();
@@ -117,10 +122,13 @@ pub fn mpr_signed_distance(
         return Err(GeometryError::NotFinite);
     }
     let (mut ra, mut rb) = (a.margin() - ia, b.margin() - ib);
-    let (mut method, m, h, ca, cb) = match mpr_core(&pair, size, opts) {
-        Portal::Done { m, h, a, b } => (Method::Mpr, m, h, a, b),
-        Portal::Degenerate => return fallback(a, pose_a, b, pose_b).map(|r| (r, Method::Fallback)),
-    };
+    let (mut method, m, h, ca, cb) =
+        match mpr_core(&pair, pose_a * a.centre(), pose_b * b.centre(), size, opts) {
+            Portal::Done { m, h, a, b } => (Method::Mpr, m, h, a, b),
+            Portal::Degenerate => {
+                return fallback(a, pose_a, b, pose_b).map(|r| (r, Method::Fallback))
+            }
+        };
     let mut n = -m;
     let mut delta = -h;
     let (mut ca, mut cb) = (ca, cb);
@@ -155,12 +163,16 @@ pub fn mpr_signed_distance(
 }
 
 /// MPR on the cores: portal discovery and refinement along the centre ray.
-fn mpr_core(pair: &Pair<'_>, size: f64, opts: &NarrowPhaseOptions) -> Portal {
+fn mpr_core(
+    pair: &Pair<'_>,
+    ca: Point3<f64>,
+    cb: Point3<f64>,
+    size: f64,
+    opts: &NarrowPhaseOptions,
+) -> Portal {
     let tol = opts.mpr_tolerance * size;
     let eps = 1e-14 * size; // lengths below this are "zero"
     let eps2 = eps * size; // for cross products (areas)
-    let ca = pair.pa * pair.a.centre();
-    let cb = pair.pb * pair.b.centre();
     let mut v0 = Sv {
         v: cb - ca,
         a: ca,
