@@ -10,8 +10,8 @@
 //! simplex (an upper bound: a point of the Minkowski difference) and the support plane bound
 //! `v̂·w` (a lower bound), so the returned distance is certified to `tol` — when it gets there.
 //! In floating point the simplex can become so thin that the projection loses accuracy before
-//! (measured: certified gaps up to ~6e-8 of the size for near-touching cylinder/cone cores,
-//! whose rims and generators are curved in one direction only, ≤ 5e-10 for the other kinds).
+//! (measured: certified gaps up to ~2e-8 of the size for near-touching cone cores,
+//! whose rims and generators are curved in one direction only, ≤ 1e-9 for the other kinds).
 //! Then the loop restarts (at most `MAX_RESTARTS` times) from the best direction found, and
 //! returns the iterate with the smallest certified gap.
 
@@ -28,6 +28,8 @@ pub(super) struct Closest {
     pub point_a: Point3<f64>,
     /// Closest point on core b, in a's frame [m].
     pub point_b: Point3<f64>,
+    /// Certified gap `distance − lower bound` [m].
+    pub gap: f64,
 }
 
 /// A vertex of the simplex in `M = b − a` with its two core points (a's frame).
@@ -250,6 +252,7 @@ pub(super) fn gjk_distance(
                     normal: v / upper,
                     point_a: Point3::from(pa),
                     point_b: Point3::from(pb),
+                    gap,
                 };
                 best = Some((gap, c));
             }

@@ -19,7 +19,10 @@
 //!
 //! Fallback for degenerate portals: parry's GJK/EPA on the same cores (it allocates, but only
 //! there). When the cores come out separated and `exact_separation` is set, their distance is
-//! made exact by GJK started from MPR's normal (`gjk_distance.rs`, allocation-free).
+//! made exact by GJK (`gjk_distance.rs`, allocation-free). Then MPR also keeps Snethen's early
+//! exit: as soon as a support plane separates the origin from M, GJK takes over from that
+//! plane's normal (if GJK stalls above 100·tol, a second GJK from the fully refined portal's
+//! normal is tried and the better certificate kept).
 
 use super::gjk_distance::gjk_distance;
 use super::{Method, NarrowPhaseOptions, SignedDistance};
@@ -83,6 +86,9 @@ enum Portal {
         a: Point3<f64>,
         b: Point3<f64>,
     },
+    /// A support plane with outward normal `m` has all of `M` strictly on its inner side, so
+    /// the origin is outside: the cores are separated (only with `early_exit`).
+    Separated { m: Vector3<f64> },
     /// Degenerate geometry: use the fallback.
     Degenerate,
 }
@@ -122,13 +128,54 @@ pub fn mpr_signed_distance(
         return Err(GeometryError::NotFinite);
     }
     let (mut ra, mut rb) = (a.margin() - ia, b.margin() - ib);
-    let (mut method, m, h, ca, cb) =
-        match mpr_core(&pair, pose_a * a.centre(), pose_b * b.centre(), size, opts) {
-            Portal::Done { m, h, a, b } => (Method::Mpr, m, h, a, b),
-            Portal::Degenerate => {
-                return fallback(a, pose_a, b, pose_b).map(|r| (r, Method::Fallback))
+    let tol = opts.mpr_tolerance * size;
+    let (ca0, cb0) = (pose_a * a.centre(), pose_b * b.centre());
+    // With `exact_separation` the distance of separated cores comes from GJK anyway, so MPR may
+    // stop as soon as a support plane separates the origin from M (Snethen's original early
+    // exit); GJK then starts from that plane's normal.
+    let early = opts.exact_separation && !both_thin;
+    let mut portal = mpr_core(&pair, ca0, cb0, size, opts, early);
+    if let Portal::Separated { m } = portal {
+        let pos12 = pose_a.inv_mul(pose_b);
+        let init = pose_a.rotation.inverse_transform_vector(&-m);
+        let mut first = gjk_distance(&pos12, a.core(), b.core(), &init, tol, opts.max_iterations);
+        if first.as_ref().is_some_and(|c| c.gap > 100.0 * tol) {
+            // GJK stalled in floating point (thin simplex near curved rims): a second start
+            // from the normal of the fully refined portal often gets further; keep the better.
+            if let Portal::Done { m, .. } = mpr_core(&pair, ca0, cb0, size, opts, false) {
+                let init2 = pose_a.rotation.inverse_transform_vector(&-m);
+                let second =
+                    gjk_distance(&pos12, a.core(), b.core(), &init2, tol, opts.max_iterations);
+                if let (Some(c1), Some(c2)) = (&first, second) {
+                    if c2.gap < c1.gap {
+                        first = Some(c2);
+                    }
+                }
             }
-        };
+        }
+        match first {
+            Some(c) => {
+                let n = pose_a.rotation * c.normal;
+                return finite(
+                    SignedDistance {
+                        distance: c.distance - a.margin() - b.margin(),
+                        normal: n,
+                        point_a: pose_a * c.point_a + n * a.margin(),
+                        point_b: pose_a * c.point_b - n * b.margin(),
+                    },
+                    Method::MprThenGjk,
+                );
+            }
+            // Touching within the tolerance: let MPR run to the end.
+            None => portal = mpr_core(&pair, ca0, cb0, size, opts, false),
+        }
+    }
+    let (mut method, m, h, ca, cb) = match portal {
+        Portal::Done { m, h, a, b } => (Method::Mpr, m, h, a, b),
+        Portal::Separated { .. } | Portal::Degenerate => {
+            return fallback(a, pose_a, b, pose_b).map(|r| (r, Method::Fallback))
+        }
+    };
     let mut n = -m;
     let mut delta = -h;
     let (mut ca, mut cb) = (ca, cb);
@@ -138,7 +185,6 @@ pub fn mpr_signed_distance(
     if (delta > 0.0 || both_thin) && opts.exact_separation {
         let pos12 = pose_a.inv_mul(pose_b);
         let init = pose_a.rotation.inverse_transform_vector(&n);
-        let tol = opts.mpr_tolerance * size;
         if let Some(c) = gjk_distance(&pos12, a.core(), b.core(), &init, tol, opts.max_iterations) {
             delta = c.distance;
             n = pose_a.rotation * c.normal;
@@ -148,10 +194,7 @@ pub fn mpr_signed_distance(
             method = Method::MprThenGjk;
         }
     }
-    if !(delta.is_finite() && n.iter().all(|x| x.is_finite())) {
-        return Err(GeometryError::NotFinite);
-    }
-    Ok((
+    finite(
         SignedDistance {
             distance: delta - ra - rb,
             normal: n,
@@ -159,7 +202,22 @@ pub fn mpr_signed_distance(
             point_b: cb - n * rb,
         },
         method,
-    ))
+    )
+}
+
+/// The result if it is finite, else `NotFinite`.
+fn finite(r: SignedDistance, m: Method) -> Result<(SignedDistance, Method), GeometryError> {
+    let ok = r.distance.is_finite()
+        && r.normal.iter().all(|x| x.is_finite())
+        && r.point_a
+            .iter()
+            .chain(r.point_b.iter())
+            .all(|x| x.is_finite());
+    if ok {
+        Ok((r, m))
+    } else {
+        Err(GeometryError::NotFinite)
+    }
 }
 
 /// MPR on the cores: portal discovery and refinement along the centre ray.
@@ -169,6 +227,7 @@ fn mpr_core(
     cb: Point3<f64>,
     size: f64,
     opts: &NarrowPhaseOptions,
+    early_exit: bool,
 ) -> Portal {
     let tol = opts.mpr_tolerance * size;
     let eps = 1e-14 * size; // lengths below this are "zero"
@@ -193,13 +252,22 @@ fn mpr_core(
     // Phase 1: portal discovery.
     let dir = -v0.v.normalize();
     let mut v1 = pair.support(&dir);
+    // Strictly separating support plane (see `Portal::Separated`).
+    let sep = |d: &Vector3<f64>, s: &Sv| early_exit && d.dot(&s.v) < -eps * d.norm();
+    if sep(&dir, &v1) {
+        return Portal::Separated { m: dir };
+    }
     let n = v1.v.cross(&v0.v);
     if n.norm() <= eps2 {
         // v1 lies on the centre ray: it is the boundary point hit by the ray, and the support
         // plane through it has normal `dir`.
         return point_result(&v1, dir);
     }
-    let mut v2 = pair.support(&n.normalize());
+    let d2 = n.normalize();
+    let mut v2 = pair.support(&d2);
+    if sep(&d2, &v2) {
+        return Portal::Separated { m: d2 };
+    }
     let mut n = (v1.v - v0.v).cross(&(v2.v - v0.v));
     if n.norm() <= eps2 {
         return Portal::Degenerate;
@@ -214,6 +282,9 @@ fn mpr_core(
             return Portal::Degenerate;
         };
         let s = pair.support(&nu);
+        if sep(&nu, &s) {
+            return Portal::Separated { m: nu };
+        }
         if v1.v.cross(&s.v).dot(&v0.v) < 0.0 {
             v2 = s;
             n = (v1.v - v0.v).cross(&(s.v - v0.v));
@@ -246,6 +317,9 @@ fn mpr_core(
             m = -m;
         }
         let v4 = pair.support(&m);
+        if sep(&m, &v4) {
+            return Portal::Separated { m };
+        }
         last = Some((m, v4));
         let gain = m.dot(&(v4.v - v1.v));
         let stuck = (v4.v - v1.v).norm() <= tol
