@@ -214,3 +214,38 @@ fn invalid_shapes_are_rejected() {
     assert!(CollisionShape::new(&Shape::ConvexHull { points: flat }).is_err());
     assert!(CollisionShape::with_smoothing(&Shape::Sphere { diameter: 1.0 }, -1.0).is_err());
 }
+
+/// A cube written as OBJ (two objects, plus an interior vertex) loads as the hull of its
+/// vertices: the same support function as the box (1e-12 m); a missing file is a typed error.
+#[test]
+fn convex_hull_from_obj_file() {
+    let dir = std::env::temp_dir().join(format!("modia3d-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("cube.obj");
+    let mut text = String::from("o first\n");
+    for i in 0..8 {
+        let s = |k: usize| if i & (1 << k) != 0 { 0.5 } else { -0.5 };
+        if i == 4 {
+            text.push_str("o second\n");
+        }
+        text.push_str(&format!("v {} {} {}\n", s(0), s(1), s(2)));
+    }
+    // Faces (tobj keeps only vertices referenced by faces); vertex 9 is interior.
+    text.push_str("v 0.1 0.0 0.2\nf 1 2 3\nf 2 3 4\nf 5 6 7\nf 6 7 8\nf 1 5 9\n");
+    std::fs::write(&path, text).unwrap();
+    let scale = Vector3::new(0.2, 0.5, 1.1);
+    let shape = modia3d_core::geometry::convex_hull_from_obj(&path, scale).unwrap();
+    let hull = CollisionShape::with_smoothing(&shape, 0.01).unwrap();
+    let bx = CollisionShape::with_smoothing(&Shape::Box { lengths: scale }, 0.01).unwrap();
+    let mut rng = Rng(8);
+    for _ in 0..200 {
+        let d = rng.unit_vector();
+        assert!((d.dot(&hull.support(&d).coords) - d.dot(&bx.support(&d).coords)).abs() < 1e-12);
+    }
+    let missing = modia3d_core::geometry::convex_hull_from_obj(&dir.join("nope.obj"), scale);
+    assert!(matches!(
+        missing,
+        Err(modia3d_core::geometry::GeometryError::MeshFile { .. })
+    ));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -23,6 +23,14 @@ pub enum GeometryError {
     /// A pose or an intermediate result is not finite (NaN or infinity).
     #[error("non-finite input or intermediate result in the narrow phase")]
     NotFinite,
+    /// A mesh file could not be read or holds fewer than 4 vertices.
+    #[error("cannot read mesh file `{path}`: {message}")]
+    MeshFile {
+        /// The file path as given.
+        path: String,
+        /// What went wrong.
+        message: String,
+    },
     /// Neither MPR nor its fallback (GJK/EPA) produced a result.
     #[error("narrow phase failed for the pair ({0:?}, {1:?}): MPR and GJK/EPA both gave up")]
     NoConvergence(ShapeKind, ShapeKind),
