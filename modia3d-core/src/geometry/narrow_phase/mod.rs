@@ -58,11 +58,13 @@ pub enum Method {
 pub struct NarrowPhaseOptions {
     /// MPR stops when the support point in the portal normal lies less than
     /// `mpr_tolerance · size` beyond the portal, `size` being the sum of the two bounding radii
-    /// [m]. Default 1e-11: about 50 ulps of the size, so the test still stops reliably in
-    /// floating point, while the error it admits is far below any contact stiffness scale.
+    /// [m]; GJK (separated cores) stops when its certified gap is below the same length.
+    /// Default 1e-11: about 50 ulps of the size, so the tests still stop reliably in floating
+    /// point, while the error they admit is far below any contact stiffness scale.
     pub mpr_tolerance: f64,
-    /// Maximum number of MPR refinement iterations (default 100). When reached, MPR returns its
-    /// current estimate, which is still a lower bound of the signed distance.
+    /// Maximum number of MPR refinement (and of GJK) iterations (default 100). When reached, MPR
+    /// returns its current estimate, which is still a lower bound of the signed distance, and
+    /// GJK its best certified iterate.
     pub max_iterations: u32,
     /// When MPR finds the *cores* separated (which is the case for every penetration of smoothed
     /// shapes shallower than the sum of their margins), compute the exact core distance by GJK
