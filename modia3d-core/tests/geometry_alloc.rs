@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use modia3d_core::geometry::{
-    signed_distance, world_aabb, BroadPhase, CollisionShape, NarrowPhaseOptions,
+    signed_distance, world_aabb, world_aabbs_into, BroadPhase, CollisionShape, NarrowPhaseOptions,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -67,6 +67,7 @@ fn queries_and_updates_do_not_allocate() {
             );
         }
         bp.update(&aabbs, |_, _| true, &mut pairs);
+        world_aabbs_into(&shapes, &poses, &mut aabbs);
         for i in 0..shapes.len() {
             for j in 0..shapes.len() {
                 for opts in [&forced, &default] {

@@ -39,6 +39,14 @@ pub fn world_aabb(shape: &CollisionShape, pose: &Isometry3<f64>) -> Aabb {
     Aabb::new(c - half, c + half)
 }
 
+/// World AABBs of all `shapes` at their `poses` into `out` (cleared first; no allocation once
+/// `out` has the capacity). Panics if the slices differ in length.
+pub fn world_aabbs_into(shapes: &[CollisionShape], poses: &[Isometry3<f64>], out: &mut Vec<Aabb>) {
+    assert_eq!(shapes.len(), poses.len(), "one pose per shape");
+    out.clear();
+    out.extend(shapes.iter().zip(poses).map(|(s, p)| world_aabb(s, p)));
+}
+
 /// Euclidean distance between two AABBs [m]; 0 when they overlap or touch.
 #[inline]
 pub fn aabb_distance(a: &Aabb, b: &Aabb) -> f64 {
