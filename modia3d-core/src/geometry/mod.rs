@@ -1,6 +1,36 @@
-//! Geometry stage: shapes, mass properties, (later) support maps, bounding boxes, broad and
+//! Geometry stage: shapes, mass properties, support maps, smoothing, bounding boxes, broad and
 //! narrow phase. Touches nothing outside itself.
+//!
+//! Pipeline (spec: contact-model.md §2), one file per step:
+//! - [`shapes`]: the user's [`Shape`] and its exact mass properties;
+//! - [`collision_shape`]: [`CollisionShape`] = core ⊕ ball(margin), built once per solid, with
+//!   [`smoothing`] (rounded edges of boxes, cylinders, cones, hulls) and [`support`] (closed-form
+//!   support maps of the cores); [`mesh_file`]: hull vertices from an OBJ file;
+//! - [`aabb`]: tight world AABBs and the distance between separated AABBs (`δ_AABB`);
+//! - [`broad_phase`]: sort and sweep with temporal coherence → candidate pairs;
+//! - [`narrow_phase`]: [`signed_distance`] — one dispatch `match`: closed forms
+//!   (sphere/box/cylinder/capsule pairs) or the improved MPR, with GJK for the exact distance of
+//!   separated cores.
+//!
+//! Frames: poses are `Isometry3<f64>` from the shape frame to world; results are resolved in
+//! world, lengths in [m]. Nothing allocates per query or per broad-phase update once warmed up.
 
+pub mod aabb;
+pub mod broad_phase;
+pub mod collision_shape;
+pub mod error;
+pub mod mesh_file;
+pub mod narrow_phase;
 pub mod shapes;
+pub mod smoothing;
+pub mod support;
 
+pub use aabb::{aabb_distance, aabbs_overlap, world_aabb, world_aabbs_into, Aabb};
+pub use broad_phase::BroadPhase;
+pub use collision_shape::CollisionShape;
+pub use error::GeometryError;
+pub use mesh_file::{convex_hull_from_obj, obj_vertices};
+pub use narrow_phase::{signed_distance, NarrowPhaseOptions, SignedDistance};
 pub use shapes::{Axis, Shape, ShapeKind, UnitMassProperties};
+pub use smoothing::{effective_smoothing_radius, DEFAULT_SMOOTHING_RADIUS};
+pub use support::CoreShape;

@@ -1,0 +1,122 @@
+//! Broad phase: candidate pairs of shapes whose world AABBs overlap (geometry stage).
+//!
+//! Sort and sweep on one world axis. The order of the boxes along the axis is kept from one call
+//! to the next and repaired by insertion sort, which is O(n + swaps) when the bodies moved little
+//! (temporal coherence). The sweep then tests only pairs whose intervals overlap on that axis.
+//! The axis is the one with the largest spread of box centres (re-chosen with hysteresis so that
+//! the kept order is not thrown away needlessly).
+
+use super::aabb::{aabbs_overlap, Aabb};
+
+/// Sort-and-sweep broad phase over a fixed number of shapes. No allocation after the first
+/// [`update`](Self::update) (the output vector keeps its capacity).
+#[derive(Clone, Debug)]
+pub struct BroadPhase {
+    order: Vec<u32>,
+    axis: usize,
+    box_tests: u64,
+}
+
+impl BroadPhase {
+    /// A broad phase for `n` shapes (indices `0..n` into the AABB slice of every update).
+    pub fn new(n: usize) -> Self {
+        BroadPhase {
+            order: (0..n as u32).collect(),
+            axis: 0,
+            box_tests: 0,
+        }
+    }
+
+    /// Number of shapes.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    /// `true` when there are no shapes.
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
+    /// The sweep axis used by the last update (0 = x, 1 = y, 2 = z).
+    pub fn axis(&self) -> usize {
+        self.axis
+    }
+
+    /// Number of AABB–AABB overlap tests done by the last update (the cost measure).
+    pub fn box_tests(&self) -> u64 {
+        self.box_tests
+    }
+
+    /// Write into `out` (cleared first) every pair `(i, j)`, `i < j`, whose AABBs
+    /// (`aabbs[i]`, resolved in world, [m]) overlap or touch and for which `allowed(i, j)` is
+    /// true. Pairs come out in sweep order, not sorted. Panics if `aabbs.len()` differs from `n`.
+    pub fn update(
+        &mut self,
+        aabbs: &[Aabb],
+        allowed: impl Fn(u32, u32) -> bool,
+        out: &mut Vec<(u32, u32)>,
+    ) {
+        assert_eq!(aabbs.len(), self.order.len(), "one AABB per shape");
+        out.clear();
+        self.box_tests = 0;
+        self.choose_axis(aabbs);
+        let k = self.axis;
+        // Insertion sort by the lower bound on the sweep axis, starting from the last order.
+        let key = |i: u32| aabbs[i as usize].mins[k];
+        for i in 1..self.order.len() {
+            let item = self.order[i];
+            let v = key(item);
+            let mut j = i;
+            while j > 0 && key(self.order[j - 1]) > v {
+                self.order[j] = self.order[j - 1];
+                j -= 1;
+            }
+            self.order[j] = item;
+        }
+        // Sweep.
+        let n = self.order.len();
+        for a in 0..n {
+            let i = self.order[a];
+            let bi = &aabbs[i as usize];
+            let hi = bi.maxs[k];
+            for &j in &self.order[a + 1..] {
+                let bj = &aabbs[j as usize];
+                if bj.mins[k] > hi {
+                    break;
+                }
+                self.box_tests += 1;
+                if aabbs_overlap(bi, bj) {
+                    let (p, q) = if i < j { (i, j) } else { (j, i) };
+                    if allowed(p, q) {
+                        out.push((p, q));
+                    }
+                }
+            }
+        }
+    }
+
+    /// Switch to the axis with the largest variance of box centres if it beats the current one
+    /// by a factor 2 (hysteresis keeps the sorted order useful).
+    fn choose_axis(&mut self, aabbs: &[Aabb]) {
+        if aabbs.len() < 2 {
+            return;
+        }
+        let n = aabbs.len() as f64;
+        let mut s = [0.0f64; 3];
+        let mut s2 = [0.0f64; 3];
+        for b in aabbs {
+            for k in 0..3 {
+                let c = 0.5 * (b.mins[k] + b.maxs[k]);
+                s[k] += c;
+                s2[k] += c * c;
+            }
+        }
+        let var = |k: usize| s2[k] / n - (s[k] / n).powi(2);
+        let best = (0..3)
+            .max_by(|&a, &b| var(a).total_cmp(&var(b)))
+            .unwrap_or(0);
+        if var(best) > 2.0 * var(self.axis) {
+            self.axis = best;
+        }
+    }
+}

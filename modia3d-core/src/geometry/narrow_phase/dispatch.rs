@@ -1,0 +1,40 @@
+//! The one dispatch `match` of the narrow phase (geometry stage): closed forms where they exist,
+//! the improved MPR for every other pair of kinds.
+
+use super::closed_form::{capsule_capsule, sphere_core, sphere_sphere};
+use super::mpr::mpr_signed_distance;
+use super::{NarrowPhaseOptions, SignedDistance};
+use crate::geometry::collision_shape::CollisionShape;
+use crate::geometry::error::GeometryError;
+use crate::geometry::shapes::ShapeKind as K;
+use nalgebra::Isometry3;
+
+/// Signed distance, unit normal (a → b, resolved in world) and surface witness points (world,
+/// [m]) of shape `a` at `pose_a` and shape `b` at `pose_b` (poses: shape frame → world).
+///
+/// Exact closed forms for sphere–sphere, sphere–box, sphere–cylinder, sphere–capsule and
+/// capsule–capsule (either order); the improved MPR otherwise, or always with
+/// `opts.force_mpr`. Allocation-free except in MPR's degenerate-case fallback (parry's EPA).
+pub fn signed_distance(
+    a: &CollisionShape,
+    pose_a: &Isometry3<f64>,
+    b: &CollisionShape,
+    pose_b: &Isometry3<f64>,
+    opts: &NarrowPhaseOptions,
+) -> Result<SignedDistance, GeometryError> {
+    let r = match (a.kind(), b.kind()) {
+        _ if opts.force_mpr => return mpr_signed_distance(a, pose_a, b, pose_b, opts).map(|r| r.0),
+        (K::Sphere, K::Sphere) => sphere_sphere(a, pose_a, b, pose_b),
+        (K::Sphere, K::Box | K::Cylinder | K::Capsule) => sphere_core(a, pose_a, b, pose_b),
+        (K::Box | K::Cylinder | K::Capsule, K::Sphere) => {
+            sphere_core(b, pose_b, a, pose_a).flipped()
+        }
+        (K::Capsule, K::Capsule) => capsule_capsule(a, pose_a, b, pose_b),
+        _ => return mpr_signed_distance(a, pose_a, b, pose_b, opts).map(|r| r.0),
+    };
+    if r.distance.is_finite() {
+        Ok(r)
+    } else {
+        Err(GeometryError::NotFinite)
+    }
+}

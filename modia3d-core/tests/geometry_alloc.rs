@@ -1,0 +1,84 @@
+//! No heap allocation per narrow-phase query, per AABB and per broad-phase update once warmed
+//! up (a counting global allocator; this test binary holds a single test so that nothing else
+//! allocates concurrently).
+mod common;
+
+use common::*;
+use modia3d_core::geometry::{
+    signed_distance, world_aabb, world_aabbs_into, BroadPhase, CollisionShape, NarrowPhaseOptions,
+};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn queries_and_updates_do_not_allocate() {
+    let mut rng = Rng(99);
+    let shapes: Vec<CollisionShape> = KINDS
+        .iter()
+        .flat_map(|&k| (0..4).map(move |i| (k, i)))
+        .map(|(k, _)| {
+            CollisionShape::with_smoothing(&random_shape(&mut Rng(k as u64 + 1), k), 0.05).unwrap()
+        })
+        .collect();
+    let poses: Vec<_> = (0..shapes.len())
+        .map(|_| random_pose(&mut rng, 0.8))
+        .collect();
+    let mut aabbs: Vec<_> = shapes
+        .iter()
+        .zip(&poses)
+        .map(|(s, p)| world_aabb(s, p))
+        .collect();
+    let mut bp = BroadPhase::new(shapes.len());
+    let mut pairs = Vec::with_capacity(shapes.len() * shapes.len());
+    bp.update(&aabbs, |_, _| true, &mut pairs); // warm-up
+    let forced = NarrowPhaseOptions {
+        force_mpr: true,
+        ..Default::default()
+    };
+    let default = NarrowPhaseOptions::default();
+
+    let before = ALLOCS.load(Ordering::Relaxed);
+    let mut acc = 0.0;
+    for round in 0..20 {
+        for (k, (s, p)) in shapes.iter().zip(&poses).enumerate() {
+            aabbs[k] = world_aabb(
+                s,
+                &(p * nalgebra::Translation3::new(0.001 * round as f64, 0.0, 0.0)),
+            );
+        }
+        bp.update(&aabbs, |_, _| true, &mut pairs);
+        world_aabbs_into(&shapes, &poses, &mut aabbs);
+        for i in 0..shapes.len() {
+            for j in 0..shapes.len() {
+                for opts in [&forced, &default] {
+                    let r = signed_distance(&shapes[i], &poses[i], &shapes[j], &poses[j], opts)
+                        .unwrap();
+                    acc += r.distance;
+                }
+            }
+        }
+    }
+    let after = ALLOCS.load(Ordering::Relaxed);
+    assert!(acc.is_finite());
+    assert_eq!(after - before, 0, "allocations during queries and updates");
+}
