@@ -7,7 +7,8 @@
 #
 # Does nothing when cmake and libclang are already there. As root on Debian it uses apt-get;
 # otherwise it makes a Python venv with the PyPI `cmake` and `libclang` wheels and points
-# CMAKE, LIBCLANG_PATH and BINDGEN_EXTRA_CLANG_ARGS at them.
+# CMAKE, LIBCLANG_PATH and BINDGEN_EXTRA_CLANG_ARGS at them. MODIA3D_BOOTSTRAP=pip forces the
+# venv route (to test it, or where apt-get must not be used).
 set -euo pipefail
 
 log() { printf 'bootstrap: %s\n' "$*" >&2; }
@@ -63,7 +64,9 @@ install_with_pip() {
   export BINDGEN_EXTRA_CLANG_ARGS="-I$(gcc -print-file-name=include)"
 }
 
-if have_cmake && [ -n "$(find_libclang)" ] && have_clang_headers; then
+if [ "${MODIA3D_BOOTSTRAP:-}" = pip ]; then
+  install_with_pip
+elif have_cmake && [ -n "$(find_libclang)" ] && have_clang_headers; then
   :
 elif [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then
   install_with_apt

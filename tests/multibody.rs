@@ -32,13 +32,12 @@ fn energy(res: &SimulationResult, parts: &[(&str, f64, Matrix3<f64>)], g: f64) -
         let v = res.signal(&format!("{name}.v_abs")).unwrap();
         let w = res.signal(&format!("{name}.w_abs")).unwrap();
         let rot = res.signal(&format!("{name}.R_abs")).unwrap();
-        for k in 0..n {
+        for (k, ek) in e.iter_mut().enumerate() {
             let rm = Matrix3::from_row_slice(rot.at(k));
             let wv = Vector3::from_column_slice(w.at(k));
             let vv = Vector3::from_column_slice(v.at(k));
             let i_world = rm * inertia * rm.transpose();
-            e[k] +=
-                m * g * r.at(k)[2] + 0.5 * m * vv.norm_squared() + 0.5 * wv.dot(&(i_world * wv));
+            *ek += m * g * r.at(k)[2] + 0.5 * m * vv.norm_squared() + 0.5 * wv.dot(&(i_world * wv));
         }
     }
     e

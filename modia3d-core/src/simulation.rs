@@ -88,7 +88,7 @@ impl SimOptions {
             }
         }
         if let Some(h) = self.max_step {
-            if !(h > 0.0) {
+            if h.is_nan() || h <= 0.0 {
                 return Err(format!("max step {h} s must be > 0"));
             }
         }

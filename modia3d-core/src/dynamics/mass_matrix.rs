@@ -37,7 +37,7 @@ pub fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
         for p in 0..k {
             d -= m[(k, p)] * m[(k, p)];
         }
-        if !(d > 1e-12 * scale) {
+        if d.is_nan() || d <= 1e-12 * scale {
             return Err(k);
         }
         let d = d.sqrt();

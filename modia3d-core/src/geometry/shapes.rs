@@ -276,7 +276,7 @@ impl Shape {
             Shape::ConvexHull { points } => {
                 let poly = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(points)?;
                 let mp = parry3d_f64::shape::Shape::mass_properties(&poly, 1.0);
-                if !(mp.mass() > 0.0) {
+                if mp.mass().is_nan() || mp.mass() <= 0.0 {
                     return None;
                 }
                 let rot = mp.principal_inertia_local_frame.to_rotation_matrix();

@@ -388,7 +388,10 @@ pub struct Wrench {
 
 /// A user force law: time [s] and the object's motion → wrench at the object's origin.
 #[derive(Clone)]
-pub struct ForceFn(pub Arc<dyn Fn(f64, &ObjectMotion) -> Wrench + Send + Sync>);
+pub struct ForceFn(pub Arc<ForceLaw>);
+
+/// The closure type behind [`ForceFn`].
+pub type ForceLaw = dyn Fn(f64, &ObjectMotion) -> Wrench + Send + Sync;
 
 impl ForceFn {
     /// Wraps a closure.
