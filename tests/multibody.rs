@@ -197,6 +197,13 @@ fn free_body_conserves_momentum_and_energy() {
     );
     // Conservation to 1e-8 over 10 s (the bound) at rtol 1e-11.
     assert!(dl < 1e-8 && de < 1e-8, "dL {dl:e}, dE {de:e}");
+    // The quaternion keeps unit norm: the kinematics preserve it and the residual's
+    // norm-restoring term damps the integration error; 1e-9 is 100× the tolerance.
+    let q = res.signal("free.q").unwrap();
+    let worst_norm = (0..res.time().len())
+        .map(|k| (q.at(k).iter().map(|x| x * x).sum::<f64>().sqrt() - 1.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst_norm < 1e-9, "quaternion norm error {worst_norm:e}");
     // The centre of mass moves uniformly: r(10) = r0 + v0 · 10.
     let r = res.signal("brick.r_abs").unwrap();
     let expected = Vector3::new(1.0, 0.0, 1.0);
@@ -409,4 +416,34 @@ fn solids_fixed_together_behave_as_one() {
     // Same equations up to round-off in the merged inertia; both runs are error-controlled at
     // rtol 1e-11, so their difference is bounded by the sum of their global errors (< 1e-8).
     assert!(worst < 1e-8, "difference {worst:e}");
+}
+
+#[test]
+fn csv_export_has_named_columns_and_all_rows() {
+    let res = double_pendulum()
+        .simulate(&SimOptions::new(1.0).interval(0.1))
+        .unwrap();
+    let path = std::env::temp_dir().join(format!("modia3d-csv-{}.csv", std::process::id()));
+    res.write_csv(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    let lines: Vec<&str> = text.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    assert_eq!(header[0], "time [s]");
+    assert!(
+        header.contains(&"rev1.phi [rad]") && header.contains(&"rod2.r_abs[2] [m]"),
+        "{header:?}"
+    );
+    assert_eq!(lines.len(), 1 + res.time().len());
+    // The values round-trip: the last row's rev2.phi equals the signal's last value.
+    let col = header.iter().position(|h| *h == "rev2.phi [rad]").unwrap();
+    let last: f64 = lines
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(col)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(last, res.signal("rev2.phi").unwrap().last()[0]);
 }
