@@ -20,6 +20,20 @@
 #![warn(missing_docs)]
 
 pub use modia3d_core as core;
+pub use modia3d_macros::model;
+
+/// Support items for the code `model!` generates; not part of the API.
+#[doc(hidden)]
+pub mod __private {
+    pub use modia3d_macros::__solid_material_names;
+    pub use nalgebra;
+    /// The type of a hidden item that names an object of a `model!` type.
+    pub struct ObjectPath;
+    /// The type of a hidden item that names a joint of a `model!` type.
+    pub struct JointPath;
+    /// The type of a hidden item that names a force element or material of a `model!` type.
+    pub struct OtherPath;
+}
 
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
@@ -29,5 +43,6 @@ pub mod prelude {
         SceneErrors, SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats,
         SimulationResult, Solid, SolidMaterial, Wrench,
     };
+    pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 }
