@@ -1400,7 +1400,15 @@ impl Checker {
                         *parent = Parent::Attach;
                     }
                 }
-                Item::Assembly { .. } => {}
+                Item::Assembly { name, parent, .. } => {
+                    // A sub-assembly that a joint of this block moves is not root-level.
+                    let inside = format!("{name}.");
+                    if matches!(parent, Parent::Attach)
+                        && moved_by.keys().any(|p| p.starts_with(&inside))
+                    {
+                        *parent = Parent::None;
+                    }
+                }
                 _ => {}
             }
         }

@@ -144,7 +144,8 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
                         let s = scoped(&r.path);
                         quote!(::core::option::Option::Some(::core::convert::AsRef::<str>::as_ref(#s)))
                     }
-                    _ => quote!(#attach),
+                    Parent::Attach => quote!(#attach),
+                    Parent::None => quote!(::core::option::Option::None),
                 };
                 let ks = fields.iter().map(|(k, _)| k);
                 let vs = fields.iter().map(|(_, v)| v);

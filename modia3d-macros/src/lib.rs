@@ -90,8 +90,8 @@ use proc_macro::TokenStream;
 ///
 /// **Attach rule.** `arm1 = Arm(parent = base, …)` makes `base` the parent of Arm's
 /// *root-level parts*: its objects without `parent` whose rigid body no joint of Arm moves,
-/// and its own sub-assemblies without `parent`. Without `parent`, those parts stay roots
-/// (connect them with a joint to `arm1.<part>`).
+/// and its own sub-assemblies without `parent` that no joint of Arm moves (recursively).
+/// Without `parent`, those parts stay roots (connect them with a joint to `arm1.<part>`).
 ///
 /// ## The generated type
 ///
