@@ -271,6 +271,8 @@ struct Args<'a> {
     ctor: String,
     span: Span,
     args: Vec<&'a Arg>,
+    /// Keys suggested for unknown keys: not reported again as missing.
+    suggested: Vec<String>,
 }
 
 impl<'a> Args<'a> {
@@ -382,6 +384,12 @@ impl Checker {
         push(&mut self.errors, syn::Error::new(span, msg));
     }
 
+    /// An error covering all of `tokens` (on stable, `span()` of a multi-token expression is
+    /// only its first token).
+    fn err_spanned(&mut self, tokens: impl ToTokens, msg: impl std::fmt::Display) {
+        push(&mut self.errors, syn::Error::new_spanned(tokens, msg));
+    }
+
     /// The kind a component constructor makes, or `None` (error reported) if unknown.
     fn kind_of(&mut self, ctor: &Ctor) -> Option<Kind> {
         if !ctor.is_single() {
@@ -428,6 +436,7 @@ impl Checker {
         let cname = ctor.name().to_string();
         let mut seen: HashMap<String, Span> = HashMap::new();
         let mut args = vec![];
+        let mut suggested = vec![];
         for a in &ctor.args {
             let k = a.key.to_string();
             if !allowed.contains(&k.as_str()) {
@@ -450,6 +459,7 @@ impl Checker {
                         .map(|k| format!("`{k}`"))
                         .collect::<Vec<_>>()
                         .join(", ");
+                    suggested.extend(h.clone());
                     let h = match h {
                         Some(h) => format!(" (hint: did you mean `{h}`?)"),
                         None if allowed.is_empty() => format!(" (hint: `{cname}` takes no keys)"),
@@ -472,12 +482,13 @@ impl Checker {
             ctor: cname,
             span: ctor.span(),
             args,
+            suggested,
         }
     }
 
     fn required<'a>(&mut self, a: &Args<'a>, key: &str) -> Option<&'a Expr> {
         let v = a.get(key);
-        if v.is_none() {
+        if v.is_none() && !a.suggested.iter().any(|s| s == key) {
             self.err(
                 a.span,
                 format!(
@@ -499,8 +510,8 @@ impl Checker {
         }
         if let Some(v) = lit_f64(e) {
             if !range.ok(v) {
-                self.err(
-                    e.span(),
+                self.err_spanned(
+                    e,
                     format!(
                         "`{key}` {}, found `{}`",
                         range.text(),
@@ -686,15 +697,15 @@ impl Checker {
                 self.scene_spans.push((fc.span(), parent_key));
                 let g = a.get("gravity").map(|g| {
                     quote! {
-                        __opts.gravity = ::modia3d::__private::nalgebra::Vector3::<f64>::from(#g);
+                        __modia3d_opts.gravity = ::modia3d::__private::nalgebra::Vector3::<f64>::from(#g);
                     }
                 });
                 Some(quote! {
                     ::modia3d::core::Feature::Scene({
                         #[allow(unused_mut)]
-                        let mut __opts = ::modia3d::core::SceneOptions::default();
+                        let mut __modia3d_opts = ::modia3d::core::SceneOptions::default();
                         #g
-                        __opts
+                        __modia3d_opts
                     })
                 })
             }
@@ -730,8 +741,8 @@ impl Checker {
             has_mass = true;
             match self.nested(m, &["MassProperties"], "mass properties") {
                 Err(e) => {
-                    self.err(
-                        e.span(),
+                    self.err_spanned(
+                        e,
                         "expected `MassProperties(mass = …)` or `MassProperties(mass = …, com = …, inertia = …)`",
                     );
                 }
@@ -844,15 +855,19 @@ impl Checker {
                     .copied()
                     .chain(locals.iter().map(|s| s.as_str())),
             );
-            self.err(
-                m.span(),
-                format!(
-                    "unknown solid material `{name}`{} (built in: {}; or define one in the block: `{} = SolidMaterial(…)`)",
-                    hint(h),
-                    BUILTIN_SOLID_MATERIALS.join(", "),
+            let msg = match h {
+                Some(h) => format!("unknown solid material `{name}` (hint: did you mean `{h}`?)"),
+                None => format!(
+                    "unknown solid material `{name}` (hint: the built-in ones are {}; or define it in the block: `{} = SolidMaterial(…)`)",
+                    BUILTIN_SOLID_MATERIALS
+                        .iter()
+                        .map(|n| format!("`{n}`"))
+                        .collect::<Vec<_>>()
+                        .join(", "),
                     name.to_lowercase().replace(|c: char| !c.is_alphanumeric(), "_"),
                 ),
-            );
+            };
+            self.err(m.span(), msg);
             return None;
         }
         if let Expr::Path(p) = m {
@@ -1165,7 +1180,7 @@ impl Checker {
             } else {
                 "the name of an object, like `body` or `arm1.tip`"
             };
-            self.err(e.span(), format!("expected {what}"));
+            self.err_spanned(e, format!("expected {what}"));
             return None;
         }
         let first = &segs[0];
@@ -1212,8 +1227,8 @@ impl Checker {
                 return None;
             }
             let ty = self.assembly_types[&fname].clone();
-            let module = crate::expand::paths_module(&ty, false);
             let rest = &segs[1..];
+            let module = crate::expand::paths_module_at(&ty, rest[0].span());
             let marker = if want == Kind::Joint {
                 quote!(JointPath)
             } else {

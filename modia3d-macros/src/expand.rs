@@ -9,8 +9,10 @@ use crate::check::{Ir, Item, Kind, Parent};
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::{format_ident, quote, quote_spanned};
 
+/// A local of the generated code: mixed-site hygiene hides it from user expressions, and the
+/// `__modia3d_` prefix keeps user constants (which patterns would match) from clashing with it.
 fn local(name: &str) -> Ident {
-    Ident::new(name, Span::mixed_site())
+    Ident::new(&format!("__modia3d_{name}"), Span::mixed_site())
 }
 
 /// The path prefix of this assembly's objects (`""` at the top, `"arm1."` inside).
@@ -41,6 +43,23 @@ pub fn paths_module(ty: &syn::Path, from_module: bool) -> TokenStream {
         }
     }
     quote!(#p)
+}
+
+/// [`paths_module`] with every token at `span` (a reference's first path segment), so that
+/// rustc's errors about the path point at the user's reference.
+pub fn paths_module_at(ty: &syn::Path, span: Span) -> TokenStream {
+    let mut p = ty.clone();
+    for seg in p.segments.iter_mut() {
+        seg.ident.set_span(span);
+    }
+    let module = paths_module(&p, false);
+    module
+        .into_iter()
+        .map(|mut t| {
+            t.set_span(span);
+            t
+        })
+        .collect()
 }
 
 /// Generates the model's type and impls.
@@ -75,6 +94,7 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
     let prefix = prefix();
     let attach = local("parent");
     let obj = local("object");
+    let p = local("p");
     let core = quote!(::modia3d::core);
 
     let mut stmts = vec![];
@@ -101,7 +121,7 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
                     Parent::Attach => quote! {
                         let #obj = #base;
                         #scene.add(match #attach {
-                            ::core::option::Option::Some(p) => #obj.parent(p),
+                            ::core::option::Option::Some(#p) => #obj.parent(#p),
                             ::core::option::Option::None => #obj,
                         });
                     },
@@ -235,9 +255,9 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
 
             /// The scene description of this model alone (top-level names, no parent).
             pub fn scene(&self) -> #core::SceneDesc {
-                let mut s = #core::SceneDesc::new();
-                self.add_to(&mut s, "", ::core::option::Option::None);
-                s
+                let mut #scene = #core::SceneDesc::new();
+                self.add_to(&mut #scene, "", ::core::option::Option::None);
+                #scene
             }
 
             #build
