@@ -549,6 +549,15 @@ impl Checker {
         allowed: &[&str],
         what: &str,
     ) -> Result<Option<Ctor>, &'a Expr> {
+        // A call whose arguments are not all `key = value` and that is not one of `allowed`
+        // is a plain expression (`Feature::Visual(shape)`), not a constructor.
+        if let Expr::Call(call) = e {
+            let known = matches!(&*call.func, Expr::Path(p)
+                if p.path.get_ident().is_some_and(|id| allowed.contains(&id.to_string().as_str())));
+            if !known && !call.args.iter().all(|a| matches!(a, Expr::Assign(_))) {
+                return Err(e);
+            }
+        }
         match Ctor::from_expr(e) {
             Err(err) => {
                 push(&mut self.errors, err);
