@@ -17,6 +17,28 @@
 //! assert!(result.signal("rev.phi")?.last()[0] < 0.5);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! The same model written with [`model!`], checked at compile time:
+//!
+//! ```
+//! use modia3d::prelude::*;
+//!
+//! model! {
+//!     /// A ball on a massless rod of length `l`, released at `phi0`.
+//!     pub Pendulum(l: f64 = 1.0, phi0: f64 = 0.5) {
+//!         world = Object3D(feature = Scene()),
+//!         bob   = Object3D(feature = Solid(shape = Sphere(diameter = 0.1),
+//!                                          mass_properties = MassProperties(mass = 1.0))),
+//!         pivot = Object3D(parent = bob, translation = [0.0, 0.0, l]),
+//!         rev   = Revolute(obj1 = world, obj2 = pivot, axis = 1, phi = Var(init = phi0)),
+//!     }
+//! }
+//!
+//! let model = Pendulum { l: 1.0, ..Default::default() }.build()?;
+//! let result = model.simulate(&SimOptions::new(1.0).tolerance(1e-8))?;
+//! assert!(result.signal("rev.phi")?.last()[0] < 0.5);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 pub use modia3d_core as core;

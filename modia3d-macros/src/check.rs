@@ -666,7 +666,7 @@ impl Checker {
         let mut parent = Parent::None;
         if let Some(p) = a.get("parent") {
             if let Some(r) = self.reference(p, Kind::Object, "parent") {
-                if r.local && r.path == comp.name.to_string() {
+                if r.local && comp.name == r.path {
                     self.err(r.span, format!("object `{}` is its own parent", comp.name));
                 } else {
                     parent = Parent::Ref(r);
@@ -989,7 +989,7 @@ impl Checker {
     }
 
     /// `Var(init = …)` → the initial value.
-    fn var<'a>(&mut self, key: &str, e: &'a Expr) -> Option<Expr> {
+    fn var(&mut self, key: &str, e: &Expr) -> Option<Expr> {
         match self.nested(e, &["Var"], "initial value") {
             Err(e) => {
                 self.err(
@@ -1416,13 +1416,11 @@ impl Checker {
                     parent,
                     scene,
                     ..
-                } => {
-                    if matches!(parent, Parent::None)
-                        && !*scene
-                        && !moved_groups.contains(&rigid.find(&name.to_string()))
-                    {
-                        *parent = Parent::Attach;
-                    }
+                } if matches!(parent, Parent::None)
+                    && !*scene
+                    && !moved_groups.contains(&rigid.find(&name.to_string())) =>
+                {
+                    *parent = Parent::Attach;
                 }
                 Item::Assembly { name, parent, .. } => {
                     // A sub-assembly that a joint of this block moves is not root-level.

@@ -76,10 +76,7 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
     let fields = def.params.iter().map(|p| {
         let (pname, ty, pattrs, default) = (&p.name, &p.ty, &p.attrs, &p.default);
         let doc = (!pattrs.iter().any(|a| a.path().is_ident("doc"))).then(|| {
-            let d = format!(
-                "Parameter `{pname}` (default `{}`).",
-                quote!(#default).to_string()
-            );
+            let d = format!("Parameter `{pname}` (default `{}`).", quote!(#default));
             quote!(#[doc = #d])
         });
         quote!(#(#pattrs)* #doc pub #pname: #ty)
