@@ -267,3 +267,56 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
         }
     }
 }
+
+/// What a block with errors expands to besides its errors: the type, its `Default` and stubs of
+/// its methods, so that code using the model does not add follow-up errors (the crate does not
+/// compile anyway, the stubs never run).
+pub fn fallback(def: &ModelDef) -> TokenStream {
+    let name = &def.name;
+    let vis = &def.vis;
+    let attrs = &def.attrs;
+    let core = quote!(::modia3d::core);
+    let fields = def.params.iter().map(|p| {
+        let (pname, ty, pattrs) = (&p.name, &p.ty, &p.attrs);
+        quote!(#(#pattrs)* pub #pname: #ty)
+    });
+    let defaults = def.params.iter().map(|p| {
+        let (pname, default) = (&p.name, &p.default);
+        quote!(#pname: #default)
+    });
+    let is_assembly = def.assembly.is_some();
+    quote! {
+        #(#attrs)*
+        #[allow(missing_docs, dead_code)]
+        #[derive(Clone, Debug)]
+        #vis struct #name {
+            #(#fields,)*
+        }
+
+        impl ::core::default::Default for #name {
+            fn default() -> Self {
+                Self { #(#defaults,)* }
+            }
+        }
+
+        #[allow(missing_docs, dead_code, unused_variables)]
+        impl #name {
+            #[doc(hidden)]
+            pub const __MODIA3D_IS_ASSEMBLY: bool = #is_assembly;
+            pub fn add_to(
+                &self,
+                scene: &mut #core::SceneDesc,
+                prefix: &str,
+                parent: ::core::option::Option<&str>,
+            ) {
+                ::core::unreachable!()
+            }
+            pub fn scene(&self) -> #core::SceneDesc {
+                ::core::unreachable!()
+            }
+            pub fn build(&self) -> ::core::result::Result<#core::Model, #core::SceneErrors> {
+                ::core::unreachable!()
+            }
+        }
+    }
+}

@@ -122,7 +122,11 @@ pub fn model(input: TokenStream) -> TokenStream {
     let def = syn::parse_macro_input!(input as ast::ModelDef);
     match check::check(&def) {
         Ok(ir) => expand::expand(&def, &ir).into(),
-        Err(e) => e.to_compile_error().into(),
+        Err(e) => {
+            let mut out = e.to_compile_error();
+            out.extend(expand::fallback(&def));
+            out.into()
+        }
     }
 }
 
