@@ -269,6 +269,17 @@ model! {
     }
 }
 
+/// Assemblies in another module are named by path.
+mod tools {
+    modia3d::model! {
+        /// A gripper with a sub-assembly of its own (a link, reached through `super::`).
+        pub assembly Gripper(width: f64 = 0.1) {
+            palm   = Object3D(feature = Solid(shape = Box(lengths = [width, 0.02, 0.02]), solid_material = "Steel")),
+            finger = super::Link(parent = palm, length = width),
+        }
+    }
+}
+
 model! {
     /// The same arm twice, one mounted by `parent`, one by a joint.
     pub Cell(spacing: f64 = 1.0) {
@@ -279,12 +290,15 @@ model! {
         slide = Prismatic(obj1 = world, obj2 = arm2.mount, axis = 1, s = Var(init = spacing)),
         weld  = Fix(obj1 = arm2.mount, obj2 = arm2.base.body),
         stop  = JointSpringDamper(joint = arm2.hinge, stiffness = 1.0),
+        hand  = tools::Gripper(parent = arm1.upper.top, width = 0.2),
+        probe = Object3D(parent = hand.finger.top),
     }
 }
 
 #[test]
 fn nested_assemblies_names_attach_rule_and_parameters() {
     let s = Cell::default().scene();
+    let parent = |n: &str| obj(&s, n).parent.clone();
     let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
     assert_eq!(
         names,
@@ -301,11 +315,18 @@ fn nested_assemblies_names_attach_rule_and_parameters() {
             "arm2.base.top",
             "arm2.upper.body",
             "arm2.upper.top",
+            "hand.palm",
+            "hand.finger.body",
+            "hand.finger.top",
+            "probe",
         ]
     );
+    assert_eq!(parent("hand.palm").as_deref(), Some("arm1.upper.top"));
+    assert_eq!(parent("hand.finger.body").as_deref(), Some("hand.palm"));
+    assert_eq!(parent("probe").as_deref(), Some("hand.finger.top"));
+    assert_eq!(obj(&s, "hand.finger.top").translation[2], 0.2);
     // Attach rule: root-level parts of arm1 (mount, base.body) hang on `left`; upper.body is
     // moved by the hinge and stays a root; arm2 has no parent, so nothing is attached.
-    let parent = |n: &str| obj(&s, n).parent.clone();
     assert_eq!(parent("arm1.mount").as_deref(), Some("left"));
     assert_eq!(parent("arm1.base.body").as_deref(), Some("left"));
     assert_eq!(parent("arm1.upper.body"), None);
