@@ -55,6 +55,55 @@ pub mod __private {
     pub struct JointPath;
     /// The type of a hidden item that names a force element or material of a `model!` type.
     pub struct OtherPath;
+
+    /// What `model!` accepts where the builder wants a `Vector3<f64>`.
+    #[diagnostic::on_unimplemented(
+        message = "expected `[f64; 3]` or `Vector3<f64>`, found `{Self}`",
+        label = "expected a 3-vector"
+    )]
+    pub trait IntoVector3 {
+        /// The vector.
+        fn into_vector3(self) -> nalgebra::Vector3<f64>;
+    }
+    impl IntoVector3 for [f64; 3] {
+        fn into_vector3(self) -> nalgebra::Vector3<f64> {
+            nalgebra::Vector3::from(self)
+        }
+    }
+    impl IntoVector3 for nalgebra::Vector3<f64> {
+        fn into_vector3(self) -> nalgebra::Vector3<f64> {
+            self
+        }
+    }
+    /// A `Vector3<f64>` from `[f64; 3]` or `Vector3<f64>`.
+    pub fn vector3(v: impl IntoVector3) -> nalgebra::Vector3<f64> {
+        v.into_vector3()
+    }
+
+    /// What `model!` accepts where the builder wants a `Matrix3<f64>`: rows `[[f64; 3]; 3]` or
+    /// a `Matrix3<f64>`.
+    #[diagnostic::on_unimplemented(
+        message = "expected rows `[[f64; 3]; 3]` or `Matrix3<f64>`, found `{Self}`",
+        label = "expected a 3×3 matrix"
+    )]
+    pub trait IntoMatrix3 {
+        /// The matrix.
+        fn into_matrix3(self) -> nalgebra::Matrix3<f64>;
+    }
+    impl IntoMatrix3 for [[f64; 3]; 3] {
+        fn into_matrix3(self) -> nalgebra::Matrix3<f64> {
+            nalgebra::Matrix3::from_fn(|i, j| self[i][j])
+        }
+    }
+    impl IntoMatrix3 for nalgebra::Matrix3<f64> {
+        fn into_matrix3(self) -> nalgebra::Matrix3<f64> {
+            self
+        }
+    }
+    /// A `Matrix3<f64>` from rows `[[f64; 3]; 3]` or a `Matrix3<f64>`.
+    pub fn matrix3(m: impl IntoMatrix3) -> nalgebra::Matrix3<f64> {
+        m.into_matrix3()
+    }
 }
 
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.

@@ -706,7 +706,7 @@ impl Checker {
                 self.scene_spans.push((fc.span(), parent_key));
                 let g = a.get("gravity").map(|g| {
                     quote! {
-                        __modia3d_opts.gravity = ::modia3d::__private::nalgebra::Vector3::<f64>::from(#g);
+                        __modia3d_opts.gravity = ::modia3d::__private::vector3(#g);
                     }
                 });
                 Some(quote! {
@@ -771,8 +771,8 @@ impl Checker {
                             calls.push(quote! {
                                 .mass_properties(
                                     #m,
-                                    ::modia3d::__private::nalgebra::Vector3::<f64>::from(#com),
-                                    ::modia3d::__private::nalgebra::Matrix3::<f64>::from(#i),
+                                    ::modia3d::__private::vector3(#com),
+                                    ::modia3d::__private::matrix3(#i),
                                 )
                             });
                         }
@@ -919,7 +919,7 @@ impl Checker {
         let name = sc.name().to_string();
         let pos = Some(Range::Positive);
         let shape = quote!(::modia3d::core::Shape);
-        let v3 = quote!(::modia3d::__private::nalgebra::Vector3::<f64>::from);
+        let v3 = quote!(::modia3d::__private::vector3);
         match name.as_str() {
             "Sphere" => {
                 let a = self.args(&sc, &["diameter"]);
@@ -1030,7 +1030,7 @@ impl Checker {
             calls.push(quote!(.can_collide(#c)));
         }
         let jk = quote!(::modia3d::core::JointKind);
-        let v3 = quote!(::modia3d::__private::nalgebra::Vector3::<f64>::from);
+        let v3 = quote!(::modia3d::__private::vector3);
         let kind = match kind_name.as_str() {
             "Fix" => Some(quote!(#jk::Fix)),
             "Revolute" | "Prismatic" => {

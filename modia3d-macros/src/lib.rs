@@ -68,12 +68,12 @@ use proc_macro::TokenStream;
 ///
 /// | constructor | keys |
 /// |---|---|
-/// | `Scene` | `gravity = [0, 0, -9.81]` |
+/// | `Scene` | `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²) |
 /// | `Solid` | `shape*` (unless explicit mass properties), `solid_material` (`"Steel"`, a block material's name as string or identifier, or a `&str`/`String` expression), `mass_properties` (default: from density), `collision = false`, `contact_material` (string), `smoothing_radius` (m) |
 /// | `Visual` | `shape*` |
-/// | `MassProperties` | `mass*` (kg); with `inertia` (`Matrix3` or column-major `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
+/// | `MassProperties` | `mass*` (kg); with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
 /// | `Sphere` | `diameter*` |
-/// | `Box`, `Ellipsoid` | `lengths*` (`[f64; 3]`, full lengths) |
+/// | `Box`, `Ellipsoid` | `lengths*` (`[f64; 3]` or `Vector3<f64>`, full lengths) |
 /// | `Cylinder`, `Capsule` | `axis = 3` (literal 1..3 or an `Axis` expression), `diameter*`, `length*` |
 /// | `Cone` | `axis = 3`, `diameter*`, `length*`, `top_diameter = 0` |
 /// | `ConvexHull` | `points*`: anything iterable over `[f64; 3]` |
