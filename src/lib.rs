@@ -104,6 +104,66 @@ pub mod __private {
     pub fn matrix3(m: impl IntoMatrix3) -> nalgebra::Matrix3<f64> {
         m.into_matrix3()
     }
+
+    /// What `model!` accepts for `rotation`: Cardan angles `[f64; 3]`, a rotation matrix
+    /// `Matrix3<f64>` (columns: the frame's axes in the parent), or a `Rotation`.
+    #[diagnostic::on_unimplemented(
+        message = "expected Cardan angles `[f64; 3]`, a `Matrix3<f64>` or a `Rotation`, found `{Self}`",
+        label = "expected a rotation"
+    )]
+    pub trait IntoRotation {
+        /// The rotation.
+        fn into_rotation(self) -> modia3d_core::Rotation;
+    }
+    impl IntoRotation for [f64; 3] {
+        fn into_rotation(self) -> modia3d_core::Rotation {
+            modia3d_core::Rotation::Cardan(self)
+        }
+    }
+    impl IntoRotation for nalgebra::Matrix3<f64> {
+        fn into_rotation(self) -> modia3d_core::Rotation {
+            modia3d_core::Rotation::Matrix(self)
+        }
+    }
+    impl IntoRotation for modia3d_core::Rotation {
+        fn into_rotation(self) -> modia3d_core::Rotation {
+            self
+        }
+    }
+    /// A `Rotation` from Cardan angles, a matrix or a `Rotation`.
+    pub fn rotation(r: impl IntoRotation) -> modia3d_core::Rotation {
+        r.into_rotation()
+    }
+
+    /// What `model!` accepts for a FreeMotion's `rot`: Cardan angles `[f64; 3]`, a
+    /// `UnitQuaternion<f64>`, or a `FreeRotation`.
+    #[diagnostic::on_unimplemented(
+        message = "expected Cardan angles `[f64; 3]`, a `UnitQuaternion<f64>` or a `FreeRotation`, found `{Self}`",
+        label = "expected an orientation"
+    )]
+    pub trait IntoFreeRotation {
+        /// The orientation.
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation;
+    }
+    impl IntoFreeRotation for [f64; 3] {
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation {
+            modia3d_core::FreeRotation::Cardan(self)
+        }
+    }
+    impl IntoFreeRotation for nalgebra::UnitQuaternion<f64> {
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation {
+            modia3d_core::FreeRotation::Quaternion(self)
+        }
+    }
+    impl IntoFreeRotation for modia3d_core::FreeRotation {
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation {
+            self
+        }
+    }
+    /// A `FreeRotation` from Cardan angles, a quaternion or a `FreeRotation`.
+    pub fn free_rotation(r: impl IntoFreeRotation) -> modia3d_core::FreeRotation {
+        r.into_free_rotation()
+    }
 }
 
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.

@@ -26,7 +26,7 @@ model! {
                                                                                          [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
                                                              solid_material = "DryWood")),
         point    = Object3D(parent = sphere, feature = Solid(mass_properties = MassProperties(mass = 1.0, inertia = [[0.0; 3]; 3]))),
-        drawn    = Object3D(parent = sphere, feature = Visual(shape = Sphere(diameter = 0.05))),
+        drawn    = Object3D(parent = sphere, rotation = Matrix3::identity(), feature = Visual(shape = Sphere(diameter = 0.05))),
         custom   = Object3D(parent = sphere, feature = Feature::Visual(Shape::Sphere { diameter: 0.01 })),
     }
 }
@@ -34,6 +34,10 @@ model! {
 model! {
     /// Every joint kind, force element and scene option.
     pub Machine(gravity: f64 = -9.81, k: f64 = 100.0) {
+        tilted  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        spin    = Revolute(obj1 = world, obj2 = tilted, axis = [0.0, 1.0, 1.0]),
+        turned  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        swirl   = FreeMotion(obj1 = world, obj2 = turned, rot = Var(init = UnitQuaternion::identity())),
         world   = Object3D(feature = Scene(gravity = [0.0, 0.0, gravity])),
         parts   = Shapes(d = 0.1),
         slider  = Object3D(feature = Solid(shape = Box(lengths = [0.1, 0.1, 0.1]), solid_material = "Steel")),
@@ -186,7 +190,32 @@ fn joints_forces_and_scene_options() {
         Some(MaterialRef::Name("parts.wood".into()))
     );
     assert_eq!(s.solid_materials[0].0, "parts.wood");
-    let j: Vec<&Joint> = s.joints.iter().collect();
+    let spin = s.joints.iter().find(|j| j.name == "spin").unwrap();
+    assert_eq!(
+        spin.kind,
+        JointKind::Revolute {
+            axis: Vector3::new(0.0, 1.0, 1.0),
+            phi: 0.0,
+            w: 0.0
+        }
+    );
+    let swirl = s.joints.iter().find(|j| j.name == "swirl").unwrap();
+    assert!(matches!(
+        swirl.kind,
+        JointKind::FreeMotion {
+            rot: FreeRotation::Quaternion(_),
+            ..
+        }
+    ));
+    assert_eq!(
+        obj(&s, "parts.drawn").rotation,
+        Rotation::Matrix(Matrix3::identity())
+    );
+    let j: Vec<&Joint> = s
+        .joints
+        .iter()
+        .filter(|j| j.name != "spin" && j.name != "swirl")
+        .collect();
     assert_eq!(
         j[0],
         &Joint::new("fixed", "world", "parts.sphere", JointKind::Fix)

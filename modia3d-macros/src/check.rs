@@ -677,7 +677,7 @@ impl Checker {
             calls.push(quote!(.translation(#t)));
         }
         if let Some(r) = a.get("rotation") {
-            calls.push(quote!(.rotation(::modia3d::core::Rotation::Cardan(#r))));
+            calls.push(quote!(.rotation(::modia3d::__private::rotation(#r))));
         }
         if let Some(f) = a.get("feature") {
             match self.nested(f, FEATURES, "feature") {
@@ -1064,7 +1064,15 @@ impl Checker {
                     }
                 }
                 let ctor_fn = format_ident!("{}", kind_name.to_lowercase());
-                axis.map(|ax| quote!(#jk::#ctor_fn(#ax)))
+                match a.get("axis") {
+                    // A vector axis: the variant itself, at rest at 0 like the constructors.
+                    Some(Expr::Array(arr)) => Some(if kind_name == "Revolute" {
+                        quote!(#jk::Revolute { axis: #v3(#arr), phi: 0.0, w: 0.0 })
+                    } else {
+                        quote!(#jk::Prismatic { axis: #v3(#arr), s: 0.0, v: 0.0 })
+                    }),
+                    _ => axis.map(|ax| quote!(#jk::#ctor_fn(#ax))),
+                }
             }
             _ => {
                 let mut field = |k: &str, default: TokenStream| -> TokenStream {
@@ -1081,7 +1089,7 @@ impl Checker {
                 Some(quote! {
                     #jk::FreeMotion {
                         r: #v3(#r),
-                        rot: ::modia3d::core::FreeRotation::Cardan(#rot),
+                        rot: ::modia3d::__private::free_rotation(#rot),
                         v: #v3(#v),
                         w: #v3(#w),
                     }
