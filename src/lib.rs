@@ -160,6 +160,13 @@ pub mod __private {
             self
         }
     }
+    /// The points of a convex hull from anything iterable over `[f64; 3]` or `Point3<f64>`.
+    pub fn points<P: Into<nalgebra::Point3<f64>>>(
+        points: impl IntoIterator<Item = P>,
+    ) -> Vec<nalgebra::Point3<f64>> {
+        points.into_iter().map(Into::into).collect()
+    }
+
     /// A `FreeRotation` from Cardan angles, a quaternion or a `FreeRotation`.
     pub fn free_rotation(r: impl IntoFreeRotation) -> modia3d_core::FreeRotation {
         r.into_free_rotation()

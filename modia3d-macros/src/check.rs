@@ -956,13 +956,7 @@ impl Checker {
             _ => {
                 let a = self.args(&sc, &["points"]);
                 let p = self.required(&a, "points")?;
-                Some(quote! {
-                    #shape::ConvexHull {
-                        points: ::core::iter::IntoIterator::into_iter(#p)
-                            .map(::modia3d::__private::nalgebra::Point3::<f64>::from)
-                            .collect(),
-                    }
-                })
+                Some(quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) }))
             }
         }
     }
