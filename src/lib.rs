@@ -18,9 +18,161 @@
 //! assert!(result.signal("rev.phi")?.values().iter().all(|p| p.abs() <= 0.5 + 1e-6));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! The same model written with [`model!`], checked at compile time:
+//!
+//! ```
+//! use modia3d::prelude::*;
+//!
+//! model! {
+//!     /// A ball on a massless rod of length `l`, released at `phi0`.
+//!     pub Pendulum(l: f64 = 1.0, phi0: f64 = 0.5) {
+//!         world = Object3D(feature = Scene()),
+//!         bob   = Object3D(feature = Solid(shape = Sphere(diameter = 0.1),
+//!                                          mass_properties = MassProperties(mass = 1.0))),
+//!         pivot = Object3D(parent = bob, translation = [0.0, 0.0, l]),
+//!         rev   = Revolute(obj1 = world, obj2 = pivot, axis = 1, phi = Var(init = phi0)),
+//!     }
+//! }
+//!
+//! let model = Pendulum { l: 1.0, ..Default::default() }.build()?;
+//! let result = model.simulate(&SimOptions::new(1.0).tolerance(1e-8))?;
+//! assert!(result.signal("rev.phi")?.last()[0] < 0.5);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 #![warn(missing_docs)]
 
 pub use modia3d_core as core;
+pub use modia3d_macros::model;
+
+/// Support items for the code `model!` generates; not part of the API.
+#[doc(hidden)]
+pub mod __private {
+    pub use modia3d_macros::__solid_material_names;
+    pub use nalgebra;
+    /// The type of a hidden item that names an object of a `model!` type.
+    pub struct ObjectPath;
+    /// The type of a hidden item that names a joint of a `model!` type.
+    pub struct JointPath;
+    /// The type of a hidden item that names a force element or material of a `model!` type.
+    pub struct OtherPath;
+
+    /// What `model!` accepts where the builder wants a `Vector3<f64>`.
+    #[diagnostic::on_unimplemented(
+        message = "expected `[f64; 3]` or `Vector3<f64>`, found `{Self}`",
+        label = "expected a 3-vector"
+    )]
+    pub trait IntoVector3 {
+        /// The vector.
+        fn into_vector3(self) -> nalgebra::Vector3<f64>;
+    }
+    impl IntoVector3 for [f64; 3] {
+        fn into_vector3(self) -> nalgebra::Vector3<f64> {
+            nalgebra::Vector3::from(self)
+        }
+    }
+    impl IntoVector3 for nalgebra::Vector3<f64> {
+        fn into_vector3(self) -> nalgebra::Vector3<f64> {
+            self
+        }
+    }
+    /// A `Vector3<f64>` from `[f64; 3]` or `Vector3<f64>`.
+    pub fn vector3(v: impl IntoVector3) -> nalgebra::Vector3<f64> {
+        v.into_vector3()
+    }
+
+    /// What `model!` accepts where the builder wants a `Matrix3<f64>`: rows `[[f64; 3]; 3]` or
+    /// a `Matrix3<f64>`.
+    #[diagnostic::on_unimplemented(
+        message = "expected rows `[[f64; 3]; 3]` or `Matrix3<f64>`, found `{Self}`",
+        label = "expected a 3×3 matrix"
+    )]
+    pub trait IntoMatrix3 {
+        /// The matrix.
+        fn into_matrix3(self) -> nalgebra::Matrix3<f64>;
+    }
+    impl IntoMatrix3 for [[f64; 3]; 3] {
+        fn into_matrix3(self) -> nalgebra::Matrix3<f64> {
+            nalgebra::Matrix3::from_fn(|i, j| self[i][j])
+        }
+    }
+    impl IntoMatrix3 for nalgebra::Matrix3<f64> {
+        fn into_matrix3(self) -> nalgebra::Matrix3<f64> {
+            self
+        }
+    }
+    /// A `Matrix3<f64>` from rows `[[f64; 3]; 3]` or a `Matrix3<f64>`.
+    pub fn matrix3(m: impl IntoMatrix3) -> nalgebra::Matrix3<f64> {
+        m.into_matrix3()
+    }
+
+    /// What `model!` accepts for `rotation`: Cardan angles `[f64; 3]`, a rotation matrix
+    /// `Matrix3<f64>` (columns: the frame's axes in the parent), or a `Rotation`.
+    #[diagnostic::on_unimplemented(
+        message = "expected Cardan angles `[f64; 3]`, a `Matrix3<f64>` or a `Rotation`, found `{Self}`",
+        label = "expected a rotation"
+    )]
+    pub trait IntoRotation {
+        /// The rotation.
+        fn into_rotation(self) -> modia3d_core::Rotation;
+    }
+    impl IntoRotation for [f64; 3] {
+        fn into_rotation(self) -> modia3d_core::Rotation {
+            modia3d_core::Rotation::Cardan(self)
+        }
+    }
+    impl IntoRotation for nalgebra::Matrix3<f64> {
+        fn into_rotation(self) -> modia3d_core::Rotation {
+            modia3d_core::Rotation::Matrix(self)
+        }
+    }
+    impl IntoRotation for modia3d_core::Rotation {
+        fn into_rotation(self) -> modia3d_core::Rotation {
+            self
+        }
+    }
+    /// A `Rotation` from Cardan angles, a matrix or a `Rotation`.
+    pub fn rotation(r: impl IntoRotation) -> modia3d_core::Rotation {
+        r.into_rotation()
+    }
+
+    /// What `model!` accepts for a FreeMotion's `rot`: Cardan angles `[f64; 3]`, a
+    /// `UnitQuaternion<f64>`, or a `FreeRotation`.
+    #[diagnostic::on_unimplemented(
+        message = "expected Cardan angles `[f64; 3]`, a `UnitQuaternion<f64>` or a `FreeRotation`, found `{Self}`",
+        label = "expected an orientation"
+    )]
+    pub trait IntoFreeRotation {
+        /// The orientation.
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation;
+    }
+    impl IntoFreeRotation for [f64; 3] {
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation {
+            modia3d_core::FreeRotation::Cardan(self)
+        }
+    }
+    impl IntoFreeRotation for nalgebra::UnitQuaternion<f64> {
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation {
+            modia3d_core::FreeRotation::Quaternion(self)
+        }
+    }
+    impl IntoFreeRotation for modia3d_core::FreeRotation {
+        fn into_free_rotation(self) -> modia3d_core::FreeRotation {
+            self
+        }
+    }
+    /// The points of a convex hull from anything iterable over `[f64; 3]` or `Point3<f64>`.
+    pub fn points<P: Into<nalgebra::Point3<f64>>>(
+        points: impl IntoIterator<Item = P>,
+    ) -> Vec<nalgebra::Point3<f64>> {
+        points.into_iter().map(Into::into).collect()
+    }
+
+    /// A `FreeRotation` from Cardan angles, a quaternion or a `FreeRotation`.
+    pub fn free_rotation(r: impl IntoFreeRotation) -> modia3d_core::FreeRotation {
+        r.into_free_rotation()
+    }
+}
 
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
@@ -30,6 +182,7 @@ pub mod prelude {
         SceneErrors, SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats,
         SimulationResult, Solid, SolidMaterial, Wrench,
     };
+    pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 }
 

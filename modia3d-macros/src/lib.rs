@@ -1,1 +1,140 @@
-//! The `model!` macro of modia3d.
+//! The `model!` macro of modia3d: Modia-like declarative 3D multibody models written as Rust
+//! source, checked at compile time and expanded into the core builder API
+//! (`modia3d::core::SceneDesc`). Use it through the facade: `use modia3d::prelude::*;`.
+//!
+//! Stages: `ast.rs` (parse) → `check.rs` (names, structure, literal values) → `expand.rs`
+//! (builder calls). The entry points below only chain them.
+#![warn(missing_docs)]
+#![forbid(unsafe_code)]
+
+mod ast;
+mod check;
+mod expand;
+
+use proc_macro::TokenStream;
+
+/// Defines a 3D multibody model (or a reusable sub-assembly) as a Rust type.
+///
+/// ```ignore
+/// use modia3d::prelude::*;
+///
+/// model! {
+///     /// A pendulum. Doc comments become the generated type's docs.
+///     pub Pendulum(length: f64 = 1.0, mass: f64 = 1.0, phi0: f64 = 0.5) {
+///         world = Object3D(feature = Scene(gravity = [0.0, 0.0, -9.81])),
+///         body  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1),
+///                                          mass_properties = MassProperties(mass = mass))),
+///         frame = Object3D(parent = body, translation = [0.0, 0.0, length]),
+///         rev   = Revolute(obj1 = world, obj2 = frame, axis = 1, phi = Var(init = phi0)),
+///     }
+/// }
+///
+/// let model = Pendulum { length: 2.0, ..Default::default() }.build()?;
+/// let result = model.simulate(&SimOptions::new(5.0).tolerance(1e-8))?;
+/// let phi = result.signal("rev.phi")?;
+/// ```
+///
+/// # Grammar
+///
+/// ```text
+/// model!     { attr* vis [assembly] Name [( param, … )] { component, … } }
+/// param      := attr* name: Type = default
+/// component  := name = Constructor(key = value, …)
+/// value      := a Rust expression; parameters are locals of type `Type` (cloned);
+///               nested constructors (`Sphere(…)`, `Var(…)`) where the key expects one
+/// reference  := name | subassembly.path.to.part
+/// ```
+///
+/// A *model* (no `assembly` keyword) has exactly one `Scene` object and gets `build()`.
+/// An *assembly* (`pub assembly Arm(…) { … }`) has no `Scene`; it is used as a component of
+/// other models.
+///
+/// ## Components (`name = …`)
+///
+/// | constructor | keys (`*` required, `= default`) |
+/// |---|---|
+/// | `Object3D` | `parent` (reference), `translation = [0,0,0]` (`[f64; 3]`, m, in the parent), `rotation` (Cardan angles `[f64; 3]` in rad, x then new y then new z; or a `Matrix3<f64>` whose columns are the frame's axes; or a `Rotation`), `feature` |
+/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false` |
+/// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide` |
+/// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide` |
+/// | `Fix` | `obj1*`, `obj2*`, `can_collide` |
+/// | `SpringDamper` | `obj1*`, `obj2*`, `stiffness*` (N/m), `damping = 0` (N·s/m), `length0 = 0` (m) |
+/// | `JointSpringDamper` | `joint*` (reference to a Revolute or Prismatic), `stiffness*`, `damping = 0`, `offset = 0` |
+/// | `ObjectForce` | `object*`, `law*`: a closure `move \|t: f64, m: &ObjectMotion\| -> Wrench` |
+/// | `SolidMaterial` | `density*` (kg/m³), `young_modulus*` (N/m²), `poisson_ratio*` — a material of this block |
+/// | any other type | a sub-assembly: `arm1 = Arm(parent = base, length = 0.5)` |
+///
+/// ## Values of `feature`, `shape`, `mass_properties`
+///
+/// | constructor | keys |
+/// |---|---|
+/// | `Scene` | `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²) |
+/// | `Solid` | `shape*` (unless explicit mass properties), `solid_material` (`"Steel"`, a block material's name as string or identifier, or a `&str`/`String` expression), `mass_properties` (default: from density), `collision = false`, `contact_material` (string), `smoothing_radius` (m) |
+/// | `Visual` | `shape*` |
+/// | `MassProperties` | `mass*` (kg); with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
+/// | `Sphere` | `diameter*` |
+/// | `Box`, `Ellipsoid` | `lengths*` (`[f64; 3]` or `Vector3<f64>`, full lengths) |
+/// | `Cylinder`, `Capsule` | `axis = 3` (literal 1..3 or an `Axis` expression), `diameter*`, `length*` |
+/// | `Cone` | `axis = 3`, `diameter*`, `length*`, `top_diameter = 0` |
+/// | `ConvexHull` | `points*`: anything iterable over `[f64; 3]` or `Point3<f64>` |
+///
+/// Any `feature` or `shape` value that is not one of these constructors is taken as a Rust
+/// expression of type `Feature` or `Shape`.
+///
+/// ## Names and sub-assemblies
+///
+/// Objects, joints and force elements are named `prefix + name`: top-level names are plain
+/// (`"rev"`, signals `"rev.phi"`); a sub-assembly `arm1` adds `"arm1."` (`"arm1.rev.phi"`).
+/// References reach into sub-assemblies by path: `parent = arm1.tip`, `joint = arm1.rev`, to
+/// any depth. Keys of a sub-assembly component other than `parent` are its parameters.
+///
+/// **Attach rule.** `arm1 = Arm(parent = base, …)` makes `base` the parent of Arm's
+/// *root-level parts*: its objects without `parent` whose rigid body no joint of Arm moves,
+/// and its own sub-assemblies without `parent` that no joint of Arm moves (recursively).
+/// Without `parent`, those parts stay roots (connect them with a joint to `arm1.<part>`).
+///
+/// ## The generated type
+///
+/// `vis struct Name { pub param: Type, … }` with `Clone`, `Debug`, `Default` (the defaults in
+/// the header), and
+/// - `add_to(&self, scene: &mut SceneDesc, prefix: &str, parent: Option<&str>)`;
+/// - `scene(&self) -> SceneDesc`;
+/// - for models: `build(&self) -> Result<Model, SceneErrors>`.
+///
+/// A hidden module `__modia3d_Name` holds one item per component; references into a
+/// sub-assembly expand to spanned uses of it, so rustc reports an unknown part on the user's
+/// token. Models must be defined at module level (not inside a function) to be used as
+/// sub-assemblies.
+///
+/// ## Compile-time checks
+///
+/// All errors of a block are reported in one pass, each on the offending token: unknown or
+/// duplicate component names, unknown constructors and keys (with did-you-mean hints),
+/// missing and duplicate keys, parent cycles, a missing/duplicate/misplaced `Scene`, an
+/// object moved by two joints, a joint with identical ends, kinematic loops, literal values out
+/// of range (lengths, masses, densities ≤ 0; negative damping; axes outside ±1..3; Poisson's
+/// ratio outside (0, 1)), `can_collide` outside joints, `collision = true` without a material,
+/// unknown literal material names, and (via rustc) unknown parts of sub-assemblies, unknown
+/// sub-assembly parameters and type mismatches of values. Everything else (e.g. values that are
+/// only known at run time) is checked by `SceneDesc::build`.
+#[proc_macro]
+pub fn model(input: TokenStream) -> TokenStream {
+    let def = syn::parse_macro_input!(input as ast::ModelDef);
+    match check::check(&def) {
+        Ok(ir) => expand::expand(&def, &ir).into(),
+        Err(e) => {
+            let mut out = e.to_compile_error();
+            out.extend(expand::fallback(&def));
+            out.into()
+        }
+    }
+}
+
+/// The names of the built-in solid materials the macro accepts, as `&[&str]` (a test keeps them
+/// equal to the core's palette).
+#[doc(hidden)]
+#[proc_macro]
+pub fn __solid_material_names(_input: TokenStream) -> TokenStream {
+    let names = check::BUILTIN_SOLID_MATERIALS;
+    quote::quote!(&[#(#names),*]).into()
+}

@@ -1,0 +1,388 @@
+//! Every feature `model!` offers, checked against the `SceneDesc` the builder API would give,
+//! and built (validated and planned) by the core. Nested assemblies: names, the attach rule,
+//! parameters passing down, the same assembly several times.
+
+use modia3d::prelude::*;
+use std::f64::consts::PI;
+
+model! {
+    /// All shapes, materials and mass-property forms.
+    pub assembly Shapes(d: f64 = 0.2, steel: &'static str = "Steel") {
+        wood     = SolidMaterial(density = 700.0, young_modulus = 1.1e10, poisson_ratio = 0.4),
+        sphere   = Object3D(feature = Solid(shape = Sphere(diameter = d), solid_material = steel)),
+        cube     = Object3D(parent = sphere, translation = [1.0, 0.0, 0.0], rotation = [0.0, 0.0, PI / 2.0],
+                            feature = Solid(shape = Box(lengths = [d, 2.0 * d, 3.0 * d]), solid_material = wood,
+                                            collision = true, contact_material = "Wood", smoothing_radius = 0.001)),
+        cyl      = Object3D(parent = sphere, feature = Solid(shape = Cylinder(axis = 1, diameter = d, length = 0.5),
+                                                             solid_material = "wood")),
+        capsule  = Object3D(parent = sphere, feature = Solid(shape = Capsule(axis = Axis::Y, diameter = d, length = 0.5),
+                                                             mass_properties = MassProperties(mass = 2.0))),
+        cone     = Object3D(parent = sphere, feature = Solid(shape = Cone(diameter = d, length = 0.3, top_diameter = 0.1),
+                                                             solid_material = "Aluminium", collision = true)),
+        ellipse  = Object3D(parent = sphere, feature = Solid(shape = Ellipsoid(lengths = [0.1, 0.2, 0.3]),
+                                                             mass_properties = MassProperties(mass = 1.0, com = [0.0, 0.0, 0.1],
+                                                                                              inertia = Matrix3::identity()))),
+        hull     = Object3D(parent = sphere, feature = Solid(shape = ConvexHull(points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0],
+                                                                                         [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
+                                                             solid_material = "DryWood")),
+        point    = Object3D(parent = sphere, feature = Solid(mass_properties = MassProperties(mass = 1.0, inertia = [[0.0; 3]; 3]))),
+        drawn    = Object3D(parent = sphere, rotation = Matrix3::identity(), feature = Visual(shape = Sphere(diameter = 0.05))),
+        custom   = Object3D(parent = sphere, feature = Feature::Visual(Shape::Sphere { diameter: 0.01 })),
+    }
+}
+
+model! {
+    /// Every joint kind, force element and scene option.
+    pub Machine(gravity: f64 = -9.81, k: f64 = 100.0) {
+        tilted  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        spin    = Revolute(obj1 = world, obj2 = tilted, axis = [0.0, 1.0, 1.0]),
+        turned  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        swirl   = FreeMotion(obj1 = world, obj2 = turned, rot = Var(init = UnitQuaternion::identity())),
+        world   = Object3D(feature = Scene(gravity = [0.0, 0.0, gravity])),
+        parts   = Shapes(d = 0.1),
+        slider  = Object3D(feature = Solid(shape = Box(lengths = [0.1, 0.1, 0.1]), solid_material = "Steel")),
+        pendel  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        pivot   = Object3D(parent = pendel, translation = [0.0, 0.0, 0.5]),
+        free    = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        fixed   = Fix(obj1 = world, obj2 = parts.sphere),
+        slide   = Prismatic(obj1 = world, obj2 = slider, axis = -3, s = Var(init = 0.1), v = Var(init = 0.2)),
+        rev     = Revolute(obj1 = slider, obj2 = pivot, axis = 2, phi = Var(init = 0.3), w = Var(init = -0.1),
+                           can_collide = true),
+        fly     = FreeMotion(obj1 = world, obj2 = free, r = Var(init = [0.0, 1.0, 2.0]), rot = Var(init = [0.1, 0.2, 0.3]),
+                             v = Var(init = [1.0, 0.0, 0.0]), w = Var(init = [0.0, 0.0, 1.0])),
+        spring  = SpringDamper(obj1 = world, obj2 = slider, stiffness = k, damping = 1.0, length0 = 0.1),
+        rot_d   = JointSpringDamper(joint = rev, stiffness = 0.0, damping = 0.5, offset = 0.1),
+        lift    = ObjectForce(object = free, law = move |_t: f64, _m: &ObjectMotion| Wrench {
+            force: Vector3::new(0.0, 0.0, -gravity),
+            torque: Vector3::zeros(),
+        }),
+    }
+}
+
+fn obj<'a>(s: &'a SceneDesc, name: &str) -> &'a Object3D {
+    s.objects
+        .iter()
+        .find(|o| o.name == name)
+        .unwrap_or_else(|| panic!("no object `{name}`"))
+}
+
+fn solid(o: &Object3D) -> &Solid {
+    match &o.feature {
+        Feature::Solid(s) => s,
+        f => panic!("`{}` is {f:?}", o.name),
+    }
+}
+
+#[test]
+fn shapes_materials_and_mass_properties() {
+    let s = Shapes::default().scene();
+    assert_eq!(
+        s.solid_materials,
+        vec![(
+            "wood".to_string(),
+            SolidMaterial {
+                density: 700.0,
+                young_modulus: 1.1e10,
+                poisson_ratio: 0.4
+            }
+        )]
+    );
+    assert_eq!(
+        obj(&s, "sphere").feature,
+        Feature::Solid(Solid::new(Shape::Sphere { diameter: 0.2 }).material("Steel"))
+    );
+    let cube = obj(&s, "cube");
+    assert_eq!(cube.parent.as_deref(), Some("sphere"));
+    assert_eq!(cube.translation, Vector3::new(1.0, 0.0, 0.0));
+    assert_eq!(cube.rotation, Rotation::Cardan([0.0, 0.0, PI / 2.0]));
+    assert_eq!(
+        solid(cube),
+        &Solid::new(Shape::Box {
+            lengths: Vector3::new(0.2, 2.0 * 0.2, 3.0 * 0.2)
+        })
+        .material("wood")
+        .collision(true)
+        .contact_material("Wood")
+        .smoothing_radius(0.001)
+    );
+    assert_eq!(
+        solid(obj(&s, "cyl")).material,
+        Some(MaterialRef::Name("wood".into()))
+    );
+    assert_eq!(
+        solid(obj(&s, "cyl")).shape,
+        Some(Shape::Cylinder {
+            axis: Axis::X,
+            diameter: 0.2,
+            length: 0.5
+        })
+    );
+    assert_eq!(
+        solid(obj(&s, "capsule")).shape,
+        Some(Shape::Capsule {
+            axis: Axis::Y,
+            diameter: 0.2,
+            length: 0.5
+        })
+    );
+    assert_eq!(
+        solid(obj(&s, "capsule")).mass_properties,
+        MassSpec::FromShapeAndMass(2.0)
+    );
+    assert_eq!(
+        solid(obj(&s, "cone")).shape,
+        Some(Shape::Cone {
+            axis: Axis::Z,
+            diameter: 0.2,
+            length: 0.3,
+            top_diameter: 0.1
+        })
+    );
+    assert_eq!(
+        solid(obj(&s, "ellipse")).mass_properties,
+        MassSpec::Explicit {
+            mass: 1.0,
+            com: Vector3::new(0.0, 0.0, 0.1),
+            inertia: Matrix3::identity()
+        }
+    );
+    match &solid(obj(&s, "hull")).shape {
+        Some(Shape::ConvexHull { points }) => assert_eq!(points.len(), 4),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(solid(obj(&s, "point")).shape, None);
+    assert_eq!(
+        obj(&s, "drawn").feature,
+        Feature::Visual(Shape::Sphere { diameter: 0.05 })
+    );
+    assert_eq!(
+        obj(&s, "custom").feature,
+        Feature::Visual(Shape::Sphere { diameter: 0.01 })
+    );
+    // A sub-assembly without parent: its root `sphere` stays a root.
+    assert_eq!(obj(&s, "sphere").parent, None);
+}
+
+#[test]
+fn joints_forces_and_scene_options() {
+    let m = Machine {
+        gravity: -1.62,
+        ..Default::default()
+    };
+    let s = m.scene();
+    assert_eq!(
+        obj(&s, "world").feature,
+        Feature::Scene(SceneOptions {
+            gravity: Vector3::new(0.0, 0.0, -1.62)
+        })
+    );
+    // Sub-assembly objects and materials are prefixed; parameters pass down.
+    assert_eq!(
+        obj(&s, "parts.cube").parent.as_deref(),
+        Some("parts.sphere")
+    );
+    assert_eq!(
+        solid(obj(&s, "parts.sphere")).shape,
+        Some(Shape::Sphere { diameter: 0.1 })
+    );
+    assert_eq!(
+        solid(obj(&s, "parts.cyl")).material,
+        Some(MaterialRef::Name("parts.wood".into()))
+    );
+    assert_eq!(s.solid_materials[0].0, "parts.wood");
+    let spin = s.joints.iter().find(|j| j.name == "spin").unwrap();
+    assert_eq!(
+        spin.kind,
+        JointKind::Revolute {
+            axis: Vector3::new(0.0, 1.0, 1.0),
+            phi: 0.0,
+            w: 0.0
+        }
+    );
+    let swirl = s.joints.iter().find(|j| j.name == "swirl").unwrap();
+    assert!(matches!(
+        swirl.kind,
+        JointKind::FreeMotion {
+            rot: FreeRotation::Quaternion(_),
+            ..
+        }
+    ));
+    assert_eq!(
+        obj(&s, "parts.drawn").rotation,
+        Rotation::Matrix(Matrix3::identity())
+    );
+    let j: Vec<&Joint> = s
+        .joints
+        .iter()
+        .filter(|j| j.name != "spin" && j.name != "swirl")
+        .collect();
+    assert_eq!(
+        j[0],
+        &Joint::new("fixed", "world", "parts.sphere", JointKind::Fix)
+    );
+    assert_eq!(
+        j[1],
+        &Joint::new("slide", "world", "slider", JointKind::prismatic(-3))
+            .init_position(0.1)
+            .init_velocity(0.2)
+    );
+    assert_eq!(
+        j[2],
+        &Joint::new("rev", "slider", "pivot", JointKind::revolute(2))
+            .init_position(0.3)
+            .init_velocity(-0.1)
+            .can_collide(true)
+    );
+    assert_eq!(
+        j[3].kind,
+        JointKind::FreeMotion {
+            r: Vector3::new(0.0, 1.0, 2.0),
+            rot: FreeRotation::Cardan([0.1, 0.2, 0.3]),
+            v: Vector3::new(1.0, 0.0, 0.0),
+            w: Vector3::new(0.0, 0.0, 1.0)
+        }
+    );
+    match &s.forces[..] {
+        [ForceElement::SpringDamper {
+            name,
+            obj1,
+            obj2,
+            stiffness,
+            damping,
+            length0,
+        }, ForceElement::JointSpringDamper {
+            joint,
+            stiffness: c,
+            damping: d,
+            offset,
+        }, ForceElement::ObjectForce { object, law }] => {
+            assert_eq!(
+                (name.as_str(), obj1.as_str(), obj2.as_str()),
+                ("spring", "world", "slider")
+            );
+            assert_eq!((*stiffness, *damping, *length0), (100.0, 1.0, 0.1));
+            assert_eq!((joint.as_str(), *c, *d, *offset), ("rev", 0.0, 0.5, 0.1));
+            assert_eq!(object, "free");
+            let motion = ObjectMotion {
+                r_abs: Vector3::zeros(),
+                rot_abs: Matrix3::identity(),
+                v_abs: Vector3::zeros(),
+                w_abs: Vector3::zeros(),
+            };
+            assert_eq!((law.0)(0.0, &motion).force, Vector3::new(0.0, 0.0, 1.62));
+        }
+        other => panic!("{other:?}"),
+    }
+    // The core accepts it and it simulates.
+    let model = m.build().unwrap();
+    let r = model.simulate(&SimOptions::new(0.2)).unwrap();
+    assert_eq!(r.signal("rev.phi").unwrap().at(0)[0], 0.3);
+    assert_eq!(r.signal("slide.s").unwrap().at(0)[0], 0.1);
+}
+
+model! {
+    /// A link: a body with its two end frames.
+    pub assembly Link(length: f64 = 0.5) {
+        body = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), mass_properties = MassProperties(mass = 1.0))),
+        top  = Object3D(parent = body, translation = [0.0, 0.0, length]),
+    }
+}
+
+model! {
+    /// Two links: the first fixed at the root-level mount, the second on a revolute.
+    pub assembly Arm(l1: f64 = 0.5, l2: f64 = 0.4, q: f64 = 0.0) {
+        mount = Object3D(),
+        base  = Link(length = l1),
+        upper = Link(length = l2),
+        hinge = Revolute(obj1 = base.body, obj2 = upper.top, axis = 1, phi = Var(init = q)),
+    }
+}
+
+/// Assemblies in another module are named by path.
+mod tools {
+    modia3d::model! {
+        /// A gripper with a sub-assembly of its own (a link, reached through `super::`).
+        pub assembly Gripper(width: f64 = 0.1) {
+            palm   = Object3D(feature = Solid(shape = Box(lengths = [width, 0.02, 0.02]), solid_material = "Steel")),
+            finger = super::Link(parent = palm, length = width),
+        }
+    }
+}
+
+model! {
+    /// The same arm twice, one mounted by `parent`, one by a joint.
+    pub Cell(spacing: f64 = 1.0) {
+        world = Object3D(feature = Scene()),
+        left  = Object3D(parent = world, translation = [-spacing, 0.0, 0.0]),
+        arm1  = Arm(parent = left, q = 0.3),
+        arm2  = Arm(l1 = 0.7, q = -0.3),
+        slide = Prismatic(obj1 = world, obj2 = arm2.mount, axis = 1, s = Var(init = spacing)),
+        weld  = Fix(obj1 = arm2.mount, obj2 = arm2.base.body),
+        stop  = JointSpringDamper(joint = arm2.hinge, stiffness = 1.0),
+        hand  = tools::Gripper(parent = arm1.upper.top, width = 0.2),
+        probe = Object3D(parent = hand.finger.top),
+    }
+}
+
+#[test]
+fn nested_assemblies_names_attach_rule_and_parameters() {
+    let s = Cell::default().scene();
+    let parent = |n: &str| obj(&s, n).parent.clone();
+    let names: Vec<&str> = s.objects.iter().map(|o| o.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "world",
+            "left",
+            "arm1.mount",
+            "arm1.base.body",
+            "arm1.base.top",
+            "arm1.upper.body",
+            "arm1.upper.top",
+            "arm2.mount",
+            "arm2.base.body",
+            "arm2.base.top",
+            "arm2.upper.body",
+            "arm2.upper.top",
+            "hand.palm",
+            "hand.finger.body",
+            "hand.finger.top",
+            "probe",
+        ]
+    );
+    assert_eq!(parent("hand.palm").as_deref(), Some("arm1.upper.top"));
+    assert_eq!(parent("hand.finger.body").as_deref(), Some("hand.palm"));
+    assert_eq!(parent("probe").as_deref(), Some("hand.finger.top"));
+    assert_eq!(obj(&s, "hand.finger.top").translation[2], 0.2);
+    // Attach rule: root-level parts of arm1 (mount, base.body) hang on `left`; upper.body is
+    // moved by the hinge and stays a root; arm2 has no parent, so nothing is attached.
+    assert_eq!(parent("arm1.mount").as_deref(), Some("left"));
+    assert_eq!(parent("arm1.base.body").as_deref(), Some("left"));
+    assert_eq!(parent("arm1.upper.body"), None);
+    assert_eq!(parent("arm2.mount"), None);
+    assert_eq!(parent("arm2.base.body"), None);
+    // Parameters pass down, per instance.
+    assert_eq!(obj(&s, "arm1.base.top").translation[2], 0.5);
+    assert_eq!(obj(&s, "arm2.base.top").translation[2], 0.7);
+    let hinge2 = s.joints.iter().find(|j| j.name == "arm2.hinge").unwrap();
+    assert_eq!(
+        (hinge2.obj1.as_str(), hinge2.obj2.as_str()),
+        ("arm2.base.body", "arm2.upper.top")
+    );
+    assert_eq!(
+        hinge2.kind,
+        JointKind::Revolute {
+            axis: Vector3::x(),
+            phi: -0.3,
+            w: 0.0
+        }
+    );
+    // It builds and its signals read as dotted paths.
+    let r = Cell::default()
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(0.5))
+        .unwrap();
+    assert_eq!(r.signal("arm1.hinge.phi").unwrap().at(0)[0], 0.3);
+    assert!(r.signal("arm2.upper.top.r_abs").is_ok());
+}

@@ -1,0 +1,13 @@
+//! Compile-fail and pass cases of `model!` (trybuild). Families: `parse` (syntax), `check`
+//! (the macro's own checks), `rustc` (errors rustc reports on the user's tokens through spanned
+//! code); `pass` groups features that must compile. Regenerate the `.stderr` files with
+//! `TRYBUILD=overwrite cargo test --test ui` and review them like code.
+
+#[test]
+fn ui() {
+    let t = trybuild::TestCases::new();
+    t.compile_fail("tests/ui/parse/*.rs");
+    t.compile_fail("tests/ui/check/*.rs");
+    t.compile_fail("tests/ui/rustc/*.rs");
+    t.pass("tests/ui/pass/*.rs");
+}

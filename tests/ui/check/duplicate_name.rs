@@ -1,0 +1,11 @@
+use modia3d::prelude::*;
+
+model! {
+    pub M {
+        world = Object3D(feature = Scene()),
+        body = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        body = Object3D(),
+    }
+}
+
+fn main() {}

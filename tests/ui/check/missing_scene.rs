@@ -1,0 +1,9 @@
+use modia3d::prelude::*;
+
+model! {
+    pub M {
+        body = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+    }
+}
+
+fn main() {}
