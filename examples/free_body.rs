@@ -4,34 +4,19 @@
 
 use modia3d::prelude::*;
 
+model! {
+    /// A 2 kg brick in space, spun with angular velocity `w0` (resolved in the brick) [rad/s].
+    pub SpinningBrick(w0: [f64; 3] = [0.0, 6.0, 0.0]) {
+        world = Object3D(feature = Scene(gravity = [0.0, 0.0, 0.0])),
+        brick = Object3D(feature = Solid(shape = Box(lengths = [0.1, 0.2, 0.3]),
+                                         mass_properties = MassProperties(mass = 2.0))),
+        free  = FreeMotion(obj1 = world, obj2 = brick, w = Var(init = w0)),
+    }
+}
+
 fn run(label: &str, w0: [f64; 3], axis: usize) -> Result<(), Box<dyn std::error::Error>> {
-    let mut scene = SceneDesc::new();
-    scene
-        .add(Object3D::new("world").scene(SceneOptions {
-            gravity: Vector3::zeros(),
-        }))
-        .add(
-            Object3D::new("brick").solid(
-                Solid::new(Shape::Box {
-                    lengths: Vector3::new(0.1, 0.2, 0.3),
-                })
-                .mass(2.0),
-            ),
-        )
-        .add_joint(Joint::new(
-            "free",
-            "world",
-            "brick",
-            JointKind::FreeMotion {
-                r: Vector3::zeros(),
-                rot: FreeRotation::Cardan([0.0; 3]),
-                v: Vector3::zeros(),
-                w: Vector3::from(w0),
-            },
-        ));
-    let result = scene
-        .build()?
-        .simulate(&SimOptions::new(10.0).tolerance(1e-8).interval(0.01))?;
+    let model = SpinningBrick { w0 }.build()?;
+    let result = model.simulate(&SimOptions::new(10.0).tolerance(1e-8).interval(0.01))?;
     let rot = result.signal("brick.R_abs")?;
     // Alignment of the spin axis with its initial direction; a flip shows as -1.
     let mut flips = 0;
