@@ -104,7 +104,8 @@ fn info_attr(dom: &str, attr: &str) -> Option<String> {
     Some(v[..v.find('"')?].to_string())
 }
 
-/// Pixels of the screenshot, below the info line, that differ clearly from the background.
+/// Pixels of the screenshot, below the info line, that differ clearly from the background (the
+/// light floor grid does not count).
 fn drawn_pixels(png_path: &Path) -> (usize, usize) {
     let decoder = png::Decoder::new(std::fs::File::open(png_path).unwrap());
     let mut reader = decoder.read_info().unwrap();
@@ -121,7 +122,7 @@ fn drawn_pixels(png_path: &Path) -> (usize, usize) {
     for y in 40..h {
         for x in 0..w {
             let p = &buf[(y * w + x) * channels..][..3];
-            if (0..3).any(|i| p[i].abs_diff(BACKGROUND[i]) > 40) {
+            if (0..3).any(|i| p[i].abs_diff(BACKGROUND[i]) > 50) {
                 drawn += 1;
             }
         }
