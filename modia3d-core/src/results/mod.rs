@@ -1,6 +1,13 @@
 //! Results stage: time points and states of a run, signals by name computed on demand from the
 //! stored states (so a run pays only for the signals asked for), statistics, events, CSV export.
 
+mod animation;
+mod gltf;
+mod html;
+mod mesh;
+mod plot;
+mod threejs;
+
 use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
 use crate::solver::IdaStats;
 use std::io::Write;
@@ -84,6 +91,14 @@ pub enum ResultError {
         path: String,
         /// The cause.
         source: std::io::Error,
+    },
+    /// An export (plot, animation) could not be made from this result.
+    #[error("cannot export `{path}`: {reason}")]
+    Export {
+        /// The path.
+        path: String,
+        /// Why.
+        reason: String,
     },
 }
 
