@@ -221,14 +221,25 @@ fn threejs_json_has_the_shapes_and_one_keyframe_per_time_point() {
         2 * MOVING.len(),
         "the fixed support has no tracks"
     );
+    // Tracks are bound by the node's uuid (names may hold the dots of assembly paths).
+    fn uuid_of(node: &serde_json::Value, name: &str) -> Option<String> {
+        if node["name"] == name {
+            return node["uuid"].as_str().map(str::to_string);
+        }
+        node["children"]
+            .as_array()?
+            .iter()
+            .find_map(|c| uuid_of(c, name))
+    }
     for name in MOVING {
+        let id = uuid_of(&doc["object"], name).unwrap();
         let pos = tracks
             .iter()
-            .find(|t| t["name"] == format!("{name}.position"))
+            .find(|t| t["name"] == format!("{id}.position"))
             .unwrap();
         let quat = tracks
             .iter()
-            .find(|t| t["name"] == format!("{name}.quaternion"))
+            .find(|t| t["name"] == format!("{id}.quaternion"))
             .unwrap();
         assert_eq!(pos["type"], "vector");
         assert_eq!(quat["type"], "quaternion");

@@ -7,7 +7,8 @@
 //! and centred, so the mesh's matrix turns y onto the shape's `axis` (and lifts a cone so that
 //! its base lies at `axis = 0`); an ellipsoid is a unit-diameter sphere scaled by its lengths; a
 //! convex hull is a `BufferGeometry` of flat triangles. One animation clip holds a `.position`
-//! (vector) and a `.quaternion` track per moving object, named `<object name>.position` etc.,
+//! (vector) and a `.quaternion` track per moving object, named `<object uuid>.position` etc.
+//! (by uuid, since three.js track names cannot hold the dots of assembly paths like `arm1.tip`),
 //! with one keyframe per output time point. Lengths in [m], times in [s].
 
 use super::animation::world_to_y_up;
@@ -145,10 +146,10 @@ impl SimulationResult {
                 let flat = |v: &[[f64; 3]]| v.iter().flatten().copied().collect::<Vec<f64>>();
                 let qs: Vec<f64> = o.rotations.iter().flatten().copied().collect();
                 tracks.push(
-                    json!({"name": format!("{}.position", o.name), "type": "vector",
+                    json!({"name": format!("{}.position", uuid(3, i + 1)), "type": "vector",
                     "times": time, "values": flat(&o.positions), "interpolation": 2301}),
                 );
-                tracks.push(json!({"name": format!("{}.quaternion", o.name),
+                tracks.push(json!({"name": format!("{}.quaternion", uuid(3, i + 1)),
                     "type": "quaternion", "times": time, "values": qs, "interpolation": 2301}));
             }
         }
