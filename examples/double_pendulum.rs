@@ -4,41 +4,26 @@
 
 use modia3d::prelude::*;
 
+model! {
+    /// Two rods (d × d × l boxes of mass m) hanging from revolute joints about x.
+    pub DoublePendulum(l: f64 = 1.0, d: f64 = 0.02, m: f64 = 1.0, phi1: f64 = 1.2, phi2: f64 = -0.6) {
+        world   = Object3D(feature = Scene(gravity = [0.0, 0.0, -9.81])),
+        top1    = Object3D(),
+        rod1    = Object3D(parent = top1, translation = [0.0, 0.0, -l / 2.0],
+                           feature = Solid(shape = Box(lengths = [d, d, l]),
+                                           mass_properties = MassProperties(mass = m))),
+        bottom1 = Object3D(parent = rod1, translation = [0.0, 0.0, -l / 2.0]),
+        top2    = Object3D(),
+        rod2    = Object3D(parent = top2, translation = [0.0, 0.0, -l / 2.0],
+                           feature = Solid(shape = Box(lengths = [d, d, l]),
+                                           mass_properties = MassProperties(mass = m))),
+        rev1    = Revolute(obj1 = world, obj2 = top1, axis = 1, phi = Var(init = phi1)),
+        rev2    = Revolute(obj1 = bottom1, obj2 = top2, axis = 1, phi = Var(init = phi2)),
+    }
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let (l, d, m) = (1.0, 0.02, 1.0);
-    let rod = || {
-        Solid::new(Shape::Box {
-            lengths: Vector3::new(d, d, l),
-        })
-        .mass(m)
-    };
-    let mut scene = SceneDesc::new();
-    scene
-        .add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(Object3D::new("top1"))
-        .add(
-            Object3D::new("rod1")
-                .parent("top1")
-                .translation([0.0, 0.0, -l / 2.0])
-                .solid(rod()),
-        )
-        .add(
-            Object3D::new("bottom1")
-                .parent("rod1")
-                .translation([0.0, 0.0, -l / 2.0]),
-        )
-        .add(Object3D::new("top2"))
-        .add(
-            Object3D::new("rod2")
-                .parent("top2")
-                .translation([0.0, 0.0, -l / 2.0])
-                .solid(rod()),
-        )
-        .add_joint(Joint::new("rev1", "world", "top1", JointKind::revolute(1)).init_position(1.2))
-        .add_joint(
-            Joint::new("rev2", "bottom1", "top2", JointKind::revolute(1)).init_position(-0.6),
-        );
-    let model = scene.build()?;
+    let model = DoublePendulum::default().build()?;
     let result = model.simulate(&SimOptions::new(10.0).tolerance(1e-8).interval(1.0))?;
     let phi1 = result.signal("rev1.phi")?.values();
     let phi2 = result.signal("rev2.phi")?.values();
