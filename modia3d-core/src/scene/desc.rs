@@ -388,7 +388,9 @@ pub struct Joint {
     pub obj2: String,
     /// Kind and initial values.
     pub kind: JointKind,
-    /// Whether solids of the two joined bodies may collide (default false).
+    /// Whether solids of the two joined bodies may collide (default false). Applies to
+    /// Revolute and Prismatic joints; a FreeMotion is no mechanical connection and never
+    /// prevents a collision (as in Modia3D).
     pub can_collide: bool,
 }
 
