@@ -229,7 +229,8 @@ pub fn billiards16(cue_v: [f64; 3], k_red: f64) -> SceneDesc {
     s
 }
 
-/// A billiard cue ball rolling (v = ω r) along x at `v` towards a resting ball 0.5 m ahead.
+/// A billiard cue ball rolling (v = ω r) along x at `v` from x = −0.9 m towards a resting ball
+/// at x = −0.4 m.
 pub fn two_balls(v: f64) -> SceneDesc {
     let mut s = SceneDesc::new();
     s.add(world(SceneOptions::default()));
@@ -242,7 +243,7 @@ pub fn two_balls(v: f64) -> SceneDesc {
         BALL_DIAMETER,
         "BilliardBall",
         None,
-        [-0.5, 0.0, z],
+        [-0.9, 0.0, z],
         [v, 0.0, 0.0],
         [0.0, v / r, 0.0],
     );
@@ -252,7 +253,7 @@ pub fn two_balls(v: f64) -> SceneDesc {
         BALL_DIAMETER,
         "BilliardBall",
         None,
-        [0.0, 0.0, z],
+        [-0.4, 0.0, z],
         [0.0; 3],
         [0.0; 3],
     );
@@ -333,15 +334,7 @@ pub fn falling_boxes(k_red: f64) -> SceneDesc {
         [0.0, 0.0, -0.05],
         "DryWood",
     ));
-    let parts: [(&str, Shape, [f64; 3], [f64; 3]); 4] = [
-        (
-            "box1",
-            Shape::Box {
-                lengths: Vector3::new(0.2, 0.1, 0.05),
-            },
-            [-0.4, 0.0, 0.2],
-            [0.3, 0.2, 0.0],
-        ),
+    let parts: [(&str, Shape, [f64; 3], [f64; 3]); 3] = [
         (
             "box2",
             Shape::Box {
@@ -368,7 +361,7 @@ pub fn falling_boxes(k_red: f64) -> SceneDesc {
                 length: 0.2,
             },
             [0.0, -0.5, 0.4],
-            [0.0, 0.0, 0.0],
+            [0.0, 0.4, 0.3],
         ),
     ];
     for (name, shape, r, angles) in parts {

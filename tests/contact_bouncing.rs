@@ -9,7 +9,11 @@ const G: f64 = 9.81;
 /// Vertical velocity of the ball at the output point recorded at time `t` (events are
 /// recorded as output points).
 fn vz_at(res: &SimulationResult, vz: &[f64], t: f64) -> f64 {
-    let k = res.time().iter().rposition(|&x| x == t).expect("event recorded");
+    let k = res
+        .time()
+        .iter()
+        .rposition(|&x| x == t)
+        .expect("event recorded");
     vz[k]
 }
 
@@ -63,13 +67,21 @@ fn bouncing_ends_after_finitely_many_events_and_the_ball_rests() {
     );
     assert!(res.events.len() < 1000);
     assert!(last < 4.0, "bouncing ends");
-    assert!(!res.events.last().unwrap().started.is_empty(), "ends in contact");
+    assert!(
+        !res.events.last().unwrap().started.is_empty(),
+        "ends in contact"
+    );
     let z = res.signal("ball.r_abs[2]").unwrap().values();
     let t = res.time();
     let k4 = t.iter().position(|&x| x >= 4.0).unwrap();
     let zmax = z[k4..].iter().cloned().fold(f64::MIN, f64::max);
     let zmin = z[k4..].iter().cloned().fold(f64::MAX, f64::min);
-    println!("rest height {:.9} m, drift over {:.1} s: {:.2e} m", z[k4], t[t.len() - 1] - t[k4], zmax - zmin);
+    println!(
+        "rest height {:.9} m, drift over {:.1} s: {:.2e} m",
+        z[k4],
+        t[t.len() - 1] - t[k4],
+        zmax - zmin
+    );
     assert!(zmax - zmin < 1e-9);
     assert!((z[k4] - 0.05).abs() < 1e-5);
 }

@@ -58,7 +58,10 @@ fn sliding_turns_into_rolling_at_the_closed_form_time_and_speed() {
     // Linear scaling: error / (v_min / v0) ≈ −1 for every v_min (within 10 %).
     for (v_min, e) in &errors {
         let ratio = e / (v_min / v0);
-        assert!((ratio + 1.0).abs() < 0.1, "error/(v_min/v0) = {ratio} at v_min {v_min}");
+        assert!(
+            (ratio + 1.0).abs() < 0.1,
+            "error/(v_min/v0) = {ratio} at v_min {v_min}"
+        );
     }
 }
 
@@ -92,6 +95,9 @@ fn rolling_resistance_decelerates_at_five_sevenths_mu_r_g() {
         / pts.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
     let expected = 5.0 / 7.0 * mu_r * G;
     let err = (-slope - expected) / expected;
-    println!("deceleration {:.6} m/s² (closed form {expected:.6}), error {err:+.2e}", -slope);
+    println!(
+        "deceleration {:.6} m/s² (closed form {expected:.6}), error {err:+.2e}",
+        -slope
+    );
     assert!(err.abs() < 0.01);
 }

@@ -32,7 +32,12 @@ fn sphere_on_plane(
         d_max,
         ..Default::default()
     }))
-    .add(demo::fixed_box("plane", [1.0, 1.0, 0.1], [0.0, 0.0, -0.05], "Steel"))
+    .add(demo::fixed_box(
+        "plane",
+        [1.0, 1.0, 0.1],
+        [0.0, 0.0, -0.05],
+        "Steel",
+    ))
     .add(
         Object3D::new("ball").solid(
             Solid::new(Shape::Sphere { diameter: d })
@@ -117,7 +122,16 @@ fn hertz_sphere_on_sphere() {
     }))
     .add_contact_pair("Steel", "Steel", ContactPairMaterial::new(1.0, 0.0, 0.0));
     let gap = 1e-5;
-    demo::add_free_sphere(&mut s, "a", d1, "Steel", None, [0.0; 3], [0.5 * v0, 0.0, 0.0], [0.0; 3]);
+    demo::add_free_sphere(
+        &mut s,
+        "a",
+        d1,
+        "Steel",
+        None,
+        [0.0; 3],
+        [0.5 * v0, 0.0, 0.0],
+        [0.0; 3],
+    );
     demo::add_free_sphere(
         &mut s,
         "b",
@@ -154,23 +168,23 @@ fn hertz_sphere_on_sphere() {
 }
 
 /// Rebound speed / impact speed of a sphere hitting the plane.
-fn restitution(
-    d: f64,
-    mat: SolidMaterial,
-    v0: f64,
-    cor: f64,
-    k_red: f64,
-    d_max: f64,
-) -> f64 {
+fn restitution(d: f64, mat: SolidMaterial, v0: f64, cor: f64, k_red: f64, d_max: f64) -> f64 {
     let pair = ContactPairMaterial::new(cor, 0.0, 0.0);
     let model = sphere_on_plane(d, mat, v0, 1e-5, pair, k_red, d_max)
         .build()
         .unwrap();
     // Long enough for the slowest contact of the set (k_red = 1e-3 lengthens t_c 16-fold).
     let res = model
-        .simulate(&SimOptions::new(1e-5 / v0 + 0.05).tolerance(1e-9).interval(1e-3))
+        .simulate(
+            &SimOptions::new(1e-5 / v0 + 0.05)
+                .tolerance(1e-9)
+                .interval(1e-3),
+        )
         .unwrap();
-    assert!(res.events.iter().any(|e| !e.ended.is_empty()), "the ball rebounds");
+    assert!(
+        res.events.iter().any(|e| !e.ended.is_empty()),
+        "the ball rebounds"
+    );
     res.signal("ball.v_abs[2]").unwrap().last()[0] / v0
 }
 
@@ -195,7 +209,9 @@ fn effective_restitution_depends_on_cor_only() {
         ];
         let mean = e.iter().sum::<f64>() / e.len() as f64;
         let spread = e.iter().fold(0.0f64, |a, x| a.max((x - mean).abs())) / mean;
-        println!("cor = {cor}: effective restitution {mean:.5} (variants {e:.5?}), spread {spread:.1e}");
+        println!(
+            "cor = {cor}: effective restitution {mean:.5} (variants {e:.5?}), spread {spread:.1e}"
+        );
         assert!(spread < 5e-3);
         // Close to, not equal to, cor.
         assert!((mean - cor).abs() < 0.1, "effective {mean} vs cor {cor}");
@@ -217,5 +233,8 @@ fn d_max_cap_makes_slow_impacts_more_elastic() {
     assert!(slow[0] > fast + 0.01 && slow[1] > slow[0] && slow[2] > slow[1]);
     // Uncapped (default d_max) the ratio stays put at 0.1 m/s.
     let uncapped = restitution(0.02, steel(), 0.1, cor, 1.0, 1000.0);
-    assert!((uncapped - fast).abs() / fast < 5e-3, "{uncapped} vs {fast}");
+    assert!(
+        (uncapped - fast).abs() / fast < 5e-3,
+        "{uncapped} vs {fast}"
+    );
 }

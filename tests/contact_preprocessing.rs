@@ -24,7 +24,11 @@ fn chain(can_collide: bool) -> SceneDesc {
         .add(ball("a"))
         .add(ball("a2").parent("a").translation([0.0, 0.0, 0.3]))
         .add(ball("b"))
-        .add(Object3D::new("hinge").parent("b").translation([0.0, 0.0, 0.5]))
+        .add(
+            Object3D::new("hinge")
+                .parent("b")
+                .translation([0.0, 0.0, 0.5]),
+        )
         .add_joint(Joint::new("free", "world", "a", JointKind::free()))
         .add_joint(
             Joint::new("rev", "a", "hinge", JointKind::revolute(2)).can_collide(can_collide),
@@ -85,17 +89,28 @@ fn a_scene_without_candidate_pairs_has_no_root_functions_and_runs_no_collision_c
 fn a_missing_pair_material_names_both_materials_and_objects() {
     let mut s = SceneDesc::new();
     s.add(demo::world(SceneOptions::default()))
-        .add(demo::fixed_box("floor", [1.0, 1.0, 0.1], [0.0, 0.0, -0.05], "DryWood"))
+        .add(demo::fixed_box(
+            "floor",
+            [1.0, 1.0, 0.1],
+            [0.0, 0.0, -0.05],
+            "DryWood",
+        ))
         .add(ball("ball"))
         .add_joint(Joint::new("free", "world", "ball", JointKind::free()));
     let err = s.build().unwrap_err();
-    assert!(matches!(
-        &err.0[0],
-        SceneError::MissingContactPair { material1, material2, object1, object2 }
-            if material1 == "DryWood" && material2 == "Steel" && object1 == "floor" && object2 == "ball"
-    ), "{err}");
+    assert!(
+        matches!(
+            &err.0[0],
+            SceneError::MissingContactPair { material1, material2, object1, object2 }
+                if material1 == "DryWood" && material2 == "Steel" && object1 == "floor" && object2 == "ball"
+        ),
+        "{err}"
+    );
     let msg = err.to_string();
-    assert!(msg.contains("`DryWood`") && msg.contains("`Steel`") && msg.contains("add_contact_pair"), "{msg}");
+    assert!(
+        msg.contains("`DryWood`") && msg.contains("`Steel`") && msg.contains("add_contact_pair"),
+        "{msg}"
+    );
     // Defining the pair (either order) fixes it.
     s.add_contact_pair("Steel", "DryWood", ContactPairMaterial::new(0.5, 0.4, 0.01));
     assert_eq!(pair_count(&s), 1);
@@ -109,18 +124,22 @@ fn ranges_shapes_and_materials_are_checked() {
         hysteresis: -1.0,
         ..Default::default()
     }))
+    .add(Object3D::new("noshape").solid(Solid {
+        mass_properties: MassSpec::Explicit {
+            mass: 1.0,
+            com: Vector3::zeros(),
+            inertia: Matrix3::identity(),
+        },
+        collision: true,
+        ..Default::default()
+    }))
     .add(
-        Object3D::new("noshape").solid(Solid {
-            mass_properties: MassSpec::Explicit {
-                mass: 1.0,
-                com: Vector3::zeros(),
-                inertia: Matrix3::identity(),
-            },
-            collision: true,
-            ..Default::default()
-        }),
+        Object3D::new("nomat").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 })
+                .mass(1.0)
+                .collision(true),
+        ),
     )
-    .add(Object3D::new("nomat").solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(1.0).collision(true)))
     .add_solid_material(
         "Jelly",
         SolidMaterial {
@@ -129,7 +148,11 @@ fn ranges_shapes_and_materials_are_checked() {
             poisson_ratio: 1.0,
         },
     )
-    .add_contact_pair("Steel", "Steel", ContactPairMaterial::new(1.5, -0.1, -1.0).v_min(0.0));
+    .add_contact_pair(
+        "Steel",
+        "Steel",
+        ContactPairMaterial::new(1.5, -0.1, -1.0).v_min(0.0),
+    );
     let err = s.validate().unwrap_err();
     let msg = err.to_string();
     println!("{msg}");
@@ -164,16 +187,30 @@ fn palettes_load_from_json() {
     s.load_materials_json(&path).unwrap();
     std::fs::remove_file(&path).ok();
     s.add(demo::world(SceneOptions::default()))
-        .add(demo::fixed_box("floor", [1.0, 1.0, 0.1], [0.0, 0.0, -0.05], "Rubber"))
+        .add(demo::fixed_box(
+            "floor",
+            [1.0, 1.0, 0.1],
+            [0.0, 0.0, -0.05],
+            "Rubber",
+        ))
         .add(ball("ball"))
         .add_joint(Joint::new("free", "world", "ball", JointKind::free()));
     let m = s.build().unwrap();
     let cp = m.plan().contact.as_ref().unwrap();
-    assert_eq!((cp.pairs[0].cor, cp.pairs[0].v_min, cp.pairs[0].w_min), (0.5, 0.02, 0.01));
+    assert_eq!(
+        (cp.pairs[0].cor, cp.pairs[0].v_min, cp.pairs[0].w_min),
+        (0.5, 0.02, 0.01)
+    );
     // Errors say where.
-    let bad = MaterialPalette::from_json_str(r#"{ "contact_pairs": [ { "materials": ["A", "B"], "cor": 1 } ] }"#, "inline");
+    let bad = MaterialPalette::from_json_str(
+        r#"{ "contact_pairs": [ { "materials": ["A", "B"], "cor": 1 } ] }"#,
+        "inline",
+    );
     let msg = bad.unwrap_err().to_string();
     assert!(msg.contains("inline") && msg.contains("mu_k"), "{msg}");
-    let missing = SceneDesc::new().load_materials_json("/nonexistent/palette.json").err().unwrap();
+    let missing = SceneDesc::new()
+        .load_materials_json("/nonexistent/palette.json")
+        .err()
+        .unwrap();
     assert!(missing.to_string().contains("/nonexistent/palette.json"));
 }
