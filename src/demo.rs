@@ -334,7 +334,15 @@ pub fn falling_boxes(k_red: f64) -> SceneDesc {
         [0.0, 0.0, -0.05],
         "DryWood",
     ));
-    let parts: [(&str, Shape, [f64; 3], [f64; 3]); 3] = [
+    let parts: [(&str, Shape, [f64; 3], [f64; 3]); 4] = [
+        (
+            "box1",
+            Shape::Box {
+                lengths: Vector3::new(0.2, 0.1, 0.05),
+            },
+            [-0.4, 0.0, 0.2],
+            [0.3, 0.2, 0.0],
+        ),
         (
             "box2",
             Shape::Box {
