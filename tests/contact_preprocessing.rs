@@ -214,3 +214,64 @@ fn palettes_load_from_json() {
         .unwrap();
     assert!(missing.to_string().contains("/nonexistent/palette.json"));
 }
+
+/// The later-Modia3D profile: Hertz coefficients for every pair (a box counts as flat, so a
+/// box–box pair gets R* = 1/(1/r1 + 1/r2) of half the smallest edges), d_max = 2000 s/m,
+/// hysteresis 1e-13 m, and cor → 0 for impacts slower than v_min (the ball then stays on
+/// the table after its first, slow impact).
+#[test]
+fn the_later_modia3d_profile_is_an_option() {
+    let opts = SceneOptions::modia3d_later();
+    assert_eq!(opts.contact_profile, ContactProfile::Modia3DLater);
+    assert_eq!((opts.d_max, opts.hysteresis), (2000.0, 1e-13));
+    let mut s = SceneDesc::new();
+    s.add(demo::world(opts.clone()))
+        .add(demo::fixed_box(
+            "floor",
+            [1.0, 1.0, 0.1],
+            [0.0, 0.0, -0.05],
+            "Steel",
+        ))
+        .add(
+            Object3D::new("cube").solid(
+                Solid::new(Shape::Box {
+                    lengths: Vector3::new(0.1, 0.2, 0.3),
+                })
+                .material("Steel")
+                .collision(true),
+            ),
+        )
+        .add_joint(Joint::new("free", "world", "cube", JointKind::free()));
+    let m = s.build().unwrap();
+    let p = &m.plan().contact.as_ref().unwrap().pairs[0];
+    let r_star = 1.0 / (1.0 / 0.05 + 1.0 / 0.05);
+    assert_eq!(p.n_geo, 1.5);
+    assert!(
+        (p.mu_geo - r_star).abs() < 1e-15 && (p.c_geo - 4.0 / 3.0 * r_star.sqrt()).abs() < 1e-15
+    );
+    // Default profile: linear law for two non-spheres.
+    s.objects[0] = demo::world(SceneOptions::default());
+    let m = s.build().unwrap();
+    let p = &m.plan().contact.as_ref().unwrap().pairs[0];
+    assert_eq!((p.n_geo, p.c_geo, p.mu_geo), (1.0, 1.0, 1.0));
+    // A slow drop (impact 5 mm/s < v_min): cor replaced by 0, no rebound event.
+    let mut s = demo::bouncing_sphere(
+        0.1,
+        0.05 + 0.005f64.powi(2) / (2.0 * 9.81),
+        ContactPairMaterial::new(0.9, 0.0, 0.0),
+    );
+    s.objects[0] = demo::world(opts);
+    let res = s
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(0.5).tolerance(1e-7))
+        .unwrap();
+    println!(
+        "{:?}",
+        res.events
+            .iter()
+            .map(|e| (e.t, e.description.clone()))
+            .collect::<Vec<_>>()
+    );
+    assert_eq!(res.events.len(), 1, "one contact start, never ends");
+}
