@@ -52,12 +52,11 @@ fn run(k_red: f64) {
         .chain(["cue".to_string()])
     {
         let r = res.signal(&format!("{n}.r_abs")).unwrap();
-        for k in 0..t.len() {
+        for (k, tk) in t.iter().enumerate() {
             let p = r.at(k);
             assert!(
                 p[0].abs() < 1.12 && p[1].abs() < 0.56,
-                "{n} at {p:?}, t = {}",
-                t[k]
+                "{n} at {p:?}, t = {tk}"
             );
             assert!(
                 (p[2] - 0.03).abs() < 1e-3,
