@@ -174,13 +174,16 @@ pub mod __private {
     }
 }
 
+pub mod demo;
+
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
     pub use modia3d_core::{
-        Axis, Event, Feature, ForceElement, ForceFn, FreeRotation, Joint, JointKind, MassSpec,
-        MaterialRef, Model, Object3D, ObjectMotion, ResultError, Rotation, SceneDesc, SceneError,
-        SceneErrors, SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats,
-        SimulationResult, Solid, SolidMaterial, Wrench,
+        Axis, ContactPairMaterial, ContactProfile, Event, Feature, ForceElement, ForceFn,
+        FreeRotation, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef, Model, Object3D,
+        ObjectMotion, ResultError, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions,
+        Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats, SimulationResult, Solid,
+        SolidMaterial, Wrench,
     };
     pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};

@@ -173,7 +173,8 @@ fn joints_forces_and_scene_options() {
     assert_eq!(
         obj(&s, "world").feature,
         Feature::Scene(SceneOptions {
-            gravity: Vector3::new(0.0, 0.0, -1.62)
+            gravity: Vector3::new(0.0, 0.0, -1.62),
+            ..Default::default()
         })
     );
     // Sub-assembly objects and materials are prefixed; parameters pass down.

@@ -8,6 +8,7 @@ const G: f64 = 9.81;
 fn world(gravity: [f64; 3]) -> Object3D {
     Object3D::new("world").scene(SceneOptions {
         gravity: Vector3::from(gravity),
+        ..Default::default()
     })
 }
 

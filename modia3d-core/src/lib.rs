@@ -3,6 +3,7 @@
 // Only the solver stage's FFI module (solver/ida.rs) may use `unsafe`; it opts back in explicitly.
 #![deny(unsafe_code)]
 
+pub mod contact;
 pub mod dae;
 pub mod dynamics;
 pub mod geometry;
@@ -14,8 +15,8 @@ pub mod solver;
 pub use geometry::{Axis, Shape};
 pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
 pub use scene::{
-    Feature, ForceElement, ForceFn, FreeRotation, Joint, JointKind, MassSpec, MaterialRef,
-    Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid,
-    SolidMaterial, Wrench,
+    ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Joint,
+    JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion, Rotation, SceneDesc,
+    SceneError, SceneErrors, SceneOptions, Solid, SolidMaterial, Wrench,
 };
 pub use simulation::{Model, SimError, SimErrorKind, SimOptions};

@@ -1,24 +1,36 @@
 //! DAE stage: the residual `F(t, y, y') = 0` of a plan, with `y = [q; v]`:
-//! `q̇ − q̇(q, v) = 0` (kinematics) and `M(q) v̇ + C(q, v) − τ_applied = 0` (dynamics, by
-//! inverse dynamics, so no mass matrix is formed). The residual is a short list of stage calls
-//! and allocates nothing.
+//! `q̇ − q̇(q, v) = 0` (kinematics) and `M(q) v̇ + C(q, v) − τ_applied − τ_contact = 0`
+//! (dynamics, by inverse dynamics, so no mass matrix is formed), and the two zero-crossing
+//! functions of the contact set (none without collision pairs). The residual is a short list of
+//! stage calls and allocates nothing.
 
+use crate::contact::{ContactError, ContactState, Mode};
 use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
 use crate::solver::{DaeSystem, ResidualError};
 use std::sync::Arc;
 
-/// The multibody DAE of a plan, with its scratch workspace.
+/// The multibody DAE of a plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
 pub struct MultibodyDae {
     plan: Arc<Plan>,
     ws: Workspace,
+    contact: Option<ContactState>,
+    /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
+    /// fail); reported by the driver.
+    root_error: Option<ContactError>,
 }
 
 impl MultibodyDae {
     /// The DAE of `plan`.
     pub fn new(plan: Arc<Plan>) -> Self {
         let ws = Workspace::new(&plan);
-        MultibodyDae { plan, ws }
+        let contact = plan.contact.as_ref().map(ContactState::new);
+        MultibodyDae {
+            plan,
+            ws,
+            contact,
+            root_error: None,
+        }
     }
     /// The plan.
     pub fn plan(&self) -> &Plan {
@@ -28,20 +40,81 @@ impl MultibodyDae {
     pub fn workspace_mut(&mut self) -> &mut Workspace {
         &mut self.ws
     }
-    /// Derivative `y'` consistent with `y` at time `t` [s]; `None` if the mass matrix is
-    /// singular there.
+    /// The contact set, if the scene has collision pairs.
+    pub fn contact(&self) -> Option<&ContactState> {
+        self.contact.as_ref()
+    }
+    /// Number of root functions (2 with collision pairs, else 0).
+    pub fn num_roots_public(&self) -> usize {
+        self.num_roots()
+    }
+    /// Names (`"a|b"`) of the pairs that started and ended at the last event.
+    pub fn event_pairs(&self) -> (Vec<String>, Vec<String>) {
+        let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.plan.contact.as_ref()) else {
+            return (vec![], vec![]);
+        };
+        let names = |v: &[u32]| -> Vec<String> {
+            v.iter()
+                .map(|&p| cp.pair_name(&self.plan.scene, p as usize))
+                .collect()
+        };
+        (names(&cs.started), names(&cs.ended))
+    }
+    /// Takes the first contact error met while evaluating root functions.
+    pub fn take_root_error(&mut self) -> Option<ContactError> {
+        self.root_error.take()
+    }
+
+    /// Event mode (spec §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
+    /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
+    /// nothing without collision pairs.
+    pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
+        let plan = &*self.plan;
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) else {
+            return Ok(false);
+        };
+        let (q, v) = y.split_at(plan.nq);
+        kinematics::position_velocity(plan, &mut self.ws, q, v);
+        cs.evaluate(plan, cp, &mut self.ws, Mode::Event, t)?;
+        Ok(!cs.started.is_empty() || !cs.ended.is_empty())
+    }
+
+    /// Continuous mode at `(t, y)`: updates the geometry and forces of the pairs in the set
+    /// (for output points). Does nothing without collision pairs.
+    pub fn update_contacts(&mut self, t: f64, y: &[f64]) -> Result<(), ContactError> {
+        let plan = &*self.plan;
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) else {
+            return Ok(());
+        };
+        let (q, v) = y.split_at(plan.nq);
+        kinematics::position_velocity(plan, &mut self.ws, q, v);
+        cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
+    }
+
+    /// Derivative `y'` consistent with `y` at time `t` [s], contact forces of the current set
+    /// included; `None` if the mass matrix is singular there (or the narrow phase fails).
     pub fn consistent_derivative(&mut self, t: f64, y: &[f64]) -> Option<Vec<f64>> {
         let (nq, nv) = (self.plan.nq, self.plan.nv);
         let (q, v) = y.split_at(nq);
         let mut yp = vec![0.0; nq + nv];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
-        let vd = crate::dynamics::mass_matrix::consistent_accelerations(
+        let contact = &mut self.contact;
+        let mut failed = false;
+        let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
             &self.plan,
             &mut self.ws,
             t,
             q,
             v,
+            &mut |plan, ws| {
+                if let (Some(cs), Some(cp)) = (contact.as_mut(), plan.contact.as_ref()) {
+                    failed |= cs.evaluate(plan, cp, ws, Mode::Continuous, t).is_err();
+                }
+            },
         )?;
+        if failed {
+            return None;
+        }
         yp[nq..].copy_from_slice(&vd);
         Some(yp)
     }
@@ -66,11 +139,38 @@ impl DaeSystem for MultibodyDae {
         let (res_q, res_v) = res.split_at_mut(nq);
         kinematics::position_velocity(plan, &mut self.ws, q, v);
         forces::applied_forces(plan, &mut self.ws, t, q, v);
+        if let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) {
+            cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
+                .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        }
         kinematics::position_residual(plan, q, v, qd, res_q);
         rnea::inverse_dynamics(plan, &mut self.ws, vd, &plan.gravity, res_v);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;
         }
         Ok(())
+    }
+
+    fn num_roots(&self) -> usize {
+        if self.contact.is_some() {
+            2
+        } else {
+            0
+        }
+    }
+
+    fn roots(&mut self, t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) {
+        let plan = &*self.plan;
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) else {
+            return;
+        };
+        let (q, v) = y.split_at(plan.nq);
+        kinematics::position_velocity(plan, &mut self.ws, q, v);
+        if let Err(e) = cs.evaluate(plan, cp, &mut self.ws, Mode::ZeroCrossing, t) {
+            self.root_error.get_or_insert(e);
+        }
+        let (z1, z2) = cs.roots(cp);
+        g[0] = z1;
+        g[1] = z2;
     }
 }

@@ -62,10 +62,25 @@ pub fn consistent_accelerations(
     q: &[f64],
     v: &[f64],
 ) -> Option<Vec<f64>> {
+    consistent_accelerations_with(plan, ws, t, q, v, &mut |_, _| {})
+}
+
+/// As [`consistent_accelerations`], with `extra` adding further external forces (contact
+/// forces) to `ws.f_ext` after the applied forces (the workspace then holds positions and
+/// velocities at `q`, `v`).
+pub fn consistent_accelerations_with(
+    plan: &Plan,
+    ws: &mut Workspace,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    extra: &mut dyn FnMut(&Plan, &mut Workspace),
+) -> Option<Vec<f64>> {
     let nv = plan.nv;
     let mut m = mass_matrix(plan, ws, q);
     position_velocity(plan, ws, q, v);
     applied_forces(plan, ws, t, q, v);
+    extra(plan, ws);
     let mut bias = vec![0.0; nv];
     super::rnea::inverse_dynamics(plan, ws, &vec![0.0; nv], &plan.gravity, &mut bias);
     cholesky_in_place(&mut m).ok()?;

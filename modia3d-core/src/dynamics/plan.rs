@@ -150,6 +150,9 @@ pub struct Plan {
     pub gravity: Vector3<f64>,
     /// The validated scene it was compiled from.
     pub scene: ValidScene,
+    /// The collision pipeline; `None` when the scene has no candidate pair (then no collision
+    /// code runs and there are no root functions).
+    pub contact: Option<crate::contact::ContactPlan>,
 }
 
 fn iso_to_transform(iso: &Isometry3<f64>) -> Transform {
@@ -453,10 +456,18 @@ impl Plan {
             });
         }
 
+        let contact = match crate::contact::ContactPlan::compile(&scene, &objects) {
+            Ok(c) => c,
+            Err(e) => {
+                errors.extend(e);
+                None
+            }
+        };
         if !errors.is_empty() {
             return Err(SceneErrors(errors));
         }
         let plan = Plan {
+            contact,
             bodies,
             joints,
             objects,

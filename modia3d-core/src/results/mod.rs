@@ -22,6 +22,10 @@ pub struct SimStats {
     pub events: u64,
     /// Number of root functions given to IDA (0 for a scene without collision pairs).
     pub root_functions: usize,
+    /// Narrow-phase (signed distance) calls of the collision stage.
+    pub narrow_phase_calls: u64,
+    /// Broad-phase AABB distance tests of the collision stage.
+    pub aabb_tests: u64,
     /// Wall-clock time of the integration [s].
     pub wall_time: f64,
 }
@@ -33,6 +37,21 @@ pub struct Event {
     pub t: f64,
     /// What happened, in words.
     pub description: String,
+    /// Pairs (`"a|b"`) that entered the contact set.
+    pub started: Vec<String>,
+    /// Pairs (`"a|b"`) that left the contact set.
+    pub ended: Vec<String>,
+}
+
+/// Values recorded per pair and output point: in_contact, penetration, f_n, friction (3),
+/// rolling torque (3), point (3), normal (3).
+const PAIR_VALUES: usize = 15;
+
+/// Per-pair contact signals at the output points (only when asked for).
+#[derive(Clone, Debug, Default)]
+struct ContactRecord {
+    /// `PAIR_VALUES` per pair per time point.
+    data: Vec<f64>,
 }
 
 /// A signal: `dim` values per time point, row-major (`data[k * dim + i]`).
@@ -113,6 +132,7 @@ pub struct SimulationResult {
     pub stats: SimStats,
     /// Events in time order.
     pub events: Vec<Event>,
+    contacts: Option<ContactRecord>,
 }
 
 #[derive(Clone, Copy)]
@@ -131,7 +151,69 @@ impl SimulationResult {
             states: vec![],
             stats: SimStats::default(),
             events: vec![],
+            contacts: None,
         }
+    }
+
+    pub(crate) fn enable_contact_record(&mut self) {
+        if self.plan.contact.is_some() {
+            self.contacts = Some(ContactRecord::default());
+        }
+    }
+
+    pub(crate) fn push_contacts(&mut self, cs: &crate::contact::ContactState) {
+        let Some(rec) = self.contacts.as_mut() else {
+            return;
+        };
+        for ps in &cs.pairs {
+            let r = &ps.response;
+            let on = ps.in_contact;
+            rec.data.push(if on { 1.0 } else { 0.0 });
+            rec.data.push(if on { r.penetration } else { 0.0 });
+            rec.data.push(if on { r.f_n } else { 0.0 });
+            for v in [r.friction_force, r.rolling_torque, r.point, r.normal] {
+                for i in 0..3 {
+                    rec.data.push(if on { v[i] } else { 0.0 });
+                }
+            }
+        }
+    }
+
+    /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
+    pub fn contact_pairs(&self) -> Vec<String> {
+        match &self.plan.contact {
+            Some(cp) => (0..cp.pairs.len())
+                .map(|p| cp.pair_name(&self.plan.scene, p))
+                .collect(),
+            None => vec![],
+        }
+    }
+
+    fn contact_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let rec = self.contacts.as_ref()?;
+        let p = self.contact_pairs().iter().position(|n| n == owner)?;
+        let (off, dim, unit) = match field {
+            "in_contact" => (0, 1, "1"),
+            "penetration" => (1, 1, "m"),
+            "f_n" => (2, 1, "N"),
+            "friction_force" => (3, 3, "N"),
+            "rolling_torque" => (6, 3, "N·m"),
+            "point" => (9, 3, "m"),
+            "normal" => (12, 3, "1"),
+            _ => return None,
+        };
+        let np = self.plan.contact.as_ref()?.pairs.len();
+        let stride = np * PAIR_VALUES;
+        let base = p * PAIR_VALUES + off;
+        let data = (0..self.time.len())
+            .flat_map(|k| rec.data[k * stride + base..k * stride + base + dim].to_vec())
+            .collect();
+        Some(Signal {
+            name: format!("{owner}.{field}"),
+            unit,
+            dim,
+            data,
+        })
     }
 
     pub(crate) fn push(&mut self, t: f64, y: &[f64]) {
@@ -183,12 +265,31 @@ impl SimulationResult {
                 names.push(format!("{}.{s}", o.name));
             }
         }
+        if self.contacts.is_some() {
+            for p in self.contact_pairs() {
+                for f in [
+                    "in_contact",
+                    "penetration",
+                    "f_n",
+                    "friction_force",
+                    "rolling_torque",
+                    "point",
+                    "normal",
+                ] {
+                    names.push(format!("{p}.{f}"));
+                }
+            }
+        }
         names
     }
 
     /// A signal by name, optionally with a component index: `"rev.phi"`, `"ball.r_abs"`,
     /// `"ball.r_abs[2]"`. Object signals are resolved in world: `r_abs` [m], `v_abs` [m/s],
     /// `w_abs` [rad/s], `R_abs` (rotation matrix, row-major, columns = object axes).
+    /// With [`crate::SimOptions::contact_results`], per collision pair `"<a>|<b>"` (see
+    /// [`Self::contact_pairs`]; normal from `a` to `b`, forces and torque on `b`, all in world):
+    /// `in_contact` (1/0), `penetration` [m], `f_n` [N], `friction_force` [N],
+    /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact.
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
             name: name.to_string(),
@@ -207,16 +308,21 @@ impl SimulationResult {
         let (owner, field) = base
             .rsplit_once('.')
             .ok_or_else(|| unknown("expected `<joint or object>.<quantity>`".into()))?;
-        let full = self.full_signal(owner, field).ok_or_else(|| {
-            let names = self.signal_names();
-            let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));
-            unknown(match hint {
-                Some(h) => {
-                    format!("no joint or object quantity of that name (hint: did you mean `{h}`?)")
-                }
-                None => "no joint or object quantity of that name; see `signal_names()`".into(),
-            })
-        })?;
+        let full = self
+            .full_signal(owner, field)
+            .or_else(|| self.contact_signal(owner, field))
+            .ok_or_else(|| {
+                let names = self.signal_names();
+                let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));
+                unknown(match hint {
+                    Some(h) => {
+                        format!(
+                            "no joint or object quantity of that name (hint: did you mean `{h}`?)"
+                        )
+                    }
+                    None => "no joint or object quantity of that name; see `signal_names()`".into(),
+                })
+            })?;
         match index {
             None => Ok(full),
             Some(i) if i < full.dim => Ok(Signal {

@@ -1,7 +1,7 @@
 //! Scene description: the plain-data builder API that `model!` expands into and that programs
 //! use to build scenes from data. Nothing here is checked; [`SceneDesc::validate`] does that.
 
-use super::materials::SolidMaterial;
+use super::materials::{ContactPairMaterial, MaterialFileError, MaterialPalette, SolidMaterial};
 use crate::geometry::Shape;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
 use std::fmt;
@@ -48,17 +48,81 @@ pub fn cardan_to_matrix(a: [f64; 3]) -> Matrix3<f64> {
     (rx * ry * rz).into_inner()
 }
 
-/// Options of a scene; every field has the default of the contact specification.
+/// Which variant of the contact law (spec §3) is used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ContactProfile {
+    /// Neumayr & Otter, EOOLT 2019 (default): `cor_reg` by the exponential blend towards
+    /// `cor_min`; Hertz coefficients only where a sphere is involved.
+    #[default]
+    Paper2019,
+    /// Later Modia3D.jl versions: `cor` replaced by 0 when `|δ̇⁻| ≤ v_min`; Hertz coefficients
+    /// (`n_geo = 3/2`) for every pair with a contact radius per shape. Use
+    /// [`SceneOptions::modia3d_later`] to also get that profile's `d_max = 2000` s/m and
+    /// hysteresis `1e-13` m.
+    Modia3DLater,
+}
+
+/// Options of a scene; every field has the default of the contact specification
+/// (`contact-model.md`). Write `SceneOptions { gravity, ..Default::default() }`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneOptions {
     /// Gravity acceleration, resolved in world [m/s²]. Default `(0, 0, -9.81)`.
     pub gravity: Vector3<f64>,
+    /// Collision handling on (default) or off; off = no collision pairs, no root functions.
+    pub contact_detection: bool,
+    /// Elastic contact reduction factor `k_red` [-], > 0 (default 1): scales every contact
+    /// stiffness down.
+    pub k_red: f64,
+    /// Upper bound of the damping factor `d` [s/m] (default 1000).
+    pub d_max: f64,
+    /// Coefficient of restitution approached by very slow impacts, `cor_min` [-] (default 0.001).
+    pub cor_min: f64,
+    /// Regularisation velocity `v_min` [m/s] of friction and `cor` (default 0.01); a contact
+    /// pair material may override it.
+    pub v_min: f64,
+    /// Regularisation angular velocity `ω_min` [rad/s] of rolling resistance (default 0.01);
+    /// a contact pair material may override it.
+    pub w_min: f64,
+    /// Hysteresis `ε` [m] of the zero-crossing functions (default 1e-8).
+    pub hysteresis: f64,
+    /// Relative tolerance of MPR / GJK in the narrow phase [-] (default 1e-11).
+    pub mpr_tolerance: f64,
+    /// Iteration limit of MPR / GJK (default 100).
+    pub mpr_max_iterations: u32,
+    /// Smoothing radius [m] of non-smooth collision shapes without their own (default 1 mm).
+    pub smoothing_radius: f64,
+    /// Variant of the contact law (default [`ContactProfile::Paper2019`]).
+    pub contact_profile: ContactProfile,
 }
 
 impl Default for SceneOptions {
     fn default() -> Self {
         SceneOptions {
             gravity: Vector3::new(0.0, 0.0, -9.81),
+            contact_detection: true,
+            k_red: 1.0,
+            d_max: 1000.0,
+            cor_min: 0.001,
+            v_min: 0.01,
+            w_min: 0.01,
+            hysteresis: 1e-8,
+            mpr_tolerance: 1e-11,
+            mpr_max_iterations: 100,
+            smoothing_radius: crate::geometry::DEFAULT_SMOOTHING_RADIUS,
+            contact_profile: ContactProfile::Paper2019,
+        }
+    }
+}
+
+impl SceneOptions {
+    /// The defaults of later Modia3D.jl versions: profile [`ContactProfile::Modia3DLater`],
+    /// `d_max = 2000` s/m, hysteresis `1e-13` m; everything else as [`Default`].
+    pub fn modia3d_later() -> Self {
+        SceneOptions {
+            contact_profile: ContactProfile::Modia3DLater,
+            d_max: 2000.0,
+            hysteresis: 1e-13,
+            ..Default::default()
         }
     }
 }
@@ -324,7 +388,9 @@ pub struct Joint {
     pub obj2: String,
     /// Kind and initial values.
     pub kind: JointKind,
-    /// Whether solids of the two joined bodies may collide (default false).
+    /// Whether solids of the two joined bodies may collide (default false). Applies to
+    /// Revolute and Prismatic joints; a FreeMotion is no mechanical connection and never
+    /// prevents a collision (as in Modia3D).
     pub can_collide: bool,
 }
 
@@ -457,6 +523,9 @@ pub struct SceneDesc {
     pub forces: Vec<ForceElement>,
     /// User-defined solid materials (added to the built-in palette).
     pub solid_materials: Vec<(String, SolidMaterial)>,
+    /// User-defined contact-pair materials (override the built-in palette; order of the two
+    /// names does not matter).
+    pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
 }
 
 impl SceneDesc {
@@ -483,5 +552,35 @@ impl SceneDesc {
     pub fn add_solid_material(&mut self, name: &str, m: SolidMaterial) -> &mut Self {
         self.solid_materials.push((name.to_string(), m));
         self
+    }
+    /// Defines (or redefines) the response of contact materials `name1` and `name2` (either
+    /// order).
+    pub fn add_contact_pair(
+        &mut self,
+        name1: &str,
+        name2: &str,
+        m: ContactPairMaterial,
+    ) -> &mut Self {
+        self.contact_pairs
+            .push((name1.to_string(), name2.to_string(), m));
+        self
+    }
+    /// Adds every material of a palette (solid and contact-pair materials).
+    pub fn add_palette(&mut self, palette: &MaterialPalette) -> &mut Self {
+        for (n, m) in &palette.solid {
+            self.add_solid_material(n, *m);
+        }
+        for e in &palette.contact_pairs {
+            self.add_contact_pair(&e.materials[0], &e.materials[1], e.material);
+        }
+        self
+    }
+    /// Reads a JSON material file (see [`MaterialPalette`]) and adds its materials.
+    pub fn load_materials_json(
+        &mut self,
+        path: impl AsRef<std::path::Path>,
+    ) -> Result<&mut Self, MaterialFileError> {
+        let p = MaterialPalette::from_json_file(path)?;
+        Ok(self.add_palette(&p))
     }
 }

@@ -1,7 +1,12 @@
-//! Solid materials and their built-in palette (data from Modia3D.jl's palettes).
+//! Scene stage: solid materials and contact-pair materials, their built-in palettes (data from
+//! Modia3D.jl's palettes, see `reference/materials.md`) and user palettes loaded from JSON.
+//! Plain data; validation checks the ranges.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
 
 /// Mechanical data of a solid material.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 pub struct SolidMaterial {
     /// Density [kg/m³].
     pub density: f64,
@@ -36,4 +41,172 @@ pub fn builtin_solid_material(name: &str) -> Option<SolidMaterial> {
         .iter()
         .find(|(n, _)| *n == name)
         .map(|(_, m)| *m)
+}
+
+/// Response data of a pair of contact materials (the order of the pair does not matter).
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactPairMaterial {
+    /// Coefficient of restitution [-], 0 ≤ cor ≤ 1.
+    pub cor: f64,
+    /// Kinetic (sliding) friction coefficient μ_k [-], ≥ 0.
+    pub mu_k: f64,
+    /// Rotational (rolling) resistance coefficient μ_r [-], ≥ 0.
+    pub mu_r: f64,
+    /// Velocity [m/s] below which friction and `cor` are regularised; `None` = the scene's
+    /// `v_min` (default 0.01 m/s).
+    #[serde(default)]
+    pub v_min: Option<f64>,
+    /// Angular velocity [rad/s] below which the rolling torque is regularised; `None` = the
+    /// scene's `w_min` (default 0.01 rad/s).
+    #[serde(default)]
+    pub w_min: Option<f64>,
+}
+
+impl ContactPairMaterial {
+    /// A pair material with the scene's default `v_min` and `w_min`.
+    pub const fn new(cor: f64, mu_k: f64, mu_r: f64) -> Self {
+        ContactPairMaterial {
+            cor,
+            mu_k,
+            mu_r,
+            v_min: None,
+            w_min: None,
+        }
+    }
+    /// Sets the per-pair regularisation velocity `v_min` [m/s].
+    pub fn v_min(mut self, v: f64) -> Self {
+        self.v_min = Some(v);
+        self
+    }
+    /// Sets the per-pair regularisation angular velocity `w_min` [rad/s].
+    pub fn w_min(mut self, w: f64) -> Self {
+        self.w_min = Some(w);
+        self
+    }
+}
+
+/// The built-in contact-pair materials: (name 1, name 2, material).
+pub const CONTACT_PAIR_MATERIALS: &[(&str, &str, ContactPairMaterial)] = &[
+    ("Steel", "Steel", ContactPairMaterial::new(0.7, 0.5, 0.001)),
+    (
+        "DryWood",
+        "DryWood",
+        ContactPairMaterial::new(0.6, 0.3, 0.001),
+    ),
+    (
+        "BilliardBall",
+        "BilliardBall",
+        ContactPairMaterial::new(1.0, 0.0, 0.0),
+    ),
+    (
+        "BilliardBall",
+        "BilliardTable",
+        ContactPairMaterial::new(0.0, 0.8, 0.01),
+    ),
+    (
+        "BilliardBall",
+        "BilliardCushion",
+        ContactPairMaterial::new(0.98, 0.0, 0.0),
+    ),
+    (
+        "BilliardBall",
+        "BilliardCue",
+        ContactPairMaterial::new(0.98, 0.0, 0.0),
+    ),
+    (
+        "BilliardTable",
+        "BilliardCue",
+        ContactPairMaterial::new(0.0, 0.8, 0.01),
+    ),
+    (
+        "BilliardCue",
+        "BilliardCue",
+        ContactPairMaterial::new(0.98, 0.0, 0.0),
+    ),
+];
+
+/// Looks up a built-in contact-pair material (either order).
+pub fn builtin_contact_pair(a: &str, b: &str) -> Option<ContactPairMaterial> {
+    CONTACT_PAIR_MATERIALS
+        .iter()
+        .find(|(x, y, _)| (*x == a && *y == b) || (*x == b && *y == a))
+        .map(|(_, _, m)| *m)
+}
+
+/// One entry of the `contact_pairs` list of a material file.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactPairEntry {
+    /// The two contact material names (any order).
+    pub materials: [String; 2],
+    /// The pair's data.
+    #[serde(flatten)]
+    pub material: ContactPairMaterial,
+}
+
+/// A user palette as read from a JSON file:
+///
+/// ```json
+/// { "solid": { "Rubber": { "density": 1100, "young_modulus": 5e7, "poisson_ratio": 0.45 } },
+///   "contact_pairs": [ { "materials": ["Rubber", "Steel"], "cor": 0.5, "mu_k": 0.8,
+///                        "mu_r": 0.01, "v_min": 0.01 } ] }
+/// ```
+///
+/// Both sections are optional. Units as in [`SolidMaterial`] and [`ContactPairMaterial`].
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialPalette {
+    /// Solid materials by name.
+    #[serde(default)]
+    pub solid: BTreeMap<String, SolidMaterial>,
+    /// Contact-pair materials.
+    #[serde(default)]
+    pub contact_pairs: Vec<ContactPairEntry>,
+}
+
+/// A material file that cannot be read or parsed.
+#[derive(thiserror::Error, Debug)]
+pub enum MaterialFileError {
+    /// The file cannot be read.
+    #[error("cannot read material file `{path}`: {source}")]
+    Io {
+        /// The path.
+        path: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The JSON is malformed or has unknown or missing fields.
+    #[error("material file `{path}`, line {line}, column {column}: {message} (expected sections `solid` and `contact_pairs`, see `MaterialPalette`)")]
+    Parse {
+        /// The path (or `<string>`).
+        path: String,
+        /// Line (1-based).
+        line: usize,
+        /// Column (1-based).
+        column: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl MaterialPalette {
+    /// Parses a palette from JSON text; `origin` names it in errors.
+    pub fn from_json_str(text: &str, origin: &str) -> Result<Self, MaterialFileError> {
+        serde_json::from_str(text).map_err(|e| MaterialFileError::Parse {
+            path: origin.to_string(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        })
+    }
+    /// Reads a palette from a JSON file.
+    pub fn from_json_file(path: impl AsRef<std::path::Path>) -> Result<Self, MaterialFileError> {
+        let p = path.as_ref();
+        let text = std::fs::read_to_string(p).map_err(|source| MaterialFileError::Io {
+            path: p.display().to_string(),
+            source,
+        })?;
+        Self::from_json_str(&text, &p.display().to_string())
+    }
 }

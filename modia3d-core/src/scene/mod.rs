@@ -6,7 +6,10 @@ pub mod materials;
 pub mod validate;
 
 pub use desc::*;
-pub use materials::{builtin_solid_material, SolidMaterial, SOLID_MATERIALS};
+pub use materials::{
+    builtin_contact_pair, builtin_solid_material, ContactPairEntry, ContactPairMaterial,
+    MaterialFileError, MaterialPalette, SolidMaterial, CONTACT_PAIR_MATERIALS, SOLID_MATERIALS,
+};
 pub use validate::{
     did_you_mean, MassProps, SceneError, SceneErrors, ValidForce, ValidJoint, ValidJointKind,
     ValidObject, ValidScene, ValidSolid,

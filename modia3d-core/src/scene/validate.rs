@@ -6,7 +6,9 @@
 use super::desc::{
     Feature, ForceElement, FreeRotation, JointKind, MassSpec, MaterialRef, SceneDesc, SceneOptions,
 };
-use super::materials::{builtin_solid_material, SolidMaterial};
+use super::materials::{
+    builtin_contact_pair, builtin_solid_material, ContactPairMaterial, SolidMaterial,
+};
 use crate::geometry::Shape;
 use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use std::collections::HashMap;
@@ -122,6 +124,30 @@ pub enum SceneError {
         /// Its obj2.
         obj2: String,
     },
+    /// A collision-enabled solid without a shape.
+    #[error("solid `{object}` takes part in collisions but has no shape: give it a shape or set `collision` to false")]
+    CollisionWithoutShape {
+        /// The object.
+        object: String,
+    },
+    /// A collision-enabled solid without a material giving Young's modulus and Poisson's ratio.
+    #[error("solid `{object}` takes part in collisions but has no material: set `material` (its name is then the contact material) or a `contact_material` that names a solid material")]
+    CollisionWithoutMaterial {
+        /// The object.
+        object: String,
+    },
+    /// Two contact materials that can meet have no contact-pair material.
+    #[error("no contact-pair material for `{material1}` and `{material2}` (objects `{object1}` and `{object2}` can collide): add one with `SceneDesc::add_contact_pair(\"{material1}\", \"{material2}\", ContactPairMaterial::new(cor, mu_k, mu_r))` or in a material file")]
+    MissingContactPair {
+        /// Contact material of the first object.
+        material1: String,
+        /// Contact material of the second object.
+        material2: String,
+        /// The first object of a pair that needs it.
+        object1: String,
+        /// The second object.
+        object2: String,
+    },
     /// A joint spring-damper on a joint without a scalar coordinate.
     #[error("joint spring-damper on `{joint}`: a {kind} joint has no scalar coordinate; use a Revolute or Prismatic joint")]
     NoScalarCoordinate {
@@ -203,6 +229,9 @@ pub struct ValidSolid {
     pub contact_material: Option<String>,
     /// Smoothing radius [m], if set.
     pub smoothing_radius: Option<f64>,
+    /// Material whose Young's modulus and Poisson's ratio the contact law uses (collision
+    /// solids only): the solid material, else the solid material named by the contact material.
+    pub contact_elasticity: Option<SolidMaterial>,
 }
 
 /// A resolved object.
@@ -320,6 +349,21 @@ pub struct ValidScene {
     pub world: usize,
     /// Scene options.
     pub options: SceneOptions,
+    /// User-defined contact-pair materials, checked (override the built-in ones).
+    pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
+}
+
+impl ValidScene {
+    /// The contact-pair material of contact materials `a` and `b` (either order): the last
+    /// user definition, else the built-in palette.
+    pub fn contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
+        self.contact_pairs
+            .iter()
+            .rev()
+            .find(|(x, y, _)| (x == a && y == b) || (x == b && y == a))
+            .map(|(_, _, m)| *m)
+            .or_else(|| builtin_contact_pair(a, b))
+    }
 }
 
 struct Checker {
@@ -449,6 +493,7 @@ impl SceneDesc {
                     || format!("scene `{}`: gravity [m/s²]", o.name),
                     opts.gravity.as_slice(),
                 );
+                check_options(&mut c, &o.name, opts);
                 options = opts.clone();
             }
         }
@@ -524,6 +569,21 @@ impl SceneDesc {
                     }
                     let mass = solid_mass(&mut c, &o.name, s, material.as_ref());
                     let contact_material = s.contact_material.clone().or(material_name.clone());
+                    let mut contact_elasticity = None;
+                    if s.collision {
+                        if s.shape.is_none() {
+                            c.errors.push(SceneError::CollisionWithoutShape {
+                                object: o.name.clone(),
+                            });
+                        }
+                        contact_elasticity = material
+                            .or_else(|| s.contact_material.as_deref().and_then(lookup_material));
+                        if contact_elasticity.is_none() || contact_material.is_none() {
+                            c.errors.push(SceneError::CollisionWithoutMaterial {
+                                object: o.name.clone(),
+                            });
+                        }
+                    }
                     solid = Some(ValidSolid {
                         shape: s.shape.clone(),
                         material_name,
@@ -532,6 +592,7 @@ impl SceneDesc {
                         collision: s.collision,
                         contact_material,
                         smoothing_radius: s.smoothing_radius,
+                        contact_elasticity,
                     });
                 }
                 Feature::Visual(shape) => {
@@ -694,10 +755,30 @@ impl SceneDesc {
             }
         }
 
+        // --- contact-pair materials
+        for (a, b, m) in &self.contact_pairs {
+            let what = |f: &str| format!("contact pair material `{a}`–`{b}`: {f}");
+            c.value(
+                || what("cor"),
+                m.cor,
+                (0.0..=1.0).contains(&m.cor),
+                "in [0, 1]",
+            );
+            c.non_negative(|| what("mu_k"), m.mu_k);
+            c.non_negative(|| what("mu_r"), m.mu_r);
+            if let Some(v) = m.v_min {
+                c.positive(|| what("v_min [m/s]"), v);
+            }
+            if let Some(w) = m.w_min {
+                c.positive(|| what("w_min [rad/s]"), w);
+            }
+        }
+
         if !c.errors.is_empty() {
             return Err(SceneErrors(c.errors));
         }
         Ok(ValidScene {
+            contact_pairs: self.contact_pairs.clone(),
             objects,
             joints,
             forces,
@@ -705,6 +786,29 @@ impl SceneDesc {
             options,
         })
     }
+}
+
+fn check_options(c: &mut Checker, scene: &str, o: &SceneOptions) {
+    let what = |f: &str| format!("scene `{scene}`: {f}");
+    c.positive(|| what("k_red"), o.k_red);
+    c.positive(|| what("d_max [s/m]"), o.d_max);
+    c.value(
+        || what("cor_min"),
+        o.cor_min,
+        o.cor_min > 0.0 && o.cor_min <= 1.0,
+        "in (0, 1]",
+    );
+    c.positive(|| what("v_min [m/s]"), o.v_min);
+    c.positive(|| what("w_min [rad/s]"), o.w_min);
+    c.positive(|| what("hysteresis [m]"), o.hysteresis);
+    c.positive(|| what("MPR tolerance"), o.mpr_tolerance);
+    c.value(
+        || what("MPR iteration limit"),
+        o.mpr_max_iterations as f64,
+        o.mpr_max_iterations > 0,
+        "> 0",
+    );
+    c.non_negative(|| what("smoothing radius [m]"), o.smoothing_radius);
 }
 
 fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {

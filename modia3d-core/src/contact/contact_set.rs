@@ -1,0 +1,256 @@
+//! Contact stage: the contact set (the paper's `contactDict`) and the zero-crossing functions
+//! (spec §4). `(&ContactPlan, &mut ContactState)` plus the dynamics workspace (read-only poses
+//! and velocities; contact forces are added to `ws.f_ext`). No allocation after construction.
+
+use super::preprocess::ContactPlan;
+use super::regularise::{cor_reg, damping_factor};
+use super::response::{pair_response, PairResponse};
+use crate::dynamics::forces::add_world_wrench;
+use crate::dynamics::kinematics::point_velocity;
+use crate::dynamics::spatial::Transform;
+use crate::dynamics::{Plan, Workspace};
+use crate::geometry::{aabb_distance, signed_distance, world_aabb, GeometryError, SignedDistance};
+use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+
+/// How the collision stage is evaluated (spec §4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// At an event: all `z_AB`, rebuild the contact set, store `δ̇⁻` of new contacts.
+    Event,
+    /// IDA asks for root values: all `z_AB`, the set is kept.
+    ZeroCrossing,
+    /// Residual and output points: pairs in the set only, forces applied.
+    Continuous,
+}
+
+/// The narrow phase failed for a pair.
+#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+#[error("collision of `{pair}` at t = {t} s: {source}; check the shapes' dimensions and poses")]
+pub struct ContactError {
+    /// Pair name `"a|b"`.
+    pub pair: String,
+    /// Time [s].
+    pub t: f64,
+    /// The geometry error.
+    pub source: GeometryError,
+}
+
+/// Mutable state of one candidate pair.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairState {
+    /// Member of the contact set.
+    pub in_contact: bool,
+    /// Last `z_AB` [m] (AABB distance while the boxes are apart, signed distance otherwise).
+    pub z: f64,
+    /// Penetration velocity at contact start `δ̇⁻` [m/s].
+    pub delta_dot_minus: f64,
+    /// Damping factor `d` [s/m] fixed at contact start.
+    pub d: f64,
+    /// Last narrow-phase result (valid when the boxes overlapped).
+    pub geometry: SignedDistance,
+    /// Last response (zero when not in contact).
+    pub response: PairResponse,
+}
+
+/// The contact set and scratch of a [`ContactPlan`].
+#[derive(Clone, Debug)]
+pub struct ContactState {
+    /// One per candidate pair.
+    pub pairs: Vec<PairState>,
+    /// Indices of the pairs in the contact set.
+    pub active: Vec<u32>,
+    /// Pairs that entered the set at the last event.
+    pub started: Vec<u32>,
+    /// Pairs that left the set at the last event.
+    pub ended: Vec<u32>,
+    /// Narrow-phase calls so far.
+    pub narrow_calls: u64,
+    /// AABB distance tests (broad phase) so far.
+    pub aabb_tests: u64,
+    poses: Vec<Isometry3<f64>>,
+    aabbs: Vec<crate::geometry::Aabb>,
+}
+
+fn to_isometry(t: &Transform) -> Isometry3<f64> {
+    Isometry3::from_parts(
+        Translation3::from(t.pos),
+        UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(t.rot)),
+    )
+}
+
+fn shape_pose(cp: &ContactPlan, ws: &Workspace, s: usize) -> Isometry3<f64> {
+    let sp = &cp.shapes[s];
+    let t = match sp.body {
+        Some(b) => ws.world[b].then(&sp.in_body),
+        None => sp.in_body,
+    };
+    to_isometry(&t)
+}
+
+impl ContactState {
+    /// The state of `cp`: empty contact set.
+    pub fn new(cp: &ContactPlan) -> Self {
+        let np = cp.pairs.len();
+        let zero = PairState {
+            in_contact: false,
+            z: f64::INFINITY,
+            delta_dot_minus: 0.0,
+            d: 0.0,
+            geometry: SignedDistance {
+                distance: f64::INFINITY,
+                normal: Vector3::z(),
+                point_a: Point3::origin(),
+                point_b: Point3::origin(),
+            },
+            response: PairResponse::default(),
+        };
+        let ns = cp.shapes.len();
+        ContactState {
+            pairs: vec![zero; np],
+            active: Vec::with_capacity(np),
+            started: Vec::with_capacity(np),
+            ended: Vec::with_capacity(np),
+            narrow_calls: 0,
+            aabb_tests: 0,
+            poses: vec![Isometry3::identity(); ns],
+            aabbs: vec![crate::geometry::Aabb::new_invalid(); ns],
+        }
+    }
+
+    fn narrow(
+        &mut self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        p: usize,
+        t: f64,
+    ) -> Result<SignedDistance, ContactError> {
+        let pp = &cp.pairs[p];
+        self.narrow_calls += 1;
+        signed_distance(
+            &cp.shapes[pp.a].shape,
+            &self.poses[pp.a],
+            &cp.shapes[pp.b].shape,
+            &self.poses[pp.b],
+            &cp.narrow,
+        )
+        .map_err(|source| ContactError {
+            pair: cp.pair_name(&plan.scene, p),
+            t,
+            source,
+        })
+    }
+
+    /// Evaluates the collision stage in `mode` at the workspace state (`position_velocity`
+    /// done). `Continuous` adds the contact forces to `ws.f_ext`; `Event` also fills
+    /// `started`/`ended`.
+    pub fn evaluate(
+        &mut self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        ws: &mut Workspace,
+        mode: Mode,
+        t: f64,
+    ) -> Result<(), ContactError> {
+        match mode {
+            Mode::Continuous => {
+                for k in 0..self.active.len() {
+                    let p = self.active[k] as usize;
+                    let pp = &cp.pairs[p];
+                    self.poses[pp.a] = shape_pose(cp, ws, pp.a);
+                    self.poses[pp.b] = shape_pose(cp, ws, pp.b);
+                    let sd = self.narrow(plan, cp, p, t)?;
+                    let ps = &mut self.pairs[p];
+                    ps.geometry = sd;
+                    ps.z = sd.distance;
+                    apply(cp, p, ps, ws);
+                }
+                Ok(())
+            }
+            Mode::ZeroCrossing | Mode::Event => {
+                for s in 0..cp.shapes.len() {
+                    self.poses[s] = shape_pose(cp, ws, s);
+                    self.aabbs[s] = world_aabb(&cp.shapes[s].shape, &self.poses[s]);
+                }
+                for p in 0..cp.pairs.len() {
+                    let pp = &cp.pairs[p];
+                    self.aabb_tests += 1;
+                    let da = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
+                    if da > 0.0 {
+                        self.pairs[p].z = da;
+                    } else {
+                        let sd = self.narrow(plan, cp, p, t)?;
+                        self.pairs[p].geometry = sd;
+                        self.pairs[p].z = sd.distance;
+                    }
+                }
+                if mode == Mode::Event {
+                    self.rebuild(cp, ws);
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Rebuilds the contact set from the current `z` values (spec §4: in contact iff
+    /// `z < −ε`) and fixes `δ̇⁻` and `d` of new contacts.
+    fn rebuild(&mut self, cp: &ContactPlan, ws: &Workspace) {
+        self.started.clear();
+        self.ended.clear();
+        self.active.clear();
+        for p in 0..cp.pairs.len() {
+            let pp = &cp.pairs[p];
+            let ps = &mut self.pairs[p];
+            let now = ps.z < -cp.hysteresis;
+            if now && !ps.in_contact {
+                let sd = &ps.geometry;
+                let point = (sd.point_a.coords + sd.point_b.coords) * 0.5;
+                let (v1, _) = point_velocity(ws, cp.shapes[pp.a].body, &point);
+                let (v2, _) = point_velocity(ws, cp.shapes[pp.b].body, &point);
+                let dd = -(v2 - v1).dot(&sd.normal);
+                ps.delta_dot_minus = dd;
+                let c = cor_reg(cp.profile, pp.cor, cp.cor_min, dd, pp.v_min);
+                ps.d = damping_factor(c, dd, pp.v_min, cp.d_max);
+                self.started.push(p as u32);
+            } else if !now && ps.in_contact {
+                self.ended.push(p as u32);
+                ps.response = PairResponse::default();
+            }
+            ps.in_contact = now;
+            if now {
+                self.active.push(p as u32);
+            }
+        }
+    }
+
+    /// The two root functions from the last `z` values: `z_1` = max over pairs in contact
+    /// (−42 if none), `z_2` = min over the others of `z + 2ε` (+42 if none) [m].
+    pub fn roots(&self, cp: &ContactPlan) -> (f64, f64) {
+        let mut z1 = -42.0f64;
+        let mut z2 = 42.0f64;
+        let mut any = false;
+        for ps in &self.pairs {
+            if ps.in_contact {
+                z1 = if any { z1.max(ps.z) } else { ps.z };
+                any = true;
+            } else {
+                z2 = z2.min(ps.z + 2.0 * cp.hysteresis);
+            }
+        }
+        (z1, z2)
+    }
+}
+
+/// Response of pair `p` in contact, applied to both bodies.
+fn apply(cp: &ContactPlan, p: usize, ps: &mut PairState, ws: &mut Workspace) {
+    let pp = &cp.pairs[p];
+    let (ba, bb) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
+    let sd = &ps.geometry;
+    let point = (sd.point_a.coords + sd.point_b.coords) * 0.5;
+    let (v1, w1) = point_velocity(ws, ba, &point);
+    let (v2, w2) = point_velocity(ws, bb, &point);
+    let r = pair_response(cp, pp, ps.d, sd, &v1, &w1, &v2, &w2);
+    let f = r.normal_force + r.friction_force;
+    add_world_wrench(ws, bb, &r.point, &f, &r.rolling_torque);
+    add_world_wrench(ws, ba, &r.point, &-f, &-r.rolling_torque);
+    ps.response = r;
+}

@@ -1,0 +1,19 @@
+//! Contact stage (spec `contact-model.md` §2–§4): the collision pairs compiled once from the
+//! scene ([`ContactPlan`], immutable, in `preprocess.rs`), the contact set and per-pair state
+//! ([`ContactState`], mutable, in `contact_set.rs`), the regularisations (`regularise.rs`) and
+//! the elastic response (`response.rs`). Reads the dynamics workspace (poses, velocities) and
+//! writes only external forces into it (`ws.f_ext`, through `add_world_wrench`).
+//!
+//! Evaluation modes ([`Mode`]): `Event` (rebuild the contact set, store `δ̇⁻`),
+//! `ZeroCrossing` (all `z_AB`, set kept), `Continuous` (only pairs in the set, for forces).
+//! A scene without candidate pairs has no `ContactPlan` at all, so none of this runs.
+
+mod contact_set;
+mod preprocess;
+mod regularise;
+mod response;
+
+pub use contact_set::{ContactError, ContactState, Mode, PairState};
+pub use preprocess::{ContactPlan, PairPlan, ShapePlan};
+pub use regularise::{cor_reg, damping_factor, reg};
+pub use response::{pair_response, PairResponse};

@@ -1,0 +1,73 @@
+//! Contact stage: the regularisations of spec §3 (pure functions, no state).
+
+use crate::scene::ContactProfile;
+
+/// Regularised absolute value [same unit as `v`]: `|v|` for `|v| ≥ v_min`, otherwise the C²
+/// polynomial `|v|²/v_min · (1 − |v|/(3 v_min)) + v_min/3` (minimum `v_min/3` at 0).
+#[inline]
+pub fn reg(v: f64, v_min: f64) -> f64 {
+    let a = v.abs();
+    if a >= v_min {
+        a
+    } else {
+        a * a / v_min * (1.0 - a / (3.0 * v_min)) + v_min / 3.0
+    }
+}
+
+/// Regularised coefficient of restitution [-] for the contact-start penetration velocity
+/// `dd_minus` [m/s]: `Paper2019`: `cor + (cor_min − cor)·exp(ln(0.01)·|δ̇⁻|/v_min)`;
+/// `Modia3DLater`: 0 when `|δ̇⁻| ≤ v_min`, else `cor`.
+#[inline]
+pub fn cor_reg(profile: ContactProfile, cor: f64, cor_min: f64, dd_minus: f64, v_min: f64) -> f64 {
+    match profile {
+        ContactProfile::Paper2019 => {
+            cor + (cor_min - cor) * (0.01f64.ln() * dd_minus.abs() / v_min).exp()
+        }
+        ContactProfile::Modia3DLater => {
+            if dd_minus.abs() <= v_min {
+                0.0
+            } else {
+                cor
+            }
+        }
+    }
+}
+
+/// Damping factor `d` [s/m] fixed at contact start:
+/// `min(d_max, 8 (1 − cor_reg) / (5 · cor_reg · reg(δ̇⁻, v_min)))` (`d_max` when `cor_reg = 0`).
+#[inline]
+pub fn damping_factor(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f64 {
+    if cor_reg <= 0.0 {
+        return d_max;
+    }
+    let d = 8.0 * (1.0 - cor_reg) / (5.0 * cor_reg * reg(dd_minus, v_min));
+    d.min(d_max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reg_is_c1_at_v_min_and_has_its_minimum_at_zero() {
+        let vm = 0.01;
+        assert!((reg(0.0, vm) - vm / 3.0).abs() < 1e-15);
+        assert!((reg(vm * (1.0 - 1e-9), vm) - vm).abs() < 1e-10);
+        let h = 1e-7;
+        let slope = (reg(vm, vm) - reg(vm - h, vm)) / h;
+        assert!((slope - 1.0).abs() < 1e-4, "slope {slope}");
+        assert_eq!(reg(-0.5, vm), 0.5);
+    }
+
+    #[test]
+    fn cor_reg_blends_from_cor_min_to_cor() {
+        let p = ContactProfile::Paper2019;
+        assert!((cor_reg(p, 0.7, 0.001, 0.0, 0.01) - 0.001).abs() < 1e-15);
+        assert!((cor_reg(p, 0.7, 0.001, 1.0, 0.01) - 0.7).abs() < 1e-12);
+        let l = ContactProfile::Modia3DLater;
+        assert_eq!(cor_reg(l, 0.7, 0.001, 0.005, 0.01), 0.0);
+        assert_eq!(cor_reg(l, 0.7, 0.001, 0.02, 0.01), 0.7);
+        assert_eq!(damping_factor(0.0, 1.0, 0.01, 1000.0), 1000.0);
+        assert_eq!(damping_factor(1.0, 1.0, 0.01, 1000.0), 0.0);
+    }
+}

@@ -1,0 +1,60 @@
+//! The contact hot path allocates nothing: residual (continuous mode), root functions
+//! (zero-crossing mode) and event mode of the billiards scene, once warmed up. A counting
+//! global allocator; this binary holds a single test so that nothing else allocates meanwhile.
+
+use modia3d::core::dae::MultibodyDae;
+use modia3d::core::solver::DaeSystem;
+use modia3d::demo;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn residual_roots_and_events_do_not_allocate() {
+    let model = demo::billiards16([3.0, 0.1, 0.0], 1.0).build().unwrap();
+    let plan = Arc::new(model.plan().clone());
+    let mut dae = MultibodyDae::new(plan.clone());
+    let y = plan.y0();
+    let n = y.len();
+    dae.handle_event(0.0, &y).unwrap();
+    let yp = dae.consistent_derivative(0.0, &y).unwrap();
+    let mut res = vec![0.0; n];
+    let mut g = vec![0.0; 2];
+    // Warm up.
+    dae.residual(0.0, &y, &yp, &mut res).unwrap();
+    dae.roots(0.0, &y, &yp, &mut g);
+    let before = ALLOCS.load(Ordering::Relaxed);
+    for k in 0..100 {
+        let t = k as f64 * 1e-3;
+        dae.residual(t, &y, &yp, &mut res).unwrap();
+        dae.roots(t, &y, &yp, &mut g);
+        dae.handle_event(t, &y).unwrap();
+    }
+    let after = ALLOCS.load(Ordering::Relaxed);
+    assert_eq!(after - before, 0, "allocations on the contact hot path");
+    assert!(
+        g[0] < 0.0 && g[1] > 0.0,
+        "balls rest on the table, none touch: {g:?}"
+    );
+    assert!(res.iter().all(|r| r.abs() < 1e-6), "consistent start");
+}
