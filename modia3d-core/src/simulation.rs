@@ -27,6 +27,9 @@ pub struct SimOptions {
     pub atol: Option<f64>,
     /// Largest step [s]; default unlimited.
     pub max_step: Option<f64>,
+    /// Show a progress bar for [`Model::simulate`] when standard error is a terminal (default
+    /// true; never shown when it is not a terminal, e.g. in tests and CI).
+    pub progress: bool,
     /// Record per-pair contact signals (penetration, forces, torque, point, normal) at every
     /// output point (default false: a run pays only for what it asks for).
     pub contact_results: bool,
@@ -43,12 +46,18 @@ impl SimOptions {
             atol: None,
             max_step: None,
             contact_results: false,
+            progress: true,
         }
     }
     /// Records per-pair contact signals (`"<a>|<b>.f_n"`, … see
     /// [`SimulationResult::signal`]).
     pub fn contact_results(mut self, on: bool) -> Self {
         self.contact_results = on;
+        self
+    }
+    /// Shows (true, the default on a terminal) or hides the progress bar of `simulate`.
+    pub fn progress(mut self, on: bool) -> Self {
+        self.progress = on;
         self
     }
     /// Sets the relative tolerance.
@@ -171,7 +180,33 @@ impl Model {
     /// Runs the model with error control from `opts.start_time` to `opts.stop_time`.
     pub fn simulate(&self, opts: &SimOptions) -> Result<SimulationResult, SimError> {
         let mut sim = Simulation::new(self, opts)?;
-        sim.advance_to(opts.stop_time)?;
+        use std::io::IsTerminal;
+        if opts.progress && std::io::stderr().is_terminal() {
+            let bar = indicatif::ProgressBar::new(1000);
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {msg}")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+            );
+            sim.progress = Some(bar);
+        }
+        tracing::info!(
+            stop_time = opts.stop_time,
+            rtol = opts.rtol,
+            states = self.plan.nq + self.plan.nv,
+            "simulation started"
+        );
+        let outcome = sim.advance_to(opts.stop_time);
+        if let Some(bar) = sim.progress.take() {
+            bar.finish_and_clear();
+        }
+        outcome?;
+        let s = &sim.result.stats;
+        tracing::info!(
+            steps = s.solver.steps,
+            events = s.events,
+            wall_time = s.wall_time,
+            "simulation finished"
+        );
         Ok(sim.into_result())
     }
 
@@ -231,6 +266,8 @@ pub struct Simulation {
     stalled: u32,
     last_event_t: f64,
     wall: f64,
+    /// Progress bar of a one-shot run on a terminal.
+    progress: Option<indicatif::ProgressBar>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -294,6 +331,7 @@ impl Simulation {
             stalled: 0,
             last_event_t: f64::NEG_INFINITY,
             wall: 0.0,
+            progress: None,
         };
         sim.wall = started.elapsed().as_secs_f64();
         sim.update_stats();
@@ -384,6 +422,10 @@ impl Simulation {
                 SolveStatus::Reached { t } | SolveStatus::StopTime { t } => {
                     let y = self.ida.y().to_vec();
                     record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
+                    if let Some(bar) = &self.progress {
+                        bar.set_position((1000.0 * (t - t0) / (t1 - t0)) as u64);
+                        bar.set_message(format!("t = {t:.4} s"));
+                    }
                     if (grid - t).abs() <= eps {
                         self.k_grid += 1;
                     }
@@ -424,9 +466,11 @@ impl Simulation {
         if words.is_empty() {
             words.push("root without a change of the contact set".into());
         }
+        let description = words.join("; ");
+        tracing::debug!(t, %description, "event");
         self.result.events.push(Event {
             t,
-            description: words.join("; "),
+            description,
             started,
             ended,
         });

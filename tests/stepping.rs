@@ -1,0 +1,266 @@
+//! Step-wise simulation and inputs, against one-shot runs and closed forms.
+
+use modia3d::prelude::*;
+
+fn double_pendulum() -> SceneDesc {
+    let (l, d, m) = (1.0, 0.02, 1.0);
+    let rod = || {
+        Solid::new(Shape::Box {
+            lengths: Vector3::new(d, d, l),
+        })
+        .mass(m)
+    };
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("top1"))
+        .add(
+            Object3D::new("rod1")
+                .parent("top1")
+                .translation([0.0, 0.0, -l / 2.0])
+                .solid(rod()),
+        )
+        .add(
+            Object3D::new("bottom1")
+                .parent("rod1")
+                .translation([0.0, 0.0, -l / 2.0]),
+        )
+        .add(Object3D::new("top2"))
+        .add(
+            Object3D::new("rod2")
+                .parent("top2")
+                .translation([0.0, 0.0, -l / 2.0])
+                .solid(rod()),
+        )
+        .add_joint(Joint::new("rev1", "world", "top1", JointKind::revolute(1)).init_position(1.2))
+        .add_joint(
+            Joint::new("rev2", "bottom1", "top2", JointKind::revolute(1)).init_position(-0.6),
+        );
+    s
+}
+
+#[test]
+fn stepping_in_1ms_steps_matches_one_simulate_call() {
+    let model = double_pendulum().build().unwrap();
+    let opts = SimOptions::new(1.0).tolerance(1e-9).interval(0.1);
+    let once = model.simulate(&opts).unwrap();
+    let mut sim = model.simulation(&opts).unwrap();
+    for k in 1..=1000 {
+        sim.advance_to(k as f64 * 1e-3).unwrap();
+    }
+    assert!((sim.time() - 1.0).abs() < 1e-12);
+    let a = once.final_state().unwrap();
+    let b = sim.state();
+    let diff = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    println!("1 ms stepping vs one call: max state difference at 1 s {diff:.2e}");
+    // Both runs are error-controlled at rtol 1e-9 but take different steps (every 1 ms is a
+    // stop time); their difference is bounded by the two global errors, which for this
+    // chaotic pendulum at 1 s are ~3e-8 (tests/multibody.rs): 1e-6 leaves margin for growth.
+    assert!(diff < 1e-6, "difference {diff:e}");
+    // Every advance_to target is an output point, plus the grid points in between.
+    assert!(sim.result().time().len() >= 1001);
+    // Output by name equals the recorded final value.
+    let phi = sim.output("rev1.phi").unwrap();
+    assert_eq!(
+        phi[0],
+        *sim.result()
+            .signal("rev1.phi")
+            .unwrap()
+            .last()
+            .first()
+            .unwrap()
+    );
+}
+
+/// A disc on a revolute joint about the vertical axis (gravity does no work), driven by inputs.
+fn turntable() -> (SceneDesc, f64) {
+    let (m, r) = (2.0, 0.3);
+    let j = 0.5 * m * r * r; // solid disc about its axis
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(
+            Object3D::new("disc").solid(
+                Solid::new(Shape::Cylinder {
+                    axis: Axis::Z,
+                    diameter: 2.0 * r,
+                    length: 0.05,
+                })
+                .mass(m),
+            ),
+        )
+        .add_joint(Joint::new("rev", "world", "disc", JointKind::revolute(3)))
+        .add_input(Input::joint_force("tau", "rev"));
+    (s, j)
+}
+
+#[test]
+fn constant_torque_input_gives_quadratic_angle() {
+    let (s, j) = turntable();
+    let tau = 0.7;
+    let model = s.build().unwrap();
+    let mut sim = model
+        .simulation(&SimOptions::new(2.0).tolerance(1e-10))
+        .unwrap();
+    // Torque-free until 0.5 s, then a constant torque: φ(t) = ½ τ/J (t − 0.5)².
+    sim.advance_to(0.5).unwrap();
+    assert!(sim.output("rev.phi").unwrap()[0].abs() < 1e-15);
+    sim.set_input("tau", &[tau]).unwrap();
+    for k in 1..=15 {
+        let t = 0.5 + 0.1 * k as f64;
+        sim.advance_to(t).unwrap();
+        let phi = sim.output("rev.phi").unwrap()[0];
+        let exact = 0.5 * tau / j * (t - 0.5) * (t - 0.5);
+        // A quadratic is integrated exactly by BDF of order ≥ 2; what remains is the start-up
+        // at order 1 after the restart, bounded by the tolerance: 1e-8 absolute on ~50 rad.
+        assert!((phi - exact).abs() < 1e-8, "t = {t}: {phi} vs {exact}");
+    }
+}
+
+#[test]
+fn prescribed_acceleration_and_object_wrench() {
+    // A slider with a prescribed acceleration, carrying a pendulum; and a free ball pushed by
+    // a world force.
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions {
+        gravity: Vector3::zeros(),
+        ..Default::default()
+    }))
+    .add(
+        Object3D::new("cart").solid(
+            Solid::new(Shape::Box {
+                lengths: Vector3::new(0.2, 0.1, 0.1),
+            })
+            .mass(1.0),
+        ),
+    )
+    .add(Object3D::new("ball").solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(0.5)))
+    .add_joint(Joint::new("slide", "world", "cart", JointKind::prismatic(1)).init_velocity(0.2))
+    .add_joint(Joint::new("free", "world", "ball", JointKind::free()))
+    .add_input(Input::joint_acceleration("a", "slide"))
+    .add_input(Input::object_wrench("push", "ball"));
+    let model = s.build().unwrap();
+    let mut sim = model
+        .simulation(&SimOptions::new(1.0).tolerance(1e-10))
+        .unwrap();
+    sim.set_input("a", &[1.5]).unwrap();
+    sim.set_input("push", &[0.0, 0.25, 0.0, 0.0, 0.0, 0.0])
+        .unwrap();
+    sim.advance_to(1.0).unwrap();
+    let s_cart = sim.output("slide.s").unwrap()[0];
+    let r_ball = sim.output("ball.r_abs").unwrap();
+    // s = v0 t + ½ a t², r_y = ½ F/m t²: exact quadratics (see above for the tolerance).
+    assert!((s_cart - (0.2 + 0.75)).abs() < 1e-9, "{s_cart}");
+    assert!((r_ball[1] - 0.25).abs() < 1e-9, "{r_ball:?}");
+    assert!(r_ball[0].abs() < 1e-12 && r_ball[2].abs() < 1e-12);
+}
+
+#[test]
+fn reset_reruns_identically_and_inputs_are_checked() {
+    let (s, _) = turntable();
+    let model = s.build().unwrap();
+    let mut sim = model.simulation(&SimOptions::new(1.0)).unwrap();
+    let run = |sim: &mut Simulation| {
+        sim.set_input("tau", &[0.3]).unwrap();
+        sim.advance_to(1.0).unwrap();
+        sim.output("rev.w").unwrap()[0]
+    };
+    let first = run(&mut sim);
+    sim.reset().unwrap();
+    assert_eq!(sim.time(), 0.0);
+    assert_eq!(sim.output("rev.w").unwrap()[0], 0.0);
+    let second = run(&mut sim);
+    assert_eq!(first, second, "a reset run is the same computation");
+    let e = sim.set_input("tua", &[1.0]).unwrap_err().to_string();
+    assert!(
+        e.contains("`tua`") && e.contains("did you mean `tau`"),
+        "{e}"
+    );
+    let e = sim.set_input("tau", &[1.0, 2.0]).unwrap_err().to_string();
+    assert!(e.contains("takes 1 value"), "{e}");
+    let e = sim.set_input("tau", &[f64::NAN]).unwrap_err().to_string();
+    assert!(e.contains("non-finite"), "{e}");
+    // Advancing backwards or beyond the stop time is an error, not a panic.
+    assert!(sim.advance_to(0.5).is_err());
+}
+
+#[test]
+fn input_declarations_are_validated() {
+    let (mut s, _) = turntable();
+    s.add_input(Input::joint_force("bad", "rv"))
+        .add_input(Input::object_wrench("bad2", "dsc"));
+    let e = s.build().unwrap_err().to_string();
+    assert!(
+        e.contains("input `bad`") && e.contains("did you mean `rev`"),
+        "{e}"
+    );
+    assert!(
+        e.contains("input `bad2`") && e.contains("did you mean `disc`"),
+        "{e}"
+    );
+}
+
+#[path = "../examples/controlled_arm.rs"]
+mod controlled_arm;
+
+#[test]
+fn controlled_arm_tracks_reproducibly() {
+    let a = controlled_arm::run_controller(2.0).unwrap();
+    let b = controlled_arm::run_controller(2.0).unwrap();
+    println!("controlled arm: max {:.4} rad, rms {:.4} rad", a.max, a.rms);
+    // Same inputs, same computation: bit-identical errors.
+    assert_eq!((a.max, a.rms), (b.max, b.rms));
+    assert_eq!(a.updates, 2000);
+    // The PD loop (kp 300/100 N·m/rad) holds the error to a few hundredths of a radian against
+    // an uncompensated gravity torque of ~6 N·m at the shoulder (6/300 = 0.02 rad); a broken
+    // input path would leave the arm hanging, 0.6 rad off.
+    assert!(a.max < 0.05, "max tracking error {}", a.max);
+}
+
+/// A minimal tracing subscriber that counts the events it sees and keeps their messages.
+struct Recorder(std::sync::Mutex<Vec<String>>);
+
+impl tracing::Subscriber for Recorder {
+    fn enabled(&self, _: &tracing::Metadata<'_>) -> bool {
+        true
+    }
+    fn new_span(&self, _: &tracing::span::Attributes<'_>) -> tracing::span::Id {
+        tracing::span::Id::from_u64(1)
+    }
+    fn record(&self, _: &tracing::span::Id, _: &tracing::span::Record<'_>) {}
+    fn record_follows_from(&self, _: &tracing::span::Id, _: &tracing::span::Id) {}
+    fn event(&self, event: &tracing::Event<'_>) {
+        struct Fields(String);
+        impl tracing::field::Visit for Fields {
+            fn record_debug(&mut self, field: &tracing::field::Field, value: &dyn std::fmt::Debug) {
+                self.0 += &format!("{}={:?} ", field.name(), value);
+            }
+        }
+        let mut f = Fields(String::new());
+        event.record(&mut f);
+        self.0.lock().unwrap().push(f.0);
+    }
+    fn enter(&self, _: &tracing::span::Id) {}
+    fn exit(&self, _: &tracing::span::Id) {}
+}
+
+#[test]
+fn events_are_traced() {
+    let rec = std::sync::Arc::new(Recorder(std::sync::Mutex::new(vec![])));
+    let model = modia3d::demo::bouncing_sphere(0.02, 0.1, ContactPairMaterial::new(0.7, 0.0, 0.0))
+        .build()
+        .unwrap();
+    let res = tracing::subscriber::with_default(rec.clone(), || {
+        model
+            .simulate(&SimOptions::new(0.5).progress(false))
+            .unwrap()
+    });
+    let msgs = rec.0.lock().unwrap();
+    let traced = msgs.iter().filter(|m| m.contains("message=event")).count();
+    assert!(res.events.len() >= 2, "the ball bounces");
+    assert_eq!(traced, res.events.len(), "{msgs:#?}");
+    assert!(msgs.iter().any(|m| m.contains("contact started")));
+    assert!(msgs.iter().any(|m| m.contains("simulation finished")));
+}
