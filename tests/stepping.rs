@@ -2,40 +2,12 @@
 
 use modia3d::prelude::*;
 
+#[allow(dead_code)] // only the model type is used, not the example's main
+#[path = "../examples/double_pendulum.rs"]
+mod double_pendulum_example;
+
 fn double_pendulum() -> SceneDesc {
-    let (l, d, m) = (1.0, 0.02, 1.0);
-    let rod = || {
-        Solid::new(Shape::Box {
-            lengths: Vector3::new(d, d, l),
-        })
-        .mass(m)
-    };
-    let mut s = SceneDesc::new();
-    s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(Object3D::new("top1"))
-        .add(
-            Object3D::new("rod1")
-                .parent("top1")
-                .translation([0.0, 0.0, -l / 2.0])
-                .solid(rod()),
-        )
-        .add(
-            Object3D::new("bottom1")
-                .parent("rod1")
-                .translation([0.0, 0.0, -l / 2.0]),
-        )
-        .add(Object3D::new("top2"))
-        .add(
-            Object3D::new("rod2")
-                .parent("top2")
-                .translation([0.0, 0.0, -l / 2.0])
-                .solid(rod()),
-        )
-        .add_joint(Joint::new("rev1", "world", "top1", JointKind::revolute(1)).init_position(1.2))
-        .add_joint(
-            Joint::new("rev2", "bottom1", "top2", JointKind::revolute(1)).init_position(-0.6),
-        );
-    s
+    double_pendulum_example::DoublePendulum::default().scene()
 }
 
 #[test]

@@ -4,7 +4,8 @@
 
 use super::kinematics::{object_in_world, point_velocity};
 use super::spatial::Force;
-use super::{ForcePlan, InputTarget, Plan, Workspace};
+use super::{InputTarget, Plan, Workspace};
+use crate::scene::ValidForce;
 use crate::scene::{ObjectMotion, Wrench};
 use nalgebra::Vector3;
 
@@ -45,9 +46,9 @@ pub fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
 pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
     ws.f_ext.fill(Force::default());
     ws.tau_applied.fill(0.0);
-    for f in &plan.forces {
+    for f in &plan.scene.forces {
         match f {
-            ForcePlan::SpringDamper {
+            ValidForce::SpringDamper {
                 obj1,
                 obj2,
                 stiffness,
@@ -69,17 +70,21 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
                 add_world_wrench(ws, plan.objects[*obj2].body, &m2.r_abs, &f2, &zero);
                 add_world_wrench(ws, plan.objects[*obj1].body, &m1.r_abs, &-f2, &zero);
             }
-            ForcePlan::JointSpringDamper {
+            ValidForce::JointSpringDamper {
                 joint,
                 stiffness,
                 damping,
                 offset,
             } => {
-                let j = &plan.joints[*joint];
+                // Validation admits only Revolute and Prismatic joints, which are in the tree.
+                let Some(tj) = plan.tree_joint_of[*joint] else {
+                    continue;
+                };
+                let j = &plan.joints[tj];
                 ws.tau_applied[j.v_offset] +=
                     -stiffness * (q[j.q_offset] - offset) - damping * v[j.v_offset];
             }
-            ForcePlan::ObjectForce { object, law } => {
+            ValidForce::ObjectForce { object, law } => {
                 let m = object_motion(plan, ws, *object);
                 let Wrench { force, torque } = (law.0)(t, &m);
                 add_world_wrench(ws, plan.objects[*object].body, &m.r_abs, &force, &torque);

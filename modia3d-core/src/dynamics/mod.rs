@@ -10,9 +10,7 @@ pub mod plan;
 pub mod rnea;
 pub mod spatial;
 
-pub use plan::{
-    BodyPlan, ForcePlan, InputPlan, InputTarget, JointCoord, JointPlan, ObjectPlan, Plan,
-};
+pub use plan::{BodyPlan, InputPlan, InputTarget, JointCoord, JointPlan, ObjectPlan, Plan};
 
 use spatial::{Force, Motion, Transform};
 

@@ -3,9 +3,7 @@
 //! properties. Objects fixed to the world carry no states. Touches only scene data.
 
 use super::spatial::{Inertia, Transform};
-use crate::scene::{
-    SceneError, SceneErrors, ValidForce, ValidInputKind, ValidJointKind, ValidScene,
-};
+use crate::scene::{SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::VecDeque;
 
@@ -92,42 +90,6 @@ pub struct ObjectPlan {
     pub in_body: Transform,
 }
 
-/// A force element with resolved indices.
-#[derive(Clone, Debug)]
-pub enum ForcePlan {
-    /// Linear spring-damper between two object origins.
-    SpringDamper {
-        /// Objects.
-        obj1: usize,
-        /// Objects.
-        obj2: usize,
-        /// [N/m]
-        stiffness: f64,
-        /// [N·s/m]
-        damping: f64,
-        /// [m]
-        length0: f64,
-    },
-    /// Spring-damper on a scalar joint coordinate (index into `Plan::joints`).
-    JointSpringDamper {
-        /// Tree joint index.
-        joint: usize,
-        /// Stiffness.
-        stiffness: f64,
-        /// Damping.
-        damping: f64,
-        /// Offset.
-        offset: f64,
-    },
-    /// User force on an object.
-    ObjectForce {
-        /// Object index.
-        object: usize,
-        /// The law.
-        law: crate::scene::ForceFn,
-    },
-}
-
 /// What an input drives, with plan indices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum InputTarget {
@@ -171,8 +133,9 @@ pub struct Plan {
     pub joints: Vec<JointPlan>,
     /// Every scene object.
     pub objects: Vec<ObjectPlan>,
-    /// Force elements.
-    pub forces: Vec<ForcePlan>,
+    /// For each joint of the scene (`scene.joints`), its index in `joints` (`None` for Fix
+    /// joints, which are merged away). Force elements refer to scene joints through it.
+    pub tree_joint_of: Vec<Option<usize>>,
     /// Number of position coordinates.
     pub nq: usize,
     /// Number of velocity coordinates.
@@ -457,44 +420,9 @@ impl Plan {
             });
         }
 
-        let mut forces = vec![];
-        for f in &scene.forces {
-            forces.push(match f {
-                ValidForce::SpringDamper {
-                    obj1,
-                    obj2,
-                    stiffness,
-                    damping,
-                    length0,
-                } => ForcePlan::SpringDamper {
-                    obj1: *obj1,
-                    obj2: *obj2,
-                    stiffness: *stiffness,
-                    damping: *damping,
-                    length0: *length0,
-                },
-                ValidForce::JointSpringDamper {
-                    joint,
-                    stiffness,
-                    damping,
-                    offset,
-                } => {
-                    // Fix joints cannot carry springs (validated), so the joint is in the tree.
-                    let Some(tj) = joints.iter().position(|tj| tj.scene_joint == *joint) else {
-                        continue;
-                    };
-                    ForcePlan::JointSpringDamper {
-                        joint: tj,
-                        stiffness: *stiffness,
-                        damping: *damping,
-                        offset: *offset,
-                    }
-                }
-                ValidForce::ObjectForce { object, law } => ForcePlan::ObjectForce {
-                    object: *object,
-                    law: law.clone(),
-                },
-            });
+        let mut tree_joint_of = vec![None; scene.joints.len()];
+        for (tj, j) in joints.iter().enumerate() {
+            tree_joint_of[j.scene_joint] = Some(tj);
         }
 
         let contact = match crate::contact::ContactPlan::compile(&scene, &objects) {
@@ -510,7 +438,7 @@ impl Plan {
         let mut inputs = vec![];
         let mut n_inputs = 0;
         let mut prescribed = vec![None; nv];
-        let tree_joint = |sj: usize| joints.iter().position(|tj| tj.scene_joint == sj);
+        let tree_joint = |sj: usize| tree_joint_of[sj];
         for inp in &scene.inputs {
             let (target, len) = match inp.kind {
                 ValidInputKind::JointForce(sj) => match tree_joint(sj) {
@@ -542,7 +470,7 @@ impl Plan {
             bodies,
             joints,
             objects,
-            forces,
+            tree_joint_of,
             nq,
             nv,
             q0,

@@ -247,19 +247,24 @@ impl SimulationResult {
         &self.plan
     }
 
+    /// `joint.coordinate` names of every tree joint's states.
+    fn joint_signal_names(&self) -> impl Iterator<Item = String> + '_ {
+        self.plan.joints.iter().flat_map(|j| {
+            let sfx: &'static [&'static str] = match j.coord {
+                JointCoord::Revolute { .. } => &["phi", "w"],
+                JointCoord::Prismatic { .. } => &["s", "v"],
+                JointCoord::Free => &["r", "q", "w", "v"],
+            };
+            sfx.iter().map(move |s| format!("{}.{s}", j.name))
+        })
+    }
+
     /// Names of all signals: joint coordinates (`rev.phi`, `rev.w`; `slide.s`, `slide.v`;
     /// `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
     /// `obj.w_abs`, `obj.R_abs`).
     pub fn signal_names(&self) -> Vec<String> {
         let mut names = vec![];
-        for j in &self.plan.joints {
-            let sfx: &[&str] = match j.coord {
-                JointCoord::Revolute { .. } => &["phi", "w"],
-                JointCoord::Prismatic { .. } => &["s", "v"],
-                JointCoord::Free => &["r", "q", "w", "v"],
-            };
-            names.extend(sfx.iter().map(|s| format!("{}.{s}", j.name)));
-        }
+        names.extend(self.joint_signal_names());
         for o in &self.plan.objects {
             for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
                 names.push(format!("{}.{s}", o.name));
@@ -419,14 +424,7 @@ impl SimulationResult {
             source,
         };
         let mut names: Vec<String> = vec![];
-        for j in &self.plan.joints {
-            let sfx: &[&str] = match j.coord {
-                JointCoord::Revolute { .. } => &["phi", "w"],
-                JointCoord::Prismatic { .. } => &["s", "v"],
-                JointCoord::Free => &["r", "q", "w", "v"],
-            };
-            names.extend(sfx.iter().map(|s| format!("{}.{s}", j.name)));
-        }
+        names.extend(self.joint_signal_names());
         for o in &self.plan.objects {
             if o.body.is_some() {
                 names.push(format!("{}.r_abs", o.name));
