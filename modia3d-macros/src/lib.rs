@@ -138,3 +138,12 @@ pub fn __solid_material_names(_input: TokenStream) -> TokenStream {
     let names = check::BUILTIN_SOLID_MATERIALS;
     quote::quote!(&[#(#names),*]).into()
 }
+
+/// The built-in contact-pair materials the macro knows, as `&[(&str, &str)]` (a test keeps them
+/// equal to the core's `CONTACT_PAIR_MATERIALS`).
+#[doc(hidden)]
+#[proc_macro]
+pub fn __contact_pair_names(_input: TokenStream) -> TokenStream {
+    let (a, b): (Vec<&str>, Vec<&str>) = check::BUILTIN_CONTACT_PAIRS.iter().copied().unzip();
+    quote::quote!(&[#((#a, #b)),*]).into()
+}
