@@ -15,8 +15,8 @@ pub mod solver;
 pub use geometry::{Axis, Shape};
 pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
 pub use scene::{
-    ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Joint,
-    JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion, Rotation, SceneDesc,
-    SceneError, SceneErrors, SceneOptions, Solid, SolidMaterial, Wrench,
+    ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,
+    InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion,
+    Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid, SolidMaterial, Wrench,
 };
-pub use simulation::{Model, SimError, SimErrorKind, SimOptions};
+pub use simulation::{InputError, Model, SimError, SimErrorKind, SimOptions, Simulation};

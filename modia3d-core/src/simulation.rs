@@ -170,7 +170,85 @@ impl Model {
 
     /// Runs the model with error control from `opts.start_time` to `opts.stop_time`.
     pub fn simulate(&self, opts: &SimOptions) -> Result<SimulationResult, SimError> {
-        let mut result = SimulationResult::new(self.plan.clone());
+        let mut sim = Simulation::new(self, opts)?;
+        sim.advance_to(opts.stop_time)?;
+        Ok(sim.into_result())
+    }
+
+    /// A step-wise simulation of this model (see [`Simulation`]); the plan is shared, not
+    /// recompiled.
+    pub fn simulation(&self, opts: &SimOptions) -> Result<Simulation, SimError> {
+        Simulation::new(self, opts)
+    }
+}
+
+/// A wrong use of inputs.
+#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+pub enum InputError {
+    /// No input of that name.
+    #[error("unknown input `{name}`{}", match .hint { Some(h) => format!(" (hint: did you mean `{h}`?)"), None => " (declare it with SceneDesc::add_input)".into() })]
+    Unknown {
+        /// The name given.
+        name: String,
+        /// A close existing name.
+        hint: Option<String>,
+    },
+    /// Wrong number of values.
+    #[error("input `{name}` takes {expected} value(s), got {got}")]
+    Length {
+        /// The input.
+        name: String,
+        /// Its number of values.
+        expected: usize,
+        /// The number given.
+        got: usize,
+    },
+    /// A NaN or infinite value.
+    #[error("input `{name}` got a non-finite value {value}: inputs must be finite")]
+    NotFinite {
+        /// The input.
+        name: String,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// A simulation advanced step by step from Rust: error-controlled integration (events
+/// handled) up to each requested time, inputs set between steps, outputs read by name.
+/// [`Model::simulate`] is `Simulation::new` + `advance_to(stop_time)`.
+///
+/// Output points are recorded at every multiple of the output interval, at every event and at
+/// every time passed to [`Simulation::advance_to`].
+pub struct Simulation {
+    plan: Arc<Plan>,
+    opts: SimOptions,
+    ida: Ida<MultibodyDae>,
+    result: SimulationResult,
+    /// Index of the next output-grid point.
+    k_grid: u64,
+    /// Inputs changed since the last restart: the next step restarts IDA.
+    inputs_changed: bool,
+    stalled: u32,
+    last_event_t: f64,
+    wall: f64,
+}
+
+impl std::fmt::Debug for Simulation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Simulation")
+            .field("t", &self.time())
+            .field("stop_time", &self.opts.stop_time)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Simulation {
+    /// Prepares a run of `model` with `opts`: validates the options, computes consistent
+    /// initial values (initial contact set included) and records the start point.
+    pub fn new(model: &Model, opts: &SimOptions) -> Result<Self, SimError> {
+        let started = Instant::now();
+        let plan = model.plan.clone();
+        let mut result = SimulationResult::new(plan.clone());
         let fail = |kind: SimErrorKind, partial: SimulationResult| SimError {
             kind,
             partial: Box::new(partial),
@@ -178,11 +256,12 @@ impl Model {
         if let Err(msg) = opts.check() {
             return Err(fail(SimErrorKind::InvalidOptions(msg), result));
         }
-        let started = Instant::now();
-        let (t0, t1) = (opts.start_time, opts.stop_time);
-        let dt = opts.interval.unwrap_or((t1 - t0) / 500.0);
-        let mut dae = MultibodyDae::new(self.plan.clone());
-        let y0 = self.plan.y0();
+        if opts.contact_results {
+            result.enable_contact_record();
+        }
+        let t0 = opts.start_time;
+        let mut dae = MultibodyDae::new(plan.clone());
+        let y0 = plan.y0();
         // The initial contact set (event mode), then consistent derivatives including contacts.
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
@@ -199,32 +278,239 @@ impl Model {
             root_directions: (root_functions == 2).then(|| vec![1, -1]),
             ..IdaOptions::default()
         };
-        if opts.contact_results {
-            result.enable_contact_record();
-        }
         record(&mut dae, &mut result, t0, &y0, opts.contact_results);
-        let mut ida = match Ida::new(dae, t0, &y0, &yp0, &ida_opts) {
+        let ida = match Ida::new(dae, t0, &y0, &yp0, &ida_opts) {
             Ok(ida) => ida,
             Err(e) => return Err(fail(e.into(), result)),
         };
-        let outcome = run(&mut ida, &mut result, t0, t1, dt, opts.contact_results);
-        let (narrow, aabb) = ida
+        result.stats.root_functions = root_functions;
+        let mut sim = Simulation {
+            plan,
+            opts: opts.clone(),
+            ida,
+            result,
+            k_grid: 1,
+            inputs_changed: false,
+            stalled: 0,
+            last_event_t: f64::NEG_INFINITY,
+            wall: 0.0,
+        };
+        sim.wall = started.elapsed().as_secs_f64();
+        sim.update_stats();
+        Ok(sim)
+    }
+
+    /// Current time [s].
+    pub fn time(&self) -> f64 {
+        self.ida.t()
+    }
+
+    /// Current state `y = [q; v]`.
+    pub fn state(&self) -> &[f64] {
+        self.ida.y()
+    }
+
+    /// The results recorded so far.
+    pub fn result(&self) -> &SimulationResult {
+        &self.result
+    }
+
+    /// The results recorded so far, ending the simulation.
+    pub fn into_result(self) -> SimulationResult {
+        self.result
+    }
+
+    /// Integrates with error control to `t` [s] (at most the stop time), handling events and
+    /// recording output points. On failure the error carries the results up to the failure; the
+    /// simulation can then only be [`reset`](Self::reset).
+    pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+        let started = Instant::now();
+        let outcome = self.advance(t);
+        self.wall += started.elapsed().as_secs_f64();
+        self.update_stats();
+        outcome.map_err(|kind| SimError {
+            kind,
+            partial: Box::new(self.result.clone()),
+        })
+    }
+
+    fn update_stats(&mut self) {
+        let (narrow, aabb) = self
+            .ida
             .system()
             .contact()
             .map(|c| (c.narrow_calls, c.aabb_tests))
             .unwrap_or((0, 0));
-        result.stats = SimStats {
-            solver: ida.stats(),
-            events: result.events.len() as u64,
-            root_functions,
+        self.result.stats = SimStats {
+            solver: self.ida.stats(),
+            events: self.result.events.len() as u64,
+            root_functions: self.result.stats.root_functions,
             narrow_phase_calls: narrow,
             aabb_tests: aabb,
-            wall_time: started.elapsed().as_secs_f64(),
+            wall_time: self.wall,
         };
-        match outcome {
-            Ok(()) => Ok(result),
-            Err(kind) => Err(fail(kind, result)),
+    }
+
+    fn advance(&mut self, target: f64) -> Result<(), SimErrorKind> {
+        let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
+        let now = self.time();
+        let eps = 1e-12 * t1.abs().max(1.0);
+        if !(target.is_finite() && target >= now - eps && target <= t1 + eps) {
+            return Err(SimErrorKind::InvalidOptions(format!(
+                "advance_to({target} s): the target must lie between the current time {now} s and the stop time {t1} s"
+            )));
         }
+        let target = target.min(t1);
+        if target <= now {
+            return Ok(());
+        }
+        let contacts = self.opts.contact_results;
+        if self.inputs_changed {
+            // Inputs are piecewise constant: restart with derivatives consistent with them.
+            self.restart(now)?;
+            self.inputs_changed = false;
+        }
+        let dt = self.opts.interval.unwrap_or((t1 - t0) / 500.0);
+        self.ida.set_stop_time(target)?;
+        loop {
+            let grid = t0 + self.k_grid as f64 * dt;
+            let on_grid = grid < target - eps;
+            let t_out = if on_grid { grid } else { target };
+            let status = self.ida.solve(t_out, false)?;
+            if let Some(e) = self.ida.system_mut().take_root_error() {
+                return Err(e.into());
+            }
+            match status {
+                SolveStatus::Reached { t } | SolveStatus::StopTime { t } => {
+                    let y = self.ida.y().to_vec();
+                    record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
+                    if (grid - t).abs() <= eps {
+                        self.k_grid += 1;
+                    }
+                    if !on_grid {
+                        return Ok(());
+                    }
+                }
+                SolveStatus::Root { t } => self.event(t)?,
+            }
+        }
+    }
+
+    /// Event at `t`: rebuild the contact set, log it, restart with consistent derivatives.
+    fn event(&mut self, t: f64) -> Result<(), SimErrorKind> {
+        let y = self.ida.y().to_vec();
+        let dae = self.ida.system_mut();
+        let changed = dae.handle_event(t, &y)?;
+        let (started, ended) = dae.event_pairs();
+        if !changed && t <= self.last_event_t {
+            self.stalled += 1;
+            if self.stalled > 20 {
+                return Err(SimErrorKind::EventLoop {
+                    t,
+                    count: self.stalled,
+                });
+            }
+        } else {
+            self.stalled = 0;
+        }
+        self.last_event_t = t;
+        let mut words = vec![];
+        if !started.is_empty() {
+            words.push(format!("contact started: {}", started.join(", ")));
+        }
+        if !ended.is_empty() {
+            words.push(format!("contact ended: {}", ended.join(", ")));
+        }
+        if words.is_empty() {
+            words.push("root without a change of the contact set".into());
+        }
+        self.result.events.push(Event {
+            t,
+            description: words.join("; "),
+            started,
+            ended,
+        });
+        let contacts = self.opts.contact_results;
+        record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
+        self.restart(t)
+    }
+
+    /// Re-initialises IDA at `t` with the current `y` and a consistent `y'`.
+    fn restart(&mut self, t: f64) -> Result<(), SimErrorKind> {
+        let y = self.ida.y().to_vec();
+        let Some(yp) = self.ida.system_mut().consistent_derivative(t, &y) else {
+            return Err(SimErrorKind::Inconsistent { t });
+        };
+        self.ida.reinit(t, &y, &yp)?;
+        Ok(())
+    }
+
+    /// Names of the declared inputs.
+    pub fn input_names(&self) -> Vec<&str> {
+        self.plan.inputs.iter().map(|i| i.name.as_str()).collect()
+    }
+
+    /// Sets input `name` to `values` (1 value for joint inputs, 6 for an object wrench: force
+    /// [N] then torque [N·m], resolved in world). Takes effect from the current time on.
+    pub fn set_input(&mut self, name: &str, values: &[f64]) -> Result<(), InputError> {
+        let Some(inp) = self.plan.inputs.iter().find(|i| i.name == name) else {
+            return Err(InputError::Unknown {
+                name: name.into(),
+                hint: crate::scene::did_you_mean(
+                    name,
+                    self.plan.inputs.iter().map(|i| i.name.as_str()),
+                ),
+            });
+        };
+        if values.len() != inp.len {
+            return Err(InputError::Length {
+                name: name.into(),
+                expected: inp.len,
+                got: values.len(),
+            });
+        }
+        if let Some(&value) = values.iter().find(|v| !v.is_finite()) {
+            return Err(InputError::NotFinite {
+                name: name.into(),
+                value,
+            });
+        }
+        let (off, len) = (inp.offset, inp.len);
+        let slot = &mut self.ida.system_mut().inputs_mut()[off..off + len];
+        if slot != values {
+            slot.copy_from_slice(values);
+            self.inputs_changed = true;
+        }
+        Ok(())
+    }
+
+    /// The current value of a signal (same names as [`SimulationResult::signal`]; contact
+    /// signals need [`SimOptions::contact_results`]).
+    pub fn output(&mut self, name: &str) -> Result<Vec<f64>, crate::results::ResultError> {
+        let t = self.time();
+        let y = self.ida.y().to_vec();
+        let mut now = SimulationResult::new(self.plan.clone());
+        if self.opts.contact_results {
+            now.enable_contact_record();
+        }
+        record(
+            self.ida.system_mut(),
+            &mut now,
+            t,
+            &y,
+            self.opts.contact_results,
+        );
+        Ok(now.signal(name)?.last().to_vec())
+    }
+
+    /// Back to the initial state and zero inputs, with the recorded results cleared; the plan
+    /// is reused (no recompilation).
+    pub fn reset(&mut self) -> Result<(), SimError> {
+        let model = Model {
+            plan: self.plan.clone(),
+        };
+        *self = Simulation::new(&model, &self.opts)?;
+        Ok(())
     }
 }
 
@@ -242,74 +528,6 @@ fn record(
         let _ = dae.update_contacts(t, y);
         if let Some(cs) = dae.contact() {
             result.push_contacts(cs);
-        }
-    }
-}
-
-fn run(
-    ida: &mut Ida<MultibodyDae>,
-    result: &mut SimulationResult,
-    t0: f64,
-    t1: f64,
-    dt: f64,
-    contacts: bool,
-) -> Result<(), SimErrorKind> {
-    ida.set_stop_time(t1)?;
-    let mut k = 1u64;
-    let mut stalled = 0u32;
-    let mut last_event_t = f64::NEG_INFINITY;
-    loop {
-        let t_out = (t0 + k as f64 * dt).min(t1);
-        let status = ida.solve(t_out, false)?;
-        if let Some(e) = ida.system_mut().take_root_error() {
-            return Err(e.into());
-        }
-        match status {
-            SolveStatus::Reached { t } | SolveStatus::StopTime { t } => {
-                let y = ida.y().to_vec();
-                record(ida.system_mut(), result, t, &y, contacts);
-                if t >= t1 - 1e-12 * t1.abs().max(1.0) {
-                    return Ok(());
-                }
-                k += 1;
-            }
-            SolveStatus::Root { t } => {
-                // Event: rebuild the contact set, restart with consistent derivatives.
-                let y = ida.y().to_vec();
-                let dae = ida.system_mut();
-                let changed = dae.handle_event(t, &y)?;
-                let (started, ended) = dae.event_pairs();
-                let Some(yp) = dae.consistent_derivative(t, &y) else {
-                    return Err(SimErrorKind::Inconsistent { t });
-                };
-                if !changed && t <= last_event_t {
-                    stalled += 1;
-                    if stalled > 20 {
-                        return Err(SimErrorKind::EventLoop { t, count: stalled });
-                    }
-                } else {
-                    stalled = 0;
-                }
-                last_event_t = t;
-                let mut words = vec![];
-                if !started.is_empty() {
-                    words.push(format!("contact started: {}", started.join(", ")));
-                }
-                if !ended.is_empty() {
-                    words.push(format!("contact ended: {}", ended.join(", ")));
-                }
-                if words.is_empty() {
-                    words.push("root without a change of the contact set".into());
-                }
-                result.events.push(Event {
-                    t,
-                    description: words.join("; "),
-                    started,
-                    ended,
-                });
-                record(ida.system_mut(), result, t, &y, contacts);
-                ida.reinit(t, &y, &yp)?;
-            }
         }
     }
 }

@@ -40,6 +40,14 @@ impl MultibodyDae {
     pub fn workspace_mut(&mut self) -> &mut Workspace {
         &mut self.ws
     }
+    /// Current input values (len `Plan::n_inputs`).
+    pub fn inputs(&self) -> &[f64] {
+        &self.ws.inputs
+    }
+    /// Sets input values (len `Plan::n_inputs`).
+    pub fn inputs_mut(&mut self) -> &mut [f64] {
+        &mut self.ws.inputs
+    }
     /// The contact set, if the scene has collision pairs.
     pub fn contact(&self) -> Option<&ContactState> {
         self.contact.as_ref()
@@ -147,6 +155,12 @@ impl DaeSystem for MultibodyDae {
         rnea::inverse_dynamics(plan, &mut self.ws, vd, &plan.gravity, res_v);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;
+        }
+        // Prescribed motion: the acceleration row becomes v̇ − a_input = 0.
+        for (k, p) in plan.prescribed.iter().enumerate() {
+            if let Some(i) = p {
+                res_v[k] = vd[k] - self.ws.inputs[*i];
+            }
         }
         Ok(())
     }

@@ -4,7 +4,7 @@
 
 use super::kinematics::{object_in_world, point_velocity};
 use super::spatial::Force;
-use super::{ForcePlan, Plan, Workspace};
+use super::{ForcePlan, InputTarget, Plan, Workspace};
 use crate::scene::{ObjectMotion, Wrench};
 use nalgebra::Vector3;
 
@@ -83,6 +83,23 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
                 let m = object_motion(plan, ws, *object);
                 let Wrench { force, torque } = (law.0)(t, &m);
                 add_world_wrench(ws, plan.objects[*object].body, &m.r_abs, &force, &torque);
+            }
+        }
+    }
+    for inp in &plan.inputs {
+        let u = &ws.inputs[inp.offset..inp.offset + inp.len];
+        match inp.target {
+            InputTarget::JointForce { joint } => {
+                let (k, f) = (plan.joints[joint].v_offset, u[0]);
+                ws.tau_applied[k] += f;
+            }
+            // Enforced in the residual (the acceleration row is replaced).
+            InputTarget::JointAcceleration { .. } => {}
+            InputTarget::ObjectWrench { object } => {
+                let force = Vector3::new(u[0], u[1], u[2]);
+                let torque = Vector3::new(u[3], u[4], u[5]);
+                let at = object_in_world(plan, ws, object).pos;
+                add_world_wrench(ws, plan.objects[object].body, &at, &force, &torque);
             }
         }
     }

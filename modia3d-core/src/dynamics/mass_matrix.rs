@@ -77,27 +77,46 @@ pub fn consistent_accelerations_with(
     extra: &mut dyn FnMut(&Plan, &mut Workspace),
 ) -> Option<Vec<f64>> {
     let nv = plan.nv;
-    let mut m = mass_matrix(plan, ws, q);
+    let m = mass_matrix(plan, ws, q);
     position_velocity(plan, ws, q, v);
     applied_forces(plan, ws, t, q, v);
     extra(plan, ws);
     let mut bias = vec![0.0; nv];
     super::rnea::inverse_dynamics(plan, ws, &vec![0.0; nv], &plan.gravity, &mut bias);
-    cholesky_in_place(&mut m).ok()?;
-    let rhs = DVector::from_iterator(nv, (0..nv).map(|k| ws.tau_applied[k] - bias[k]));
+    // Prescribed accelerations are known; solve M_FF v̇_F = τ_F − C_F − M_FP a_P for the rest.
+    let mut vd = vec![0.0; nv];
+    for (k, p) in plan.prescribed.iter().enumerate() {
+        if let Some(i) = p {
+            vd[k] = ws.inputs[*i];
+        }
+    }
+    let free: Vec<usize> = (0..nv).filter(|&k| plan.prescribed[k].is_none()).collect();
+    let rhs = DVector::from_iterator(
+        free.len(),
+        free.iter().map(|&k| {
+            let coupling: f64 = (0..nv).map(|p| m[(k, p)] * vd[p]).sum();
+            ws.tau_applied[k] - bias[k] - coupling
+        }),
+    );
+    let mut mf = m.select_rows(&free).select_columns(&free);
+    cholesky_in_place(&mut mf).ok()?;
+    let n = free.len();
     // Forward and back substitution with the lower factor.
-    let mut y = rhs.clone();
-    for i in 0..nv {
+    let mut y = rhs;
+    for i in 0..n {
         for p in 0..i {
-            y[i] -= m[(i, p)] * y[p];
+            y[i] -= mf[(i, p)] * y[p];
         }
-        y[i] /= m[(i, i)];
+        y[i] /= mf[(i, i)];
     }
-    for i in (0..nv).rev() {
-        for p in i + 1..nv {
-            y[i] -= m[(p, i)] * y[p];
+    for i in (0..n).rev() {
+        for p in i + 1..n {
+            y[i] -= mf[(p, i)] * y[p];
         }
-        y[i] /= m[(i, i)];
+        y[i] /= mf[(i, i)];
     }
-    Some(y.as_slice().to_vec())
+    for (i, &k) in free.iter().enumerate() {
+        vd[k] = y[i];
+    }
+    Some(vd)
 }

@@ -10,7 +10,9 @@ pub mod plan;
 pub mod rnea;
 pub mod spatial;
 
-pub use plan::{BodyPlan, ForcePlan, JointCoord, JointPlan, ObjectPlan, Plan};
+pub use plan::{
+    BodyPlan, ForcePlan, InputPlan, InputTarget, JointCoord, JointPlan, ObjectPlan, Plan,
+};
 
 use spatial::{Force, Motion, Transform};
 
@@ -34,6 +36,8 @@ pub struct Workspace {
     pub f_ext: Vec<Force>,
     /// Generalised forces from joint springs, dampers and inputs (len nv).
     pub tau_applied: Vec<f64>,
+    /// Current input values (len `Plan::n_inputs`), 0 until set.
+    pub inputs: Vec<f64>,
 }
 
 impl Workspace {
@@ -49,6 +53,7 @@ impl Workspace {
             f: vec![Force::default(); nb],
             f_ext: vec![Force::default(); nb],
             tau_applied: vec![0.0; plan.nv],
+            inputs: vec![0.0; plan.n_inputs],
         }
     }
 }

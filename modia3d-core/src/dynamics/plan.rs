@@ -3,7 +3,9 @@
 //! properties. Objects fixed to the world carry no states. Touches only scene data.
 
 use super::spatial::{Inertia, Transform};
-use crate::scene::{SceneError, SceneErrors, ValidForce, ValidJointKind, ValidScene};
+use crate::scene::{
+    SceneError, SceneErrors, ValidForce, ValidInputKind, ValidJointKind, ValidScene,
+};
 use nalgebra::{Isometry3, Vector3};
 use std::collections::VecDeque;
 
@@ -126,6 +128,39 @@ pub enum ForcePlan {
     },
 }
 
+/// What an input drives, with plan indices.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InputTarget {
+    /// Generalised force on tree joint `joint` (1 value).
+    JointForce {
+        /// Index into `Plan::joints`.
+        joint: usize,
+    },
+    /// Prescribed acceleration of tree joint `joint` (1 value).
+    JointAcceleration {
+        /// Index into `Plan::joints`.
+        joint: usize,
+    },
+    /// World force then torque on object `object`'s origin (6 values).
+    ObjectWrench {
+        /// Index into `Plan::objects`.
+        object: usize,
+    },
+}
+
+/// An input and its place in the input value vector.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InputPlan {
+    /// Name.
+    pub name: String,
+    /// What it drives.
+    pub target: InputTarget,
+    /// Offset of its values in the input vector.
+    pub offset: usize,
+    /// Number of values.
+    pub len: usize,
+}
+
 /// The immutable compiled scene: bodies in topological order (parents first), joints, state
 /// layout `y = [q; v]`, initial values and force elements.
 #[derive(Clone, Debug)]
@@ -153,6 +188,12 @@ pub struct Plan {
     /// The collision pipeline; `None` when the scene has no candidate pair (then no collision
     /// code runs and there are no root functions).
     pub contact: Option<crate::contact::ContactPlan>,
+    /// Inputs, in declaration order.
+    pub inputs: Vec<InputPlan>,
+    /// Total number of input values.
+    pub n_inputs: usize,
+    /// For each velocity coordinate, the input offset of its prescribed acceleration, if any.
+    pub prescribed: Vec<Option<usize>>,
 }
 
 fn iso_to_transform(iso: &Isometry3<f64>) -> Transform {
@@ -466,7 +507,37 @@ impl Plan {
         if !errors.is_empty() {
             return Err(SceneErrors(errors));
         }
+        let mut inputs = vec![];
+        let mut n_inputs = 0;
+        let mut prescribed = vec![None; nv];
+        let tree_joint = |sj: usize| joints.iter().position(|tj| tj.scene_joint == sj);
+        for inp in &scene.inputs {
+            let (target, len) = match inp.kind {
+                ValidInputKind::JointForce(sj) => match tree_joint(sj) {
+                    Some(joint) => (InputTarget::JointForce { joint }, 1),
+                    None => continue, // validated: scalar joints are in the tree
+                },
+                ValidInputKind::JointAcceleration(sj) => match tree_joint(sj) {
+                    Some(joint) => {
+                        prescribed[joints[joint].v_offset] = Some(n_inputs);
+                        (InputTarget::JointAcceleration { joint }, 1)
+                    }
+                    None => continue,
+                },
+                ValidInputKind::ObjectWrench(object) => (InputTarget::ObjectWrench { object }, 6),
+            };
+            inputs.push(InputPlan {
+                name: inp.name.clone(),
+                target,
+                offset: n_inputs,
+                len,
+            });
+            n_inputs += len;
+        }
         let plan = Plan {
+            inputs,
+            n_inputs,
+            prescribed,
             contact,
             bodies,
             joints,
@@ -483,12 +554,17 @@ impl Plan {
         Ok(plan)
     }
 
-    /// The mass matrix at the initial state must be positive definite; otherwise names the
-    /// joint whose coordinate has no inertia.
+    /// The mass matrix of the coordinates that are not prescribed must be positive definite at
+    /// the initial state; otherwise names the joint whose coordinate has no inertia.
     fn check_inertia(&self) -> Result<(), SceneErrors> {
         let mut ws = super::Workspace::new(self);
         let m = super::mass_matrix::mass_matrix(self, &mut ws, &self.q0);
-        if let Err(k) = super::mass_matrix::cholesky_in_place(&mut m.clone()) {
+        let free: Vec<usize> = (0..self.nv)
+            .filter(|&k| self.prescribed[k].is_none())
+            .collect();
+        let mut mf = m.select_rows(&free).select_columns(&free);
+        if let Err(kf) = super::mass_matrix::cholesky_in_place(&mut mf) {
+            let k = free[kf];
             let j = self
                 .joints
                 .iter()

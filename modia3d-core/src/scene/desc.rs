@@ -512,6 +512,81 @@ pub enum ForceElement {
     },
 }
 
+/// What an input drives. Input values are set between steps of a
+/// [`crate::simulation::Simulation`] and are 0 until set.
+#[derive(Clone, Debug, PartialEq)]
+pub enum InputKind {
+    /// A generalised force on a Revolute [N·m] or Prismatic [N] joint (1 value), added to its
+    /// spring-dampers.
+    JointForce {
+        /// Name of the joint.
+        joint: String,
+    },
+    /// Prescribed motion of a Revolute [rad/s²] or Prismatic [m/s²] joint: its acceleration
+    /// (1 value); position and velocity follow by integration, the joint force is whatever
+    /// the motion needs.
+    JointAcceleration {
+        /// Name of the joint.
+        joint: String,
+    },
+    /// A force [N] and a torque [N·m], both resolved in world, on an object's origin
+    /// (6 values: force x, y, z, then torque x, y, z).
+    ObjectWrench {
+        /// Name of the object.
+        object: String,
+    },
+}
+
+/// A named input of a model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Input {
+    /// Name used with `Simulation::set_input`.
+    pub name: String,
+    /// What it drives.
+    pub kind: InputKind,
+}
+
+impl Input {
+    /// A generalised force on joint `joint` (1 value, [N·m] or [N]).
+    pub fn joint_force(name: &str, joint: &str) -> Self {
+        Input {
+            name: name.into(),
+            kind: InputKind::JointForce {
+                joint: joint.into(),
+            },
+        }
+    }
+    /// The prescribed acceleration of joint `joint` (1 value, [rad/s²] or [m/s²]).
+    pub fn joint_acceleration(name: &str, joint: &str) -> Self {
+        Input {
+            name: name.into(),
+            kind: InputKind::JointAcceleration {
+                joint: joint.into(),
+            },
+        }
+    }
+    /// A world force and torque on object `object`'s origin (6 values, [N] then [N·m]).
+    pub fn object_wrench(name: &str, object: &str) -> Self {
+        Input {
+            name: name.into(),
+            kind: InputKind::ObjectWrench {
+                object: object.into(),
+            },
+        }
+    }
+    /// Number of values.
+    pub fn len(&self) -> usize {
+        match self.kind {
+            InputKind::ObjectWrench { .. } => 6,
+            _ => 1,
+        }
+    }
+    /// Never true: every input has at least one value.
+    pub fn is_empty(&self) -> bool {
+        false
+    }
+}
+
 /// An unchecked scene: objects, joints and force elements, referring to each other by name.
 #[derive(Clone, Debug, Default)]
 pub struct SceneDesc {
@@ -526,9 +601,16 @@ pub struct SceneDesc {
     /// User-defined contact-pair materials (override the built-in palette; order of the two
     /// names does not matter).
     pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
+    /// Inputs set from Rust between simulation steps.
+    pub inputs: Vec<Input>,
 }
 
 impl SceneDesc {
+    /// Declares an input.
+    pub fn add_input(&mut self, input: Input) -> &mut Self {
+        self.inputs.push(input);
+        self
+    }
     /// An empty scene description.
     pub fn new() -> Self {
         Self::default()

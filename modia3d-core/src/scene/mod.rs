@@ -11,6 +11,6 @@ pub use materials::{
     MaterialFileError, MaterialPalette, SolidMaterial, CONTACT_PAIR_MATERIALS, SOLID_MATERIALS,
 };
 pub use validate::{
-    did_you_mean, MassProps, SceneError, SceneErrors, ValidForce, ValidJoint, ValidJointKind,
-    ValidObject, ValidScene, ValidSolid,
+    did_you_mean, MassProps, SceneError, SceneErrors, ValidForce, ValidInput, ValidInputKind,
+    ValidJoint, ValidJointKind, ValidObject, ValidScene, ValidSolid,
 };

@@ -4,7 +4,8 @@
 //! Touches only the scene description; the dynamics plan is compiled from the result.
 
 use super::desc::{
-    Feature, ForceElement, FreeRotation, JointKind, MassSpec, MaterialRef, SceneDesc, SceneOptions,
+    Feature, ForceElement, FreeRotation, InputKind, JointKind, MassSpec, MaterialRef, SceneDesc,
+    SceneOptions,
 };
 use super::materials::{
     builtin_contact_pair, builtin_solid_material, ContactPairMaterial, SolidMaterial,
@@ -351,6 +352,28 @@ pub struct ValidScene {
     pub options: SceneOptions,
     /// User-defined contact-pair materials, checked (override the built-in ones).
     pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
+    /// Inputs with resolved joint/object indices.
+    pub inputs: Vec<ValidInput>,
+}
+
+/// A resolved input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidInput {
+    /// Name.
+    pub name: String,
+    /// What it drives, with indices into `ValidScene::joints` / `objects`.
+    pub kind: ValidInputKind,
+}
+
+/// What a resolved input drives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ValidInputKind {
+    /// Generalised force on a scalar joint (index into `ValidScene::joints`).
+    JointForce(usize),
+    /// Prescribed acceleration of a scalar joint (index into `ValidScene::joints`).
+    JointAcceleration(usize),
+    /// World force and torque on an object (index into `ValidScene::objects`).
+    ObjectWrench(usize),
 }
 
 impl ValidScene {
@@ -755,6 +778,64 @@ impl SceneDesc {
             }
         }
 
+        // --- inputs
+        let mut inputs = vec![];
+        let mut input_names = std::collections::HashSet::new();
+        let mut driven = std::collections::HashSet::new();
+        for inp in &self.inputs {
+            if !input_names.insert(inp.name.as_str()) {
+                c.errors.push(SceneError::DuplicateName {
+                    kind: "input",
+                    name: inp.name.clone(),
+                });
+            }
+            let joint = |c: &mut Checker, jn: &str| -> Option<usize> {
+                let Some(&ji) = joint_index.get(jn) else {
+                    c.errors.push(SceneError::Unknown {
+                        referrer: format!("input `{}`", inp.name),
+                        kind: "joint",
+                        name: jn.to_string(),
+                        hint: did_you_mean(jn, self.joints.iter().map(|j| j.name.as_str())),
+                    });
+                    return None;
+                };
+                let k = &self.joints[ji].kind;
+                if !matches!(k, JointKind::Revolute { .. } | JointKind::Prismatic { .. }) {
+                    c.errors.push(SceneError::NoScalarCoordinate {
+                        joint: jn.to_string(),
+                        kind: k.name(),
+                    });
+                    return None;
+                }
+                joints.iter().position(|vj| vj.name == jn)
+            };
+            let kind = match &inp.kind {
+                InputKind::JointForce { joint: jn } => {
+                    joint(&mut c, jn).map(ValidInputKind::JointForce)
+                }
+                InputKind::JointAcceleration { joint: jn } => {
+                    let j = joint(&mut c, jn);
+                    if j.is_some() && !driven.insert(jn.as_str()) {
+                        c.errors.push(SceneError::DuplicateName {
+                            kind: "prescribed-acceleration joint",
+                            name: jn.clone(),
+                        });
+                    }
+                    j.map(ValidInputKind::JointAcceleration)
+                }
+                InputKind::ObjectWrench { object } => {
+                    resolve(&mut c, format!("input `{}`", inp.name), object)
+                        .map(ValidInputKind::ObjectWrench)
+                }
+            };
+            if let Some(kind) = kind {
+                inputs.push(ValidInput {
+                    name: inp.name.clone(),
+                    kind,
+                });
+            }
+        }
+
         // --- contact-pair materials
         for (a, b, m) in &self.contact_pairs {
             let what = |f: &str| format!("contact pair material `{a}`–`{b}`: {f}");
@@ -779,6 +860,7 @@ impl SceneDesc {
         }
         Ok(ValidScene {
             contact_pairs: self.contact_pairs.clone(),
+            inputs,
             objects,
             joints,
             forces,
