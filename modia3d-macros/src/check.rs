@@ -75,6 +75,9 @@ const COMPONENTS: &[&str] = &[
     "ObjectForce",
     "SolidMaterial",
     "ContactPair",
+    "JointForce",
+    "JointAcceleration",
+    "ObjectWrench",
 ];
 /// Constructors that appear only inside values.
 const NESTED: &[&str] = &[
@@ -131,6 +134,8 @@ pub enum Kind {
     Material,
     /// A contact-pair material defined in the block.
     ContactPair,
+    /// An input (set between simulation steps).
+    Input,
     /// A sub-assembly (another `model!` type).
     Assembly,
 }
@@ -176,6 +181,11 @@ pub enum Item {
         calls: Vec<TokenStream>,
         /// Whether it is the scene (the world).
         scene: bool,
+    },
+    /// `scene.add_input(value)`.
+    Input {
+        /// An `Input` expression.
+        value: TokenStream,
     },
     /// `scene.add_contact_pair(material1, material2, value)`.
     ContactPair {
@@ -261,6 +271,8 @@ pub fn check(def: &ModelDef) -> Result<Ir, syn::Error> {
         pairs: vec![],
         pairs_unsure: false,
         contact_detection: Some(true),
+        joint_types: HashMap::new(),
+        driven: HashMap::new(),
     };
     // Parameters: names unique and not reserved.
     let mut seen = HashSet::new();
@@ -290,6 +302,10 @@ pub fn check(def: &ModelDef) -> Result<Ir, syn::Error> {
             continue;
         }
         if let Some(k) = kind {
+            if k == Kind::Joint {
+                c.joint_types
+                    .insert(name.clone(), comp.ctor.name().to_string());
+            }
             c.kinds.insert(name.clone(), k);
             if k == Kind::Assembly {
                 c.assembly_types.insert(name, comp.ctor.path.clone());
@@ -339,6 +355,10 @@ struct Checker {
     pairs_unsure: bool,
     /// The scene's `contact_detection`, `None` if not literal.
     contact_detection: Option<bool>,
+    /// Constructor of every joint of the block (`Revolute`, …).
+    joint_types: HashMap<String, String>,
+    /// Joints of the block with a prescribed acceleration, and the input doing it.
+    driven: HashMap<String, String>,
 }
 
 /// The arguments of one constructor, with the keys it accepts.
@@ -480,6 +500,7 @@ impl Checker {
             "SpringDamper" | "JointSpringDamper" | "ObjectForce" => Some(Kind::Force),
             "SolidMaterial" => Some(Kind::Material),
             "ContactPair" => Some(Kind::ContactPair),
+            "JointForce" | "JointAcceleration" | "ObjectWrench" => Some(Kind::Input),
             _ if NESTED.contains(&n.as_str()) => {
                 let hint = match n.as_str() {
                     "Scene" | "Solid" | "Visual" => format!("`Object3D(feature = {n}(…))`"),
@@ -698,6 +719,7 @@ impl Checker {
                 })
             }
             Kind::ContactPair => self.contact_pair(ctor),
+            Kind::Input => self.input(comp),
             Kind::Assembly => {
                 let mut parent = Parent::Attach;
                 let mut fields = vec![];
@@ -983,6 +1005,62 @@ impl Checker {
             }
         }
         Some(quote!(.material(&(#m))))
+    }
+
+    /// `JointForce(joint)`, `JointAcceleration(joint)`, `ObjectWrench(object)` → `Input`.
+    fn input(&mut self, comp: &Component) -> Option<Item> {
+        let ctor = &comp.ctor;
+        let cname = ctor.name().to_string();
+        let n = scoped(&comp.name.to_string());
+        let input = quote!(::modia3d::core::Input);
+        if cname == "ObjectWrench" {
+            let a = self.args(ctor, &["object"]);
+            let o = self
+                .required(&a, "object")
+                .and_then(|e| self.reference(e, Kind::Object, "object"))?;
+            let o = scoped(&o.path);
+            return Some(Item::Input {
+                value: quote!(#input::object_wrench(#n, #o)),
+            });
+        }
+        let a = self.args(ctor, &["joint"]);
+        let e = self.required(&a, "joint")?;
+        let j = self.reference(e, Kind::Joint, "joint")?;
+        if j.local {
+            let ty = self.joint_types.get(&j.path).cloned().unwrap_or_default();
+            if ty != "Revolute" && ty != "Prismatic" {
+                self.err(
+                    j.span,
+                    format!(
+                        "`{cname}` needs a Revolute or Prismatic joint, but `{}` is a {ty} (hint: it has no single coordinate to drive)",
+                        j.path
+                    ),
+                );
+                return None;
+            }
+            if cname == "JointAcceleration" {
+                if let Some(first) = self.driven.get(&j.path) {
+                    self.err(
+                        j.span,
+                        format!(
+                            "joint `{}` already has a prescribed acceleration: input `{first}` (hint: one `JointAcceleration` per joint)",
+                            j.path
+                        ),
+                    );
+                    return None;
+                }
+                self.driven.insert(j.path.clone(), comp.name.to_string());
+            }
+        }
+        let j = scoped(&j.path);
+        let f = if cname == "JointForce" {
+            quote!(joint_force)
+        } else {
+            quote!(joint_acceleration)
+        };
+        Some(Item::Input {
+            value: quote!(#input::#f(#n, #j)),
+        })
     }
 
     /// `Scene(…)` → `Feature::Scene(SceneOptions { …, ..Default::default() })`, literal values
@@ -1802,6 +1880,7 @@ fn article(k: Kind) -> &'static str {
         Kind::Force => "a force element",
         Kind::Material => "a solid material",
         Kind::ContactPair => "a contact-pair material",
+        Kind::Input => "an input",
         Kind::Assembly => "a sub-assembly",
     }
 }

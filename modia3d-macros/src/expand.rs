@@ -124,6 +124,7 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
                     },
                 }
             }
+            Item::Input { value } => quote!(#scene.add_input(#value);),
             Item::ContactPair {
                 material1,
                 material2,
