@@ -198,6 +198,8 @@ pub mod __private {
     }
 }
 
+extern crate self as modia3d;
+
 pub mod demo;
 
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.

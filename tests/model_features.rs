@@ -474,7 +474,9 @@ fn scene_options_and_contact_pairs() {
     .add_contact_pair(
         "Steel",
         "oak",
-        ContactPairMaterial::new(0.6, 0.3, 0.001).v_min(0.05).w_min(0.5),
+        ContactPairMaterial::new(0.6, 0.3, 0.001)
+            .v_min(0.05)
+            .w_min(0.5),
     )
     .add_contact_pair("Steel", "Steel", ContactPairMaterial::new(0.5, 0.2, 0.01))
     .add_contact_pair("Rubber", "oak", ContactPairMaterial::new(0.3, 0.9, 0.0));

@@ -1118,7 +1118,10 @@ impl Checker {
                         let h = did_you_mean(&n, PROFILES.iter().copied())
                             .map(|h| format!("did you mean `{h}`?"))
                             .unwrap_or_else(|| "`Paper2019` or `Modia3DLater`".into());
-                        self.err(id.span(), format!("unknown contact profile `{n}` (hint: {h})"));
+                        self.err(
+                            id.span(),
+                            format!("unknown contact profile `{n}` (hint: {h})"),
+                        );
                     }
                 }
                 _ => fields.push(quote!(contact_profile: #p)),
@@ -1189,7 +1192,15 @@ impl Checker {
     fn contact_pair(&mut self, ctor: &Ctor) -> Option<Item> {
         let a = self.args(
             ctor,
-            &["material1", "material2", "cor", "mu_k", "mu_r", "v_min", "w_min"],
+            &[
+                "material1",
+                "material2",
+                "cor",
+                "mu_k",
+                "mu_r",
+                "v_min",
+                "w_min",
+            ],
         );
         let m1 = self
             .required(&a, "material1")
