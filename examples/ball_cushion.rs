@@ -9,7 +9,8 @@ use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let v = 1.0;
-    let model = demo::ball_cushion(v).build()?;
+    // The scene is the `model!` type `demo::BallCushion`.
+    let model = demo::BallCushion { v }.build()?;
     let res = model.simulate(
         &SimOptions::new(1.0)
             .tolerance(1e-6)

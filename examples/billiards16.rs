@@ -14,7 +14,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let k_red = args.first().copied().unwrap_or(1.0);
     let vy = args.get(1).copied().unwrap_or(0.1);
-    let model = demo::billiards16([3.0, vy, 0.0], k_red).build()?;
+    // The scene is the `model!` type `demo::Billiards16`.
+    let model = demo::Billiards16 {
+        cue_v: [3.0, vy, 0.0],
+        k_red,
+    }
+    .build()?;
     let res = model.simulate(&SimOptions::new(5.0).tolerance(1e-5).interval(0.01))?;
     let st = &res.stats;
     println!(

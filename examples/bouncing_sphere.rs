@@ -2,43 +2,12 @@
 //! Prints the events (contact start/end) and the apex heights, which fall by about cor² per
 //! bounce, and that the sphere comes to rest after finitely many events.
 
+use modia3d::demo;
 use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut scene = SceneDesc::new();
-    scene
-        .add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(
-            Object3D::new("table")
-                .parent("world")
-                .translation([0.0, 0.0, -0.05])
-                .solid(
-                    Solid::new(Shape::Box {
-                        lengths: Vector3::new(1.0, 1.0, 0.1),
-                    })
-                    .material("Steel")
-                    .collision(true),
-                ),
-        )
-        .add(
-            Object3D::new("ball").solid(
-                Solid::new(Shape::Sphere { diameter: 0.1 })
-                    .material("Steel")
-                    .collision(true),
-            ),
-        )
-        .add_joint(Joint::new(
-            "free",
-            "world",
-            "ball",
-            JointKind::FreeMotion {
-                r: Vector3::new(0.0, 0.0, 0.55),
-                rot: FreeRotation::Cardan([0.0; 3]),
-                v: Vector3::zeros(),
-                w: Vector3::zeros(),
-            },
-        ));
-    let model = scene.build()?;
+    // The scene is the `model!` type `demo::BouncingSphere` (Steel–Steel as built in).
+    let model = demo::BouncingSphere::default().build()?;
     let res = model.simulate(&SimOptions::new(3.0).tolerance(1e-6).interval(1e-3))?;
     for e in res.events.iter().take(8) {
         println!("t = {:.6} s: {}", e.t, e.description);

@@ -18,7 +18,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(1e-3);
-    let model = demo::falling_boxes(k_red).build()?;
+    // The scene is the `model!` type `demo::FallingBoxes`.
+    let model = demo::FallingBoxes { k_red }.build()?;
     let (res, failure) = match model.simulate(&SimOptions::new(2.0).tolerance(1e-5).interval(0.01))
     {
         Ok(r) => (r, None),

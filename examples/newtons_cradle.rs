@@ -6,8 +6,14 @@ use modia3d::demo;
 use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let model =
-        demo::newtons_cradle(0.05, 1e-3, 0.5, ContactPairMaterial::new(1.0, 0.0, 0.0)).build()?;
+    // The scene is the `model!` type `demo::NewtonsCradle`.
+    let model = demo::NewtonsCradle {
+        diameter: 0.05,
+        gap: 1e-3,
+        v0: 0.5,
+        pair: ContactPairMaterial::new(1.0, 0.0, 0.0),
+    }
+    .build()?;
     let res = model.simulate(&SimOptions::new(0.012).tolerance(1e-8).interval(1e-4))?;
     for e in &res.events {
         println!("t = {:.6} s: {}", e.t, e.description);

@@ -7,7 +7,14 @@ use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (d, v0, mu) = (0.1, 4.0, 0.5);
-    let model = demo::sliding_ball(d, v0, 0.0, ContactPairMaterial::new(0.7, mu, 0.0)).build()?;
+    // The scene is the `model!` type `demo::SlidingBall`.
+    let model = demo::SlidingBall {
+        diameter: d,
+        v0,
+        spin: 0.0,
+        pair: ContactPairMaterial::new(0.7, mu, 0.0),
+    }
+    .build()?;
     let t_star = 2.0 * v0 / (7.0 * mu * 9.81);
     let res = model.simulate(&SimOptions::new(0.7).tolerance(1e-7).interval(1e-4))?;
     let vx = res.signal("ball.v_abs[0]")?.values();

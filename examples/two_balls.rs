@@ -6,7 +6,8 @@ use modia3d::demo;
 use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let model = demo::two_balls(2.0).build()?;
+    // The scene is the `model!` type `demo::TwoBalls`.
+    let model = demo::TwoBalls { v: 2.0 }.build()?;
     let res = model.simulate(&SimOptions::new(1.0).tolerance(1e-6).interval(1e-3))?;
     for e in &res.events {
         println!("t = {:.6} s: {}", e.t, e.description);

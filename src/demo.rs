@@ -1,6 +1,8 @@
 //! Ready-made contact scenes shared by the examples, the contact tests and the work-precision
-//! benchmark (`examples/work_precision.rs`). Each function returns a plain [`SceneDesc`]; all
-//! lengths in [m], velocities in [m/s], angular velocities in [rad/s].
+//! benchmark (`examples/work_precision.rs`). Every scene is a `model!` type (one definition);
+//! the functions return its [`SceneDesc`] for the tests and the benchmark. The builder helpers
+//! ([`world`], [`fixed_box`], [`add_free_sphere`]) remain for tests that build scenes from
+//! data. All lengths in [m], velocities in [m/s], angular velocities in [rad/s].
 
 use crate::prelude::*;
 
@@ -80,60 +82,65 @@ pub fn add_free_sphere(
         ));
 }
 
-/// A steel sphere of diameter `diameter` dropped from centre height `h0` (above the top face
-/// of a fixed 1 × 1 × 0.1 m steel box at z = 0), with contact pair material `pair` for
-/// `Steel`–`Steel`.
-pub fn bouncing_sphere(diameter: f64, h0: f64, pair: ContactPairMaterial) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default()))
-        .add(fixed_box(
-            "table",
-            [1.0, 1.0, 0.1],
-            [0.0, 0.0, -0.05],
-            "Steel",
-        ))
-        .add_contact_pair("Steel", "Steel", pair);
-    add_free_sphere(
-        &mut s,
-        "ball",
-        diameter,
-        "Steel",
-        None,
-        [0.0, 0.0, h0],
-        [0.0; 3],
-        [0.0; 3],
-    );
-    s
+/// The built-in Steel–Steel pair material (`CONTACT_PAIR_MATERIALS`): cor 0.7, μ_k 0.5,
+/// μ_r 0.001.
+pub const STEEL_STEEL: ContactPairMaterial = ContactPairMaterial::new(0.7, 0.5, 0.001);
+
+model! {
+    /// A steel sphere of diameter `diameter` dropped from centre height `h0` (above the top face
+    /// of a fixed 1 × 1 × 0.1 m steel box at z = 0), with contact pair material `pair` for
+    /// `Steel`–`Steel`.
+    pub BouncingSphere(diameter: f64 = 0.1, h0: f64 = 0.55, pair: ContactPairMaterial = STEEL_STEEL) {
+        world = Object3D(feature = Scene()),
+        table = Object3D(parent = world, translation = [0.0, 0.0, -0.05],
+                         feature = Solid(shape = Box(lengths = [1.0, 1.0, 0.1]), solid_material = "Steel", collision = true)),
+        steel = ContactPair(material1 = "Steel", material2 = "Steel", cor = pair.cor, mu_k = pair.mu_k,
+                            mu_r = pair.mu_r, v_min = pair.v_min, w_min = pair.w_min),
+        ball  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel", collision = true)),
+        ball_free = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = [0.0, 0.0, h0])),
+    }
 }
 
-/// A steel ball (Ø `diameter`) resting on a steel table at its static penetration, launched
-/// sliding along x at `v0` without spin; pair material `pair` (friction, rolling resistance,
-/// `v_min`).
-pub fn sliding_ball(diameter: f64, v0: f64, spin: f64, pair: ContactPairMaterial) -> SceneDesc {
+/// [`BouncingSphere`] as a scene description.
+pub fn bouncing_sphere(diameter: f64, h0: f64, pair: ContactPairMaterial) -> SceneDesc {
+    BouncingSphere { diameter, h0, pair }.scene()
+}
+
+/// Centre height [m] of a steel ball of diameter `diameter` resting on a steel table at its
+/// static penetration.
+pub fn resting_steel_ball_height(diameter: f64) -> f64 {
     let steel = builtin_steel();
     let r = 0.5 * diameter;
     let k = hertz_k_sphere_flat(r, &steel, &steel);
-    let delta = static_penetration(sphere_mass(diameter, steel.density), 9.81, k);
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default()))
-        .add(fixed_box(
-            "table",
-            [40.0, 2.0, 0.1],
-            [15.0, 0.0, -0.05],
-            "Steel",
-        ))
-        .add_contact_pair("Steel", "Steel", pair);
-    add_free_sphere(
-        &mut s,
-        "ball",
+    r - static_penetration(sphere_mass(diameter, steel.density), 9.81, k)
+}
+
+model! {
+    /// A steel ball (Ø `diameter`) resting on a steel table at its static penetration, launched
+    /// sliding along x at `v0` with spin `spin` about y; pair material `pair` (friction,
+    /// rolling resistance, `v_min`).
+    pub SlidingBall(diameter: f64 = 0.1, v0: f64 = 4.0, spin: f64 = 0.0,
+                    pair: ContactPairMaterial = ContactPairMaterial::new(0.7, 0.5, 0.0)) {
+        world = Object3D(feature = Scene()),
+        table = Object3D(parent = world, translation = [15.0, 0.0, -0.05],
+                         feature = Solid(shape = Box(lengths = [40.0, 2.0, 0.1]), solid_material = "Steel", collision = true)),
+        steel = ContactPair(material1 = "Steel", material2 = "Steel", cor = pair.cor, mu_k = pair.mu_k,
+                            mu_r = pair.mu_r, v_min = pair.v_min, w_min = pair.w_min),
+        ball  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel", collision = true)),
+        ball_free = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = [0.0, 0.0, resting_steel_ball_height(diameter)]),
+                               v = Var(init = [v0, 0.0, 0.0]), w = Var(init = [0.0, spin, 0.0])),
+    }
+}
+
+/// [`SlidingBall`] as a scene description.
+pub fn sliding_ball(diameter: f64, v0: f64, spin: f64, pair: ContactPairMaterial) -> SceneDesc {
+    SlidingBall {
         diameter,
-        "Steel",
-        None,
-        [0.0, 0.0, r - delta],
-        [v0, 0.0, 0.0],
-        [0.0, spin, 0.0],
-    );
-    s
+        v0,
+        spin,
+        pair,
+    }
+    .scene()
 }
 
 fn builtin_steel() -> SolidMaterial {
@@ -153,238 +160,224 @@ pub fn billiard_ball_height(k_red: f64) -> f64 {
     r - static_penetration(sphere_mass(BALL_DIAMETER, ball.density), 9.81, k)
 }
 
-/// The billiard table (box 2.24 × 1.12 × 0.05 m, top face at z = 0) and four cushions:
-/// capsules of radius 1 cm along the edges, placed so that a ball touches them at height
-/// 7/5·r above the table top.
-pub fn add_billiard_table(scene: &mut SceneDesc) {
-    let (lx, ly) = (2.24, 1.12);
-    scene.add(fixed_box(
-        "table",
-        [lx, ly, 0.05],
-        [0.0, 0.0, -0.025],
-        "BilliardTable",
-    ));
-    let r = 0.5 * BALL_DIAMETER;
-    let rho = 0.01;
-    let h = r + 0.4 * (r + rho); // contact point at r + r·(h − r)/(r + ρ) = 7/5·r
-    let cushion = |name: &str, axis: Axis, length: f64, pos: [f64; 3]| {
-        Object3D::new(name).parent("world").translation(pos).solid(
-            Solid::new(Shape::Capsule {
-                axis,
-                diameter: 2.0 * rho,
-                length,
-            })
-            .material("BilliardCushion")
-            .collision(true),
-        )
-    };
-    scene
-        .add(cushion("cushion_n", Axis::X, lx, [0.0, 0.5 * ly, h]))
-        .add(cushion("cushion_s", Axis::X, lx, [0.0, -0.5 * ly, h]))
-        .add(cushion("cushion_e", Axis::Y, ly, [0.5 * lx, 0.0, h]))
-        .add(cushion("cushion_w", Axis::Y, ly, [-0.5 * lx, 0.0, h]));
-}
+/// Billiard table length along x and width along y [m] (box 2.24 × 1.12 × 0.05 m, top face at
+/// z = 0).
+pub const TABLE: [f64; 2] = [2.24, 1.12];
 
-/// Modia3D's 16-ball billiards: the rack of 15 balls (touching distance plus 0.1 mm, apex at
-/// x = 0.56 m on the x axis) and the cue ball at x = −0.56 m with velocity `cue_v`, on the
-/// table with cushions; `k_red` scales the contact stiffness.
-pub fn billiards16(cue_v: [f64; 3], k_red: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red,
-        ..Default::default()
-    }));
-    add_billiard_table(&mut s);
-    let z = billiard_ball_height(k_red);
+/// Cushion radius [m]: the cushions are capsules of this radius along the table's edges.
+pub const CUSHION_RADIUS: f64 = 0.01;
+
+/// Height [m] of the cushions' axes, placed so that a ball touches them at 7/5·r above the
+/// table top (contact point at r + r·(h − r)/(r + ρ) = 7/5·r).
+pub const CUSHION_HEIGHT: f64 = 0.5 * BALL_DIAMETER + 0.4 * (0.5 * BALL_DIAMETER + CUSHION_RADIUS);
+
+/// Initial position [m] of the ball in row `i` (0..5, away from the cue), place `j` (0..=i)
+/// of Modia3D's rack: touching distance plus 0.1 mm, apex at x = 0.56 m, centre height `z`.
+pub fn rack(i: usize, j: usize, z: f64) -> [f64; 3] {
     let d = BALL_DIAMETER + 1e-4;
     let row = 3f64.sqrt() / 2.0 * d;
-    let mut k = 1;
-    for i in 0..5 {
-        for j in 0..=i {
-            let x = 0.56 + i as f64 * row;
-            let y = (j as f64 - 0.5 * i as f64) * d;
-            add_free_sphere(
-                &mut s,
-                &format!("ball{k}"),
-                BALL_DIAMETER,
-                "BilliardBall",
-                None,
-                [x, y, z],
-                [0.0; 3],
-                [0.0; 3],
-            );
-            k += 1;
-        }
-    }
-    add_free_sphere(
-        &mut s,
-        "cue",
-        BALL_DIAMETER,
-        "BilliardBall",
-        None,
-        [-0.56, 0.0, z],
-        cue_v,
-        [0.0; 3],
-    );
-    s
+    let x = 0.56 + i as f64 * row;
+    let y = (j as f64 - 0.5 * i as f64) * d;
+    [x, y, z]
 }
 
-/// A billiard cue ball rolling (v = ω r) along x at `v` from x = −0.9 m towards a resting ball
-/// at x = −0.4 m.
+model! {
+    /// Modia3D's 16-ball billiards: the rack of 15 balls ([`rack`]) and the cue ball at
+    /// x = −0.56 m with velocity `cue_v`, on the table with cushions; `k_red` scales the contact
+    /// stiffness.
+    pub Billiards16(cue_v: [f64; 3] = [3.0, 0.1, 0.0], k_red: f64 = 1.0) {
+        world     = Object3D(feature = Scene(k_red = k_red)),
+        table     = Object3D(parent = world, translation = [0.0, 0.0, -0.025],
+                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
+                                             solid_material = "BilliardTable", collision = true)),
+        cushion_n = Object3D(parent = world, translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_s = Object3D(parent = world, translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_e = Object3D(parent = world, translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_w = Object3D(parent = world, translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        ball1     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball1_free = FreeMotion(obj1 = world, obj2 = ball1, r = Var(init = rack(0, 0, billiard_ball_height(k_red)))),
+        ball2     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball2_free = FreeMotion(obj1 = world, obj2 = ball2, r = Var(init = rack(1, 0, billiard_ball_height(k_red)))),
+        ball3     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball3_free = FreeMotion(obj1 = world, obj2 = ball3, r = Var(init = rack(1, 1, billiard_ball_height(k_red)))),
+        ball4     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball4_free = FreeMotion(obj1 = world, obj2 = ball4, r = Var(init = rack(2, 0, billiard_ball_height(k_red)))),
+        ball5     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball5_free = FreeMotion(obj1 = world, obj2 = ball5, r = Var(init = rack(2, 1, billiard_ball_height(k_red)))),
+        ball6     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball6_free = FreeMotion(obj1 = world, obj2 = ball6, r = Var(init = rack(2, 2, billiard_ball_height(k_red)))),
+        ball7     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball7_free = FreeMotion(obj1 = world, obj2 = ball7, r = Var(init = rack(3, 0, billiard_ball_height(k_red)))),
+        ball8     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball8_free = FreeMotion(obj1 = world, obj2 = ball8, r = Var(init = rack(3, 1, billiard_ball_height(k_red)))),
+        ball9     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball9_free = FreeMotion(obj1 = world, obj2 = ball9, r = Var(init = rack(3, 2, billiard_ball_height(k_red)))),
+        ball10    = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball10_free = FreeMotion(obj1 = world, obj2 = ball10, r = Var(init = rack(3, 3, billiard_ball_height(k_red)))),
+        ball11    = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball11_free = FreeMotion(obj1 = world, obj2 = ball11, r = Var(init = rack(4, 0, billiard_ball_height(k_red)))),
+        ball12    = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball12_free = FreeMotion(obj1 = world, obj2 = ball12, r = Var(init = rack(4, 1, billiard_ball_height(k_red)))),
+        ball13    = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball13_free = FreeMotion(obj1 = world, obj2 = ball13, r = Var(init = rack(4, 2, billiard_ball_height(k_red)))),
+        ball14    = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball14_free = FreeMotion(obj1 = world, obj2 = ball14, r = Var(init = rack(4, 3, billiard_ball_height(k_red)))),
+        ball15    = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball15_free = FreeMotion(obj1 = world, obj2 = ball15, r = Var(init = rack(4, 4, billiard_ball_height(k_red)))),
+        cue       = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        cue_free  = FreeMotion(obj1 = world, obj2 = cue, r = Var(init = [-0.56, 0.0, billiard_ball_height(k_red)]), v = Var(init = cue_v)),
+    }
+}
+
+/// [`Billiards16`] as a scene description.
+pub fn billiards16(cue_v: [f64; 3], k_red: f64) -> SceneDesc {
+    Billiards16 { cue_v, k_red }.scene()
+}
+
+model! {
+    /// A billiard cue ball rolling (v = ω r) along x at `v` from x = −0.9 m towards a resting
+    /// ball at x = −0.4 m.
+    pub TwoBalls(v: f64 = 2.0) {
+        world     = Object3D(feature = Scene()),
+        table     = Object3D(parent = world, translation = [0.0, 0.0, -0.025],
+                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
+                                             solid_material = "BilliardTable", collision = true)),
+        cushion_n = Object3D(parent = world, translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_s = Object3D(parent = world, translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_e = Object3D(parent = world, translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_w = Object3D(parent = world, translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cue       = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        cue_free  = FreeMotion(obj1 = world, obj2 = cue, r = Var(init = [-0.9, 0.0, billiard_ball_height(1.0)]),
+                               v = Var(init = [v, 0.0, 0.0]), w = Var(init = [0.0, v / (0.5 * BALL_DIAMETER), 0.0])),
+        ball      = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball_free = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = [-0.4, 0.0, billiard_ball_height(1.0)])),
+    }
+}
+
+/// [`TwoBalls`] as a scene description.
 pub fn two_balls(v: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default()));
-    add_billiard_table(&mut s);
-    let z = billiard_ball_height(1.0);
-    let r = 0.5 * BALL_DIAMETER;
-    add_free_sphere(
-        &mut s,
-        "cue",
-        BALL_DIAMETER,
-        "BilliardBall",
-        None,
-        [-0.9, 0.0, z],
-        [v, 0.0, 0.0],
-        [0.0, v / r, 0.0],
-    );
-    add_free_sphere(
-        &mut s,
-        "ball",
-        BALL_DIAMETER,
-        "BilliardBall",
-        None,
-        [-0.4, 0.0, z],
-        [0.0; 3],
-        [0.0; 3],
-    );
-    s
+    TwoBalls { v }.scene()
 }
 
-/// A billiard ball rolling (v = ω r) along x at `v` towards the east cushion.
+model! {
+    /// A billiard ball rolling (v = ω r) along x at `v` towards the east cushion.
+    pub BallCushion(v: f64 = 1.0) {
+        world     = Object3D(feature = Scene()),
+        table     = Object3D(parent = world, translation = [0.0, 0.0, -0.025],
+                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
+                                             solid_material = "BilliardTable", collision = true)),
+        cushion_n = Object3D(parent = world, translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_s = Object3D(parent = world, translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_e = Object3D(parent = world, translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_w = Object3D(parent = world, translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        ball      = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
+        ball_free = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = [0.8, 0.0, billiard_ball_height(1.0)]),
+                               v = Var(init = [v, 0.0, 0.0]), w = Var(init = [0.0, v / (0.5 * BALL_DIAMETER), 0.0])),
+    }
+}
+
+/// [`BallCushion`] as a scene description.
 pub fn ball_cushion(v: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default()));
-    add_billiard_table(&mut s);
-    let z = billiard_ball_height(1.0);
-    let r = 0.5 * BALL_DIAMETER;
-    add_free_sphere(
-        &mut s,
-        "ball",
-        BALL_DIAMETER,
-        "BilliardBall",
-        None,
-        [0.8, 0.0, z],
-        [v, 0.0, 0.0],
-        [0.0, v / r, 0.0],
-    );
-    s
+    BallCushion { v }.scene()
 }
 
-/// Newton's cradle: 5 steel balls (Ø `diameter`) on 0.5 m pendulums (Revolute joints with
-/// `can_collide = true`), neighbouring balls `gap` apart; the first ball starts with speed
-/// `v0` towards the others. Contact material `CradleSteel` (elasticity of Steel) with the
-/// pair material `pair`.
+/// Pendulum length [m] of Newton's cradle.
+pub const CRADLE_LENGTH: f64 = 0.5;
+
+model! {
+    /// Newton's cradle: 5 steel balls (Ø `diameter`) on 0.5 m pendulums (Revolute joints with
+    /// `can_collide = true`), neighbouring balls `gap` apart; the first ball starts with speed
+    /// `v0` towards the others. Contact material `CradleSteel` (elasticity of Steel) with the
+    /// pair material `pair`.
+    pub NewtonsCradle(diameter: f64 = 0.05, gap: f64 = 1e-3, v0: f64 = 0.5,
+                      pair: ContactPairMaterial = ContactPairMaterial::new(1.0, 0.0, 0.0)) {
+        world  = Object3D(feature = Scene()),
+        cradle = ContactPair(material1 = "CradleSteel", material2 = "CradleSteel", cor = pair.cor, mu_k = pair.mu_k,
+                             mu_r = pair.mu_r, v_min = pair.v_min, w_min = pair.w_min),
+        hook0  = Object3D(parent = world, translation = [0.0 * (diameter + gap), 0.0, CRADLE_LENGTH]),
+        ball0  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel",
+                                            contact_material = "CradleSteel", collision = true)),
+        pivot0 = Object3D(parent = ball0, translation = [0.0, 0.0, CRADLE_LENGTH]),
+        rev0   = Revolute(obj1 = hook0, obj2 = pivot0, axis = -2, can_collide = true, w = Var(init = v0 / CRADLE_LENGTH)),
+        hook1  = Object3D(parent = world, translation = [1.0 * (diameter + gap), 0.0, CRADLE_LENGTH]),
+        ball1  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel",
+                                            contact_material = "CradleSteel", collision = true)),
+        pivot1 = Object3D(parent = ball1, translation = [0.0, 0.0, CRADLE_LENGTH]),
+        rev1   = Revolute(obj1 = hook1, obj2 = pivot1, axis = -2, can_collide = true),
+        hook2  = Object3D(parent = world, translation = [2.0 * (diameter + gap), 0.0, CRADLE_LENGTH]),
+        ball2  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel",
+                                            contact_material = "CradleSteel", collision = true)),
+        pivot2 = Object3D(parent = ball2, translation = [0.0, 0.0, CRADLE_LENGTH]),
+        rev2   = Revolute(obj1 = hook2, obj2 = pivot2, axis = -2, can_collide = true),
+        hook3  = Object3D(parent = world, translation = [3.0 * (diameter + gap), 0.0, CRADLE_LENGTH]),
+        ball3  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel",
+                                            contact_material = "CradleSteel", collision = true)),
+        pivot3 = Object3D(parent = ball3, translation = [0.0, 0.0, CRADLE_LENGTH]),
+        rev3   = Revolute(obj1 = hook3, obj2 = pivot3, axis = -2, can_collide = true),
+        hook4  = Object3D(parent = world, translation = [4.0 * (diameter + gap), 0.0, CRADLE_LENGTH]),
+        ball4  = Object3D(feature = Solid(shape = Sphere(diameter = diameter), solid_material = "Steel",
+                                            contact_material = "CradleSteel", collision = true)),
+        pivot4 = Object3D(parent = ball4, translation = [0.0, 0.0, CRADLE_LENGTH]),
+        rev4   = Revolute(obj1 = hook4, obj2 = pivot4, axis = -2, can_collide = true),
+    }
+}
+
+/// [`NewtonsCradle`] as a scene description.
 pub fn newtons_cradle(diameter: f64, gap: f64, v0: f64, pair: ContactPairMaterial) -> SceneDesc {
-    let l = 0.5;
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default()))
-        .add_contact_pair("CradleSteel", "CradleSteel", pair);
-    for i in 0..5 {
-        let x = i as f64 * (diameter + gap);
-        let (hook, ball, pivot) = (format!("hook{i}"), format!("ball{i}"), format!("pivot{i}"));
-        s.add(
-            Object3D::new(&hook)
-                .parent("world")
-                .translation([x, 0.0, l]),
-        )
-        .add(
-            Object3D::new(&ball).solid(
-                Solid::new(Shape::Sphere { diameter })
-                    .material("Steel")
-                    .contact_material("CradleSteel")
-                    .collision(true),
-            ),
-        )
-        .add(
-            Object3D::new(&pivot)
-                .parent(&ball)
-                .translation([0.0, 0.0, l]),
-        );
-        let mut j = Joint::new(&format!("rev{i}"), &hook, &pivot, JointKind::revolute(-2))
-            .can_collide(true);
-        if i == 0 {
-            j = j.init_velocity(v0 / l);
-        }
-        s.add_joint(j);
+    NewtonsCradle {
+        diameter,
+        gap,
+        v0,
+        pair,
     }
-    s
+    .scene()
 }
 
-/// Boxes and cylinders (DryWood) dropped onto a fixed wooden table; `k_red` scales the contact
-/// stiffness.
-pub fn falling_boxes(k_red: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [2.0, 2.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "DryWood",
-    ));
-    let parts: [(&str, Shape, [f64; 3], [f64; 3]); 4] = [
-        (
-            "box1",
-            Shape::Box {
-                lengths: Vector3::new(0.2, 0.1, 0.05),
-            },
-            [-0.4, 0.0, 0.2],
-            [0.3, 0.2, 0.0],
-        ),
-        (
-            "box2",
-            Shape::Box {
-                lengths: Vector3::new(0.1, 0.1, 0.1),
-            },
-            [0.0, 0.3, 0.3],
-            [0.0, 0.5, 0.1],
-        ),
-        (
-            "cyl1",
-            Shape::Cylinder {
-                axis: Axis::Z,
-                diameter: 0.1,
-                length: 0.1,
-            },
-            [0.3, -0.2, 0.25],
-            [0.2, 0.0, 0.4],
-        ),
-        (
-            "cyl2",
-            Shape::Cylinder {
-                axis: Axis::X,
-                diameter: 0.08,
-                length: 0.2,
-            },
-            [0.0, -0.5, 0.4],
-            [0.0, 0.4, 0.3],
-        ),
-    ];
-    for (name, shape, r, angles) in parts {
-        s.add(Object3D::new(name).solid(Solid::new(shape).material("DryWood").collision(true)))
-            .add_joint(Joint::new(
-                &format!("{name}.free"),
-                "world",
-                name,
-                JointKind::FreeMotion {
-                    r: Vector3::from(r),
-                    rot: FreeRotation::Cardan(angles),
-                    v: Vector3::zeros(),
-                    w: Vector3::zeros(),
-                },
-            ));
+model! {
+    /// Boxes and cylinders (DryWood) dropped onto a fixed wooden table; `k_red` scales the
+    /// contact stiffness.
+    pub FallingBoxes(k_red: f64 = 1e-3) {
+        world = Object3D(feature = Scene(k_red = k_red)),
+        table = Object3D(parent = world, translation = [0.0, 0.0, -0.05],
+                         feature = Solid(shape = Box(lengths = [2.0, 2.0, 0.1]), solid_material = "DryWood", collision = true)),
+        box1  = Object3D(feature = Solid(shape = Box(lengths = [0.2, 0.1, 0.05]), solid_material = "DryWood", collision = true)),
+        box1_free = FreeMotion(obj1 = world, obj2 = box1, r = Var(init = [-0.4, 0.0, 0.2]), rot = Var(init = [0.3, 0.2, 0.0])),
+        box2  = Object3D(feature = Solid(shape = Box(lengths = [0.1, 0.1, 0.1]), solid_material = "DryWood", collision = true)),
+        box2_free = FreeMotion(obj1 = world, obj2 = box2, r = Var(init = [0.0, 0.3, 0.3]), rot = Var(init = [0.0, 0.5, 0.1])),
+        cyl1  = Object3D(feature = Solid(shape = Cylinder(axis = 3, diameter = 0.1, length = 0.1), solid_material = "DryWood",
+                                         collision = true)),
+        cyl1_free = FreeMotion(obj1 = world, obj2 = cyl1, r = Var(init = [0.3, -0.2, 0.25]), rot = Var(init = [0.2, 0.0, 0.4])),
+        cyl2  = Object3D(feature = Solid(shape = Cylinder(axis = 1, diameter = 0.08, length = 0.2), solid_material = "DryWood",
+                                         collision = true)),
+        cyl2_free = FreeMotion(obj1 = world, obj2 = cyl2, r = Var(init = [0.0, -0.5, 0.4]), rot = Var(init = [0.0, 0.4, 0.3])),
     }
-    s
+}
+
+/// [`FallingBoxes`] as a scene description.
+pub fn falling_boxes(k_red: f64) -> SceneDesc {
+    FallingBoxes { k_red }.scene()
 }

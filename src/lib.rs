@@ -48,7 +48,7 @@ pub use modia3d_macros::model;
 /// Support items for the code `model!` generates; not part of the API.
 #[doc(hidden)]
 pub mod __private {
-    pub use modia3d_macros::__solid_material_names;
+    pub use modia3d_macros::{__contact_pair_names, __solid_material_names};
     pub use nalgebra;
     /// The type of a hidden item that names an object of a `model!` type.
     pub struct ObjectPath;
@@ -79,6 +79,30 @@ pub mod __private {
     /// A `Vector3<f64>` from `[f64; 3]` or `Vector3<f64>`.
     pub fn vector3(v: impl IntoVector3) -> nalgebra::Vector3<f64> {
         v.into_vector3()
+    }
+
+    /// What `model!` accepts for a contact pair's `v_min` / `w_min`: `f64` or `Option<f64>`.
+    #[diagnostic::on_unimplemented(
+        message = "expected `f64` or `Option<f64>`, found `{Self}`",
+        label = "expected a number"
+    )]
+    pub trait IntoOptionalF64 {
+        /// The value.
+        fn into_optional_f64(self) -> Option<f64>;
+    }
+    impl IntoOptionalF64 for f64 {
+        fn into_optional_f64(self) -> Option<f64> {
+            Some(self)
+        }
+    }
+    impl IntoOptionalF64 for Option<f64> {
+        fn into_optional_f64(self) -> Option<f64> {
+            self
+        }
+    }
+    /// `Some(v)` from `f64`, or the `Option<f64>` itself.
+    pub fn optional_f64(v: impl IntoOptionalF64) -> Option<f64> {
+        v.into_optional_f64()
     }
 
     /// What `model!` accepts where the builder wants a `Matrix3<f64>`: rows `[[f64; 3]; 3]` or
@@ -173,6 +197,8 @@ pub mod __private {
         r.into_free_rotation()
     }
 }
+
+extern crate self as modia3d;
 
 pub mod demo;
 

@@ -387,3 +387,167 @@ fn nested_assemblies_names_attach_rule_and_parameters() {
     assert_eq!(r.signal("arm1.hinge.phi").unwrap().at(0)[0], 0.3);
     assert!(r.signal("arm2.upper.top.r_abs").is_ok());
 }
+
+model! {
+    /// Every scene option, contact-pair materials of the block (literal names, a block
+    /// material, a parameter; `v_min`/`w_min` as `f64` and as `Option<f64>`), a colliding
+    /// steel ball on a wooden table.
+    pub Contacts(k_red: f64 = 1e-3, pair: ContactPairMaterial = ContactPairMaterial::new(0.5, 0.2, 0.01),
+                 other: &'static str = "Rubber", profile: ContactProfile = ContactProfile::Paper2019) {
+        world = Object3D(feature = Scene(gravity = [0.0, 0.0, -1.0], contact_detection = true, k_red = k_red,
+                                         d_max = 2000.0, cor_min = 0.01, v_min = 0.02, w_min = 0.03,
+                                         hysteresis = 1e-13, mpr_tolerance = 1e-10, mpr_max_iterations = 50,
+                                         smoothing_radius = 0.002, profile = Modia3DLater)),
+        oak   = SolidMaterial(density = 700.0, young_modulus = 1.1e10, poisson_ratio = 0.4),
+        table = Object3D(parent = world, feature = Solid(shape = Box(lengths = [1.0, 1.0, 0.1]), solid_material = oak,
+                                                         collision = true)),
+        ball  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel", collision = true)),
+        free  = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = [0.0, 0.0, 0.2])),
+        steel_oak = ContactPair(material1 = "Steel", material2 = oak, cor = 0.6, mu_k = 0.3, mu_r = 0.001,
+                                v_min = 0.05, w_min = 0.5),
+        steel_steel = ContactPair(material1 = "Steel", material2 = "Steel", cor = pair.cor, mu_k = pair.mu_k,
+                                  mu_r = pair.mu_r, v_min = pair.v_min, w_min = pair.w_min),
+        rubber = ContactPair(material1 = other, material2 = "oak", cor = 0.3, mu_k = 0.9, mu_r = 0.0),
+    }
+}
+
+model! {
+    /// The profile as a parameter; contact detection off.
+    pub ProfileParam(profile: ContactProfile = ContactProfile::Modia3DLater) {
+        world = Object3D(feature = Scene(profile = profile, contact_detection = false)),
+    }
+}
+
+#[test]
+fn scene_options_and_contact_pairs() {
+    let s = Contacts::default().scene();
+    let mut b = SceneDesc::new();
+    b.add(Object3D::new("world").scene(SceneOptions {
+        gravity: Vector3::new(0.0, 0.0, -1.0),
+        contact_detection: true,
+        k_red: 1e-3,
+        d_max: 2000.0,
+        cor_min: 0.01,
+        v_min: 0.02,
+        w_min: 0.03,
+        hysteresis: 1e-13,
+        mpr_tolerance: 1e-10,
+        mpr_max_iterations: 50,
+        smoothing_radius: 0.002,
+        contact_profile: ContactProfile::Modia3DLater,
+    }))
+    .add_solid_material(
+        "oak",
+        SolidMaterial {
+            density: 700.0,
+            young_modulus: 1.1e10,
+            poisson_ratio: 0.4,
+        },
+    )
+    .add(
+        Object3D::new("table").parent("world").solid(
+            Solid::new(Shape::Box {
+                lengths: Vector3::new(1.0, 1.0, 0.1),
+            })
+            .material("oak")
+            .collision(true),
+        ),
+    )
+    .add(
+        Object3D::new("ball").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 })
+                .material("Steel")
+                .collision(true),
+        ),
+    )
+    .add_joint(Joint::new(
+        "free",
+        "world",
+        "ball",
+        JointKind::FreeMotion {
+            r: Vector3::new(0.0, 0.0, 0.2),
+            rot: FreeRotation::Cardan([0.0; 3]),
+            v: Vector3::zeros(),
+            w: Vector3::zeros(),
+        },
+    ))
+    .add_contact_pair(
+        "Steel",
+        "oak",
+        ContactPairMaterial::new(0.6, 0.3, 0.001)
+            .v_min(0.05)
+            .w_min(0.5),
+    )
+    .add_contact_pair("Steel", "Steel", ContactPairMaterial::new(0.5, 0.2, 0.01))
+    .add_contact_pair("Rubber", "oak", ContactPairMaterial::new(0.3, 0.9, 0.0));
+    assert_eq!(s.objects, b.objects);
+    assert_eq!(s.joints, b.joints);
+    assert_eq!(s.solid_materials, b.solid_materials);
+    assert_eq!(s.contact_pairs, b.contact_pairs);
+    // `v_min = pair.v_min` passes an `Option<f64>` through.
+    let with_v = Contacts {
+        pair: ContactPairMaterial::new(0.5, 0.2, 0.01).v_min(0.1),
+        ..Default::default()
+    }
+    .scene();
+    assert_eq!(with_v.contact_pairs[1].2.v_min, Some(0.1));
+    assert_eq!(with_v.contact_pairs[1].2.w_min, None);
+    // The core accepts it and finds the pairs.
+    Contacts::default().build().unwrap();
+
+    assert_eq!(
+        ProfileParam::default().scene().objects[0].feature,
+        Feature::Scene(SceneOptions {
+            contact_profile: ContactProfile::Modia3DLater,
+            contact_detection: false,
+            ..Default::default()
+        })
+    );
+}
+
+model! {
+    /// A one-link arm with a motor torque, a prescribed slider and a push on the tip.
+    pub assembly Driven(l: f64 = 0.5) {
+        mount    = Object3D(),
+        link     = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), mass_properties = MassProperties(mass = 1.0))),
+        tip      = Object3D(parent = link, translation = [0.0, 0.0, -l]),
+        shoulder = Revolute(obj1 = mount, obj2 = link, axis = 1),
+        tau      = JointForce(joint = shoulder),
+        push     = ObjectWrench(object = tip),
+    }
+}
+
+model! {
+    /// Inputs of the block and into a sub-assembly.
+    pub WithInputs {
+        world  = Object3D(feature = Scene()),
+        arm1   = Driven(parent = world),
+        cart   = Object3D(feature = Solid(shape = Box(lengths = [0.1, 0.1, 0.1]), solid_material = "Steel")),
+        slide  = Prismatic(obj1 = world, obj2 = cart, axis = 1),
+        drive  = JointAcceleration(joint = slide),
+        tau2   = JointForce(joint = arm1.shoulder),
+        gust   = ObjectWrench(object = arm1.tip),
+    }
+}
+
+#[test]
+fn inputs_match_the_builder_and_drive_the_simulation() {
+    let s = WithInputs::default().scene();
+    assert_eq!(
+        s.inputs,
+        vec![
+            Input::joint_force("arm1.tau", "arm1.shoulder"),
+            Input::object_wrench("arm1.push", "arm1.tip"),
+            Input::joint_acceleration("drive", "slide"),
+            Input::joint_force("tau2", "arm1.shoulder"),
+            Input::object_wrench("gust", "arm1.tip"),
+        ]
+    );
+    let model = WithInputs::default().build().unwrap();
+    let mut sim = model.simulation(&SimOptions::new(1.0)).unwrap();
+    sim.set_input("drive", &[2.0]).unwrap();
+    sim.advance_to(1.0).unwrap();
+    // s = a t² / 2 with a = 2 m/s².
+    let s_end = sim.output("slide.s").unwrap()[0];
+    assert!((s_end - 1.0).abs() < 1e-6, "slide.s = {s_end}");
+}

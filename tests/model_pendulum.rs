@@ -84,3 +84,13 @@ fn builtin_material_names_match_the_core_palette() {
         .collect();
     assert_eq!(macro_names, core_names.as_slice());
 }
+
+#[test]
+fn builtin_contact_pairs_match_the_core_palette() {
+    let macro_pairs: &[(&str, &str)] = modia3d::__private::__contact_pair_names!();
+    let core_pairs: Vec<(&str, &str)> = modia3d::core::scene::CONTACT_PAIR_MATERIALS
+        .iter()
+        .map(|(a, b, _)| (*a, *b))
+        .collect();
+    assert_eq!(macro_pairs, core_pairs.as_slice());
+}

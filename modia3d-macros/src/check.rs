@@ -6,11 +6,10 @@
 //! What the macro cannot see (objects inside another `model!`'s expansion, types of values) is
 //! left to rustc through spanned code (see `path_check` and `expand.rs`).
 //!
-//! Extension point for contact materials: every colliding solid with a *literal* contact
-//! material (or solid material) is recorded in [`Ir::contact_materials`] with its span. When the
-//! core gains contact-pair palettes, a `ContactPairs(…)` component lowers next to
-//! `SolidMaterial` in [`Checker::component`], and one more pass over `contact_materials` reports
-//! two literal materials that can meet without a pair entry.
+//! Contact materials: every colliding solid records its contact material (literal or not) in
+//! `Checker::colliders`; after the topology pass, `Checker::missing_pairs` reports two literal
+//! materials that can meet without a pair entry (built in, [`BUILTIN_CONTACT_PAIRS`], or a
+//! `ContactPair(…)` of the block) — only where the block tells for sure (see there).
 
 use crate::ast::{push, Arg, Component, Ctor, ModelDef};
 use crate::expand::scoped;
@@ -32,6 +31,38 @@ pub const BUILTIN_SOLID_MATERIALS: &[&str] = &[
     "BilliardCue",
 ];
 
+/// The built-in contact-pair materials by name (`modia3d_core::scene::CONTACT_PAIR_MATERIALS`;
+/// a facade test keeps the two lists equal through `__contact_pair_names!`).
+pub const BUILTIN_CONTACT_PAIRS: &[(&str, &str)] = &[
+    ("Steel", "Steel"),
+    ("DryWood", "DryWood"),
+    ("BilliardBall", "BilliardBall"),
+    ("BilliardBall", "BilliardTable"),
+    ("BilliardBall", "BilliardCushion"),
+    ("BilliardBall", "BilliardCue"),
+    ("BilliardTable", "BilliardCue"),
+    ("BilliardCue", "BilliardCue"),
+];
+
+/// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).
+const SCENE_KEYS: &[&str] = &[
+    "gravity",
+    "contact_detection",
+    "k_red",
+    "d_max",
+    "cor_min",
+    "v_min",
+    "w_min",
+    "hysteresis",
+    "mpr_tolerance",
+    "mpr_max_iterations",
+    "smoothing_radius",
+    "profile",
+];
+
+/// The variants of `ContactProfile`.
+const PROFILES: &[&str] = &["Paper2019", "Modia3DLater"];
+
 /// Constructors of components.
 const COMPONENTS: &[&str] = &[
     "Object3D",
@@ -43,6 +74,10 @@ const COMPONENTS: &[&str] = &[
     "JointSpringDamper",
     "ObjectForce",
     "SolidMaterial",
+    "ContactPair",
+    "JointForce",
+    "JointAcceleration",
+    "ObjectWrench",
 ];
 /// Constructors that appear only inside values.
 const NESTED: &[&str] = &[
@@ -81,6 +116,9 @@ const SYNONYMS: &[(&str, &str)] = &[
     ("mass_properties", "mass"),
     ("k", "stiffness"),
     ("d", "damping"),
+    ("contact_profile", "profile"),
+    ("mu", "mu_k"),
+    ("e", "cor"),
 ];
 
 /// What a component is.
@@ -94,6 +132,10 @@ pub enum Kind {
     Force,
     /// A solid material defined in the block.
     Material,
+    /// A contact-pair material defined in the block.
+    ContactPair,
+    /// An input (set between simulation steps).
+    Input,
     /// A sub-assembly (another `model!` type).
     Assembly,
 }
@@ -140,6 +182,20 @@ pub enum Item {
         /// Whether it is the scene (the world).
         scene: bool,
     },
+    /// `scene.add_input(value)`.
+    Input {
+        /// An `Input` expression.
+        value: TokenStream,
+    },
+    /// `scene.add_contact_pair(material1, material2, value)`.
+    ContactPair {
+        /// The first contact material's name (a `&str` expression).
+        material1: TokenStream,
+        /// The second one.
+        material2: TokenStream,
+        /// A `ContactPairMaterial` expression.
+        value: TokenStream,
+    },
     /// `scene.add_joint(Joint::new(name, obj1, obj2, kind)…)`.
     Joint {
         /// Component name.
@@ -152,6 +208,12 @@ pub enum Item {
         kind: TokenStream,
         /// Builder calls after `Joint::new(…)`.
         calls: Vec<TokenStream>,
+        /// What the joint means for contacts: `Some(true)` if it merges or excludes its two
+        /// bodies (Fix; Revolute/Prismatic with `can_collide = false`), `Some(false)` if not,
+        /// `None` if unknown at compile time (a non-literal `can_collide`).
+        rigid: bool,
+        /// See `rigid`: whether it excludes the pair of its bodies from collisions.
+        excludes: Option<bool>,
     },
     /// `scene.add_force(value)`.
     Force {
@@ -181,10 +243,18 @@ pub struct Ir {
     pub path_checks: Vec<TokenStream>,
     /// Whether the block has a `Scene` object (then it is a model with `build()`).
     pub has_scene: bool,
-    /// Literal contact materials of colliding solids, for the contact-pair check (see the
-    /// module docs).
-    #[allow(dead_code)]
-    pub contact_materials: Vec<(String, Span)>,
+}
+
+/// A colliding solid, for the contact-pair check.
+struct Collider {
+    /// The object (a component of this block).
+    object: String,
+    /// Its contact material's name (with this block's materials at the top level), if literal.
+    material: Option<String>,
+    /// How the material is written in a `ContactPair(…)`: `"Steel"` or `wood`.
+    written: String,
+    /// The material's token (explicit `contact_material`, else `solid_material`).
+    span: Span,
 }
 
 /// Checks a model; all errors combined.
@@ -196,7 +266,13 @@ pub fn check(def: &ModelDef) -> Result<Ir, syn::Error> {
         params: def.params.iter().map(|p| p.name.to_string()).collect(),
         path_checks: vec![],
         scene_spans: vec![],
-        contact_materials: vec![],
+        colliders: vec![],
+        current_object: None,
+        pairs: vec![],
+        pairs_unsure: false,
+        contact_detection: Some(true),
+        joint_types: HashMap::new(),
+        driven: HashMap::new(),
     };
     // Parameters: names unique and not reserved.
     let mut seen = HashSet::new();
@@ -226,6 +302,10 @@ pub fn check(def: &ModelDef) -> Result<Ir, syn::Error> {
             continue;
         }
         if let Some(k) = kind {
+            if k == Kind::Joint {
+                c.joint_types
+                    .insert(name.clone(), comp.ctor.name().to_string());
+            }
             c.kinds.insert(name.clone(), k);
             if k == Kind::Assembly {
                 c.assembly_types.insert(name, comp.ctor.path.clone());
@@ -243,6 +323,9 @@ pub fn check(def: &ModelDef) -> Result<Ir, syn::Error> {
     c.scenes(def);
     let items = c.topology(items);
     let has_scene = !c.scene_spans.is_empty();
+    if has_scene && c.errors.is_none() {
+        c.missing_pairs(&items);
+    }
     match c.errors {
         Some(e) => Err(e),
         None => Ok(Ir {
@@ -250,7 +333,6 @@ pub fn check(def: &ModelDef) -> Result<Ir, syn::Error> {
             kinds,
             path_checks: c.path_checks,
             has_scene,
-            contact_materials: c.contact_materials,
         }),
     }
 }
@@ -263,7 +345,20 @@ struct Checker {
     path_checks: Vec<TokenStream>,
     /// Spans of the `Scene` constructors, and the span of the scene object's `parent` key.
     scene_spans: Vec<(Span, Option<Span>)>,
-    contact_materials: Vec<(String, Span)>,
+    /// Colliding solids of this block.
+    colliders: Vec<Collider>,
+    /// The object being lowered (for `colliders`).
+    current_object: Option<String>,
+    /// Contact-pair materials of the block with literal names.
+    pairs: Vec<(String, String)>,
+    /// Whether a `ContactPair` of the block has a non-literal material name.
+    pairs_unsure: bool,
+    /// The scene's `contact_detection`, `None` if not literal.
+    contact_detection: Option<bool>,
+    /// Constructor of every joint of the block (`Revolute`, …).
+    joint_types: HashMap<String, String>,
+    /// Joints of the block with a prescribed acceleration, and the input doing it.
+    driven: HashMap<String, String>,
 }
 
 /// The arguments of one constructor, with the keys it accepts.
@@ -354,10 +449,11 @@ fn lit_str(e: &Expr) -> Option<String> {
 enum Range {
     Positive,
     NonNegative,
-    /// For coefficients of restitution of contact pairs (the contact-pair extension point).
-    #[allow(dead_code)]
+    /// Coefficients of restitution of contact pairs.
     UnitInterval,
     OpenUnitInterval,
+    /// `cor_min`: (0, 1].
+    PositiveUnit,
 }
 
 impl Range {
@@ -367,6 +463,7 @@ impl Range {
             Range::NonNegative => v >= 0.0,
             Range::UnitInterval => (0.0..=1.0).contains(&v),
             Range::OpenUnitInterval => v > 0.0 && v < 1.0,
+            Range::PositiveUnit => v > 0.0 && v <= 1.0,
         }
     }
     fn text(self) -> &'static str {
@@ -375,6 +472,7 @@ impl Range {
             Range::NonNegative => "must not be negative",
             Range::UnitInterval => "must be in [0, 1]",
             Range::OpenUnitInterval => "must be in (0, 1)",
+            Range::PositiveUnit => "must be in (0, 1]",
         }
     }
 }
@@ -401,6 +499,8 @@ impl Checker {
             "Fix" | "Revolute" | "Prismatic" | "FreeMotion" => Some(Kind::Joint),
             "SpringDamper" | "JointSpringDamper" | "ObjectForce" => Some(Kind::Force),
             "SolidMaterial" => Some(Kind::Material),
+            "ContactPair" => Some(Kind::ContactPair),
+            "JointForce" | "JointAcceleration" | "ObjectWrench" => Some(Kind::Input),
             _ if NESTED.contains(&n.as_str()) => {
                 let hint = match n.as_str() {
                     "Scene" | "Solid" | "Visual" => format!("`Object3D(feature = {n}(…))`"),
@@ -618,6 +718,8 @@ impl Checker {
                     },
                 })
             }
+            Kind::ContactPair => self.contact_pair(ctor),
+            Kind::Input => self.input(comp),
             Kind::Assembly => {
                 let mut parent = Parent::Attach;
                 let mut fields = vec![];
@@ -679,6 +781,7 @@ impl Checker {
         if let Some(r) = a.get("rotation") {
             calls.push(quote!(.rotation(::modia3d::__private::rotation(#r))));
         }
+        self.current_object = Some(comp.name.to_string());
         if let Some(f) = a.get("feature") {
             match self.nested(f, FEATURES, "feature") {
                 Err(expr) => calls.push(quote!(.feature(#expr))),
@@ -702,21 +805,9 @@ impl Checker {
     fn feature(&mut self, fc: &Ctor, parent_key: Option<Span>) -> Option<TokenStream> {
         match fc.name().to_string().as_str() {
             "Scene" => {
-                let a = self.args(fc, &["gravity"]);
+                let a = self.args(fc, SCENE_KEYS);
                 self.scene_spans.push((fc.span(), parent_key));
-                let g = a.get("gravity").map(|g| {
-                    quote! {
-                        __modia3d_opts.gravity = ::modia3d::__private::vector3(#g);
-                    }
-                });
-                Some(quote! {
-                    ::modia3d::core::Feature::Scene({
-                        #[allow(unused_mut)]
-                        let mut __modia3d_opts = ::modia3d::core::SceneOptions::default();
-                        #g
-                        __modia3d_opts
-                    })
-                })
+                Some(self.scene_options(&a))
             }
             "Visual" => {
                 let a = self.args(fc, &["shape"]);
@@ -820,11 +911,17 @@ impl Checker {
                 );
             }
             if on {
-                let lit = cm
-                    .and_then(lit_str)
-                    .or_else(|| a.get("solid_material").and_then(lit_str));
-                if let Some(name) = lit {
-                    self.contact_materials.push((name, c.span()));
+                if let Some(obj) = self.current_object.clone() {
+                    let m = cm.or_else(|| a.get("solid_material"));
+                    if let Some(m) = m {
+                        let (material, written) = self.literal_contact_material(m, cm.is_some());
+                        self.colliders.push(Collider {
+                            object: obj,
+                            material,
+                            written,
+                            span: m.span(),
+                        });
+                    }
                 }
             }
         }
@@ -908,6 +1005,340 @@ impl Checker {
             }
         }
         Some(quote!(.material(&(#m))))
+    }
+
+    /// `JointForce(joint)`, `JointAcceleration(joint)`, `ObjectWrench(object)` → `Input`.
+    fn input(&mut self, comp: &Component) -> Option<Item> {
+        let ctor = &comp.ctor;
+        let cname = ctor.name().to_string();
+        let n = scoped(&comp.name.to_string());
+        let input = quote!(::modia3d::core::Input);
+        if cname == "ObjectWrench" {
+            let a = self.args(ctor, &["object"]);
+            let o = self
+                .required(&a, "object")
+                .and_then(|e| self.reference(e, Kind::Object, "object"))?;
+            let o = scoped(&o.path);
+            return Some(Item::Input {
+                value: quote!(#input::object_wrench(#n, #o)),
+            });
+        }
+        let a = self.args(ctor, &["joint"]);
+        let e = self.required(&a, "joint")?;
+        let j = self.reference(e, Kind::Joint, "joint")?;
+        if j.local {
+            let ty = self.joint_types.get(&j.path).cloned().unwrap_or_default();
+            if ty != "Revolute" && ty != "Prismatic" {
+                self.err(
+                    j.span,
+                    format!(
+                        "`{cname}` needs a Revolute or Prismatic joint, but `{}` is a {ty} (hint: it has no single coordinate to drive)",
+                        j.path
+                    ),
+                );
+                return None;
+            }
+            if cname == "JointAcceleration" {
+                if let Some(first) = self.driven.get(&j.path) {
+                    self.err(
+                        j.span,
+                        format!(
+                            "joint `{}` already has a prescribed acceleration: input `{first}` (hint: one `JointAcceleration` per joint)",
+                            j.path
+                        ),
+                    );
+                    return None;
+                }
+                self.driven.insert(j.path.clone(), comp.name.to_string());
+            }
+        }
+        let j = scoped(&j.path);
+        let f = if cname == "JointForce" {
+            quote!(joint_force)
+        } else {
+            quote!(joint_acceleration)
+        };
+        Some(Item::Input {
+            value: quote!(#input::#f(#n, #j)),
+        })
+    }
+
+    /// `Scene(…)` → `Feature::Scene(SceneOptions { …, ..Default::default() })`, literal values
+    /// range-checked as `SceneDesc::validate` does.
+    fn scene_options(&mut self, a: &Args) -> TokenStream {
+        let pos = Some(Range::Positive);
+        let mut fields = vec![];
+        if let Some(g) = a.get("gravity") {
+            fields.push(quote!(gravity: ::modia3d::__private::vector3(#g)));
+        }
+        self.contact_detection = Some(true);
+        if let Some(c) = a.get("contact_detection") {
+            self.contact_detection = lit_bool(c);
+            fields.push(quote!(contact_detection: #c));
+        }
+        let ranged: [(&str, Option<Range>); 8] = [
+            ("k_red", pos),
+            ("d_max", pos),
+            ("cor_min", Some(Range::PositiveUnit)),
+            ("v_min", pos),
+            ("w_min", pos),
+            ("hysteresis", pos),
+            ("mpr_tolerance", pos),
+            ("smoothing_radius", Some(Range::NonNegative)),
+        ];
+        for (key, range) in ranged {
+            if let Some(v) = self.num(a, key, range, false) {
+                let k = format_ident!("{}", key);
+                fields.push(quote!(#k: #v));
+            }
+        }
+        if let Some(v) = a.get("mpr_max_iterations") {
+            if lit_int(v).is_some_and(|i| i <= 0) {
+                self.err_spanned(
+                    v,
+                    format!(
+                        "`mpr_max_iterations` must be positive, found `{}`",
+                        v.to_token_stream().to_string().replace(' ', "")
+                    ),
+                );
+            }
+            fields.push(quote!(mpr_max_iterations: #v));
+        }
+        if let Some(p) = a.get("profile") {
+            let cp = quote!(::modia3d::core::ContactProfile);
+            match p {
+                Expr::Path(ep) if ep.path.get_ident().is_some() => {
+                    let id = ep.path.get_ident().expect("checked");
+                    let n = id.to_string();
+                    if PROFILES.contains(&n.as_str()) {
+                        fields.push(quote!(contact_profile: #cp::#id));
+                    } else if self.params.contains(&n) {
+                        fields.push(quote!(contact_profile: #p));
+                    } else {
+                        let h = did_you_mean(&n, PROFILES.iter().copied())
+                            .map(|h| format!("did you mean `{h}`?"))
+                            .unwrap_or_else(|| "`Paper2019` or `Modia3DLater`".into());
+                        self.err(
+                            id.span(),
+                            format!("unknown contact profile `{n}` (hint: {h})"),
+                        );
+                    }
+                }
+                _ => fields.push(quote!(contact_profile: #p)),
+            }
+        }
+        quote! {
+            ::modia3d::core::Feature::Scene(::modia3d::core::SceneOptions {
+                #(#fields,)*
+                ..::core::default::Default::default()
+            })
+        }
+    }
+
+    /// A material name in `ContactPair(…)`: `"Steel"`, `"wood"` or `wood` (a material of this
+    /// block), or a `&str`/`String` expression. Returns the builder argument and the literal
+    /// name (`None` if not literal).
+    fn pair_material(&mut self, e: &Expr) -> Option<(TokenStream, Option<String>)> {
+        let is_local = |c: &Self, n: &str| c.kinds.get(n) == Some(&Kind::Material);
+        if let Some(name) = lit_str(e) {
+            if is_local(self, &name) {
+                return Some((scoped(&name), Some(name)));
+            }
+            return Some((quote!(#e), Some(name)));
+        }
+        if let Expr::Path(p) = e {
+            if let Some(id) = p.path.get_ident() {
+                let n = id.to_string();
+                match self.kinds.get(&n) {
+                    Some(Kind::Material) => return Some((scoped(&n), Some(n))),
+                    Some(k) => {
+                        self.err(
+                            id.span(),
+                            format!(
+                                "`{n}` is {}, not a material (hint: a contact material is a string like `\"Steel\"` or a `SolidMaterial` of this block)",
+                                article(*k)
+                            ),
+                        );
+                        return None;
+                    }
+                    None if !self.params.contains(&n) => {
+                        let locals: Vec<&str> = self
+                            .kinds
+                            .iter()
+                            .filter(|(_, k)| **k == Kind::Material)
+                            .map(|(n, _)| n.as_str())
+                            .collect();
+                        self.err(
+                            id.span(),
+                            format!(
+                                "unknown material `{n}`{}",
+                                match did_you_mean(&n, locals) {
+                                    Some(h) => hint(Some(h)),
+                                    None => format!(" (hint: write a name as a string, `\"{n}\"`, or define `{n} = SolidMaterial(…)`)"),
+                                }
+                            ),
+                        );
+                        return None;
+                    }
+                    None => {}
+                }
+            }
+        }
+        self.pairs_unsure = true;
+        Some((quote!(&(#e)), None))
+    }
+
+    /// `ContactPair(material1, material2, cor, mu_k, mu_r, v_min, w_min)`.
+    fn contact_pair(&mut self, ctor: &Ctor) -> Option<Item> {
+        let a = self.args(
+            ctor,
+            &[
+                "material1",
+                "material2",
+                "cor",
+                "mu_k",
+                "mu_r",
+                "v_min",
+                "w_min",
+            ],
+        );
+        let m1 = self
+            .required(&a, "material1")
+            .and_then(|e| self.pair_material(e));
+        let m2 = self
+            .required(&a, "material2")
+            .and_then(|e| self.pair_material(e));
+        let nn = Some(Range::NonNegative);
+        let cor = self.num(&a, "cor", Some(Range::UnitInterval), true);
+        let mu_k = self.num(&a, "mu_k", nn, true);
+        let mu_r = self.num(&a, "mu_r", nn, true);
+        let v_min = self.num(&a, "v_min", Some(Range::Positive), false);
+        let w_min = self.num(&a, "w_min", Some(Range::Positive), false);
+        let ((m1, n1), (m2, n2), cor, mu_k, mu_r) = (m1?, m2?, cor?, mu_k?, mu_r?);
+        if let (Some(n1), Some(n2)) = (n1, n2) {
+            self.pairs.push((n1, n2));
+        }
+        let private = quote!(::modia3d::__private);
+        let v = v_min.map(|v| quote!(__modia3d_pair.v_min = #private::optional_f64(#v);));
+        let w = w_min.map(|w| quote!(__modia3d_pair.w_min = #private::optional_f64(#w);));
+        Some(Item::ContactPair {
+            material1: m1,
+            material2: m2,
+            value: quote! {{
+                #[allow(unused_mut)]
+                let mut __modia3d_pair = ::modia3d::core::ContactPairMaterial::new(#cor, #mu_k, #mu_r);
+                #v
+                #w
+                __modia3d_pair
+            }},
+        })
+    }
+
+    /// The contact material of a colliding solid as the core will name it (at the top level),
+    /// if it is literal, and how to write it in a `ContactPair(…)`.
+    fn literal_contact_material(&self, m: &Expr, explicit: bool) -> (Option<String>, String) {
+        if let Some(name) = lit_str(m) {
+            let written = if !explicit && self.kinds.get(&name) == Some(&Kind::Material) {
+                name.clone()
+            } else {
+                format!("{name:?}")
+            };
+            return (Some(name), written);
+        }
+        if let Expr::Path(p) = m {
+            if let Some(id) = p.path.get_ident() {
+                let n = id.to_string();
+                if !explicit && self.kinds.get(&n) == Some(&Kind::Material) {
+                    return (Some(n.clone()), n);
+                }
+            }
+        }
+        (None, String::new())
+    }
+
+    /// Two literal contact materials that can meet without a pair entry. Only where the block
+    /// tells for sure: a model (an assembly's outer model may add pairs), without sub-assemblies
+    /// (they may add pairs), with literal `contact_detection` on and literal pair names; solids
+    /// on one rigid body (parents, Fix) never meet, nor do the bodies of a Revolute/Prismatic
+    /// without `can_collide` (a non-literal `can_collide` counts as excluding). The core reports
+    /// the rest when the scene is built.
+    fn missing_pairs(&mut self, items: &[Item]) {
+        if self.pairs_unsure
+            || self.contact_detection != Some(true)
+            || items.iter().any(|it| matches!(it, Item::Assembly { .. }))
+        {
+            return;
+        }
+        let mut uf = UnionFind::default();
+        for it in items {
+            match it {
+                Item::Object {
+                    name,
+                    parent: Parent::Ref(p),
+                    ..
+                } => uf.union(&name.to_string(), &p.path),
+                Item::Joint {
+                    obj1, obj2, rigid, ..
+                } if *rigid => uf.union(&obj1.path, &obj2.path),
+                _ => {}
+            }
+        }
+        let mut excluded: HashSet<(String, String)> = HashSet::new();
+        for it in items {
+            if let Item::Joint {
+                obj1,
+                obj2,
+                excludes,
+                ..
+            } = it
+            {
+                if *excludes != Some(false) {
+                    let (a, b) = (uf.find(&obj1.path), uf.find(&obj2.path));
+                    excluded.insert((a.clone(), b.clone()));
+                    excluded.insert((b, a));
+                }
+            }
+        }
+        let has_pair = |x: &str, y: &str, pairs: &[(String, String)]| {
+            let same = |a: &str, b: &str| (a == x && b == y) || (a == y && b == x);
+            BUILTIN_CONTACT_PAIRS.iter().any(|(a, b)| same(a, b))
+                || pairs.iter().any(|(a, b)| same(a, b))
+        };
+        let mut reported: HashSet<(String, String)> = HashSet::new();
+        let mut errors = vec![];
+        for (j, cj) in self.colliders.iter().enumerate() {
+            let Some(mj) = &cj.material else { continue };
+            for ci in &self.colliders[..j] {
+                let Some(mi) = &ci.material else { continue };
+                let (gi, gj) = (uf.find(&ci.object), uf.find(&cj.object));
+                if gi == gj || excluded.contains(&(gi, gj)) || has_pair(mi, mj, &self.pairs) {
+                    continue;
+                }
+                let key = if mi <= mj {
+                    (mi.clone(), mj.clone())
+                } else {
+                    (mj.clone(), mi.clone())
+                };
+                if !reported.insert(key) {
+                    continue;
+                }
+                let ident = |s: &str| {
+                    s.to_lowercase()
+                        .replace(|c: char| !c.is_alphanumeric(), "_")
+                };
+                let pname = format!("{}_{}", ident(mi), ident(mj));
+                errors.push((
+                    cj.span,
+                    format!(
+                        "no contact-pair material for `{mi}` and `{mj}`: solids `{}` and `{}` can collide (hint: add `{pname} = ContactPair(material1 = {}, material2 = {}, cor = …, mu_k = …, mu_r = …)`)",
+                        ci.object, cj.object, ci.written, cj.written
+                    ),
+                ));
+            }
+        }
+        for (span, msg) in errors {
+            self.err(span, msg);
+        }
     }
 
     fn shape(&mut self, e: &Expr) -> Option<TokenStream> {
@@ -1020,9 +1451,20 @@ impl Checker {
             .required(&a, "obj2")
             .and_then(|e| self.reference(e, Kind::Object, "object"));
         let mut calls = vec![];
-        if let Some(c) = a.get("can_collide") {
-            calls.push(quote!(.can_collide(#c)));
-        }
+        let can_collide = match a.get("can_collide") {
+            Some(c) => {
+                calls.push(quote!(.can_collide(#c)));
+                lit_bool(c)
+            }
+            None => Some(false),
+        };
+        // As the core's contact preprocessing: Fix merges the bodies, Revolute and Prismatic
+        // exclude their pair unless `can_collide`, FreeMotion never excludes.
+        let rigid = kind_name == "Fix";
+        let excludes = match kind_name.as_str() {
+            "Revolute" | "Prismatic" => can_collide.map(|c| !c),
+            _ => Some(false),
+        };
         let jk = quote!(::modia3d::core::JointKind);
         let v3 = quote!(::modia3d::__private::vector3);
         let kind = match kind_name.as_str() {
@@ -1096,6 +1538,8 @@ impl Checker {
             obj2: o2?,
             kind: kind?,
             calls,
+            rigid,
+            excludes,
         })
     }
 
@@ -1446,6 +1890,8 @@ fn article(k: Kind) -> &'static str {
         Kind::Joint => "a joint",
         Kind::Force => "a force element",
         Kind::Material => "a solid material",
+        Kind::ContactPair => "a contact-pair material",
+        Kind::Input => "an input",
         Kind::Assembly => "a sub-assembly",
     }
 }

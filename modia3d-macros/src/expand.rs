@@ -124,12 +124,19 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
                     },
                 }
             }
+            Item::Input { value } => quote!(#scene.add_input(#value);),
+            Item::ContactPair {
+                material1,
+                material2,
+                value,
+            } => quote!(#scene.add_contact_pair(#material1, #material2, #value);),
             Item::Joint {
                 name,
                 obj1,
                 obj2,
                 kind,
                 calls,
+                ..
             } => {
                 let (n, o1, o2) = (
                     scoped(&name.to_string()),

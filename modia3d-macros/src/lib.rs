@@ -62,13 +62,17 @@ use proc_macro::TokenStream;
 /// | `JointSpringDamper` | `joint*` (reference to a Revolute or Prismatic), `stiffness*`, `damping = 0`, `offset = 0` |
 /// | `ObjectForce` | `object*`, `law*`: a closure `move \|t: f64, m: &ObjectMotion\| -> Wrench` |
 /// | `SolidMaterial` | `density*` (kg/m³), `young_modulus*` (N/m²), `poisson_ratio*` — a material of this block |
+/// | `ContactPair` | `material1*`, `material2*` (`"Steel"`, a block material `wood` or `"wood"`, or a `&str`/`String` expression), `cor*` ([0, 1]), `mu_k*`, `mu_r*` (≥ 0), `v_min` (m/s), `w_min` (rad/s) (`f64` or `Option<f64>`; default: the scene's) — a contact-pair material (`SceneDesc::add_contact_pair`) |
+/// | `JointForce` | `joint*` (a Revolute or Prismatic) — an input: generalised force, 1 value (N·m or N) |
+/// | `JointAcceleration` | `joint*` (a Revolute or Prismatic) — an input: prescribed acceleration, 1 value (rad/s² or m/s²) |
+/// | `ObjectWrench` | `object*` — an input: world force and torque at the object's origin, 6 values |
 /// | any other type | a sub-assembly: `arm1 = Arm(parent = base, length = 0.5)` |
 ///
 /// ## Values of `feature`, `shape`, `mass_properties`
 ///
 /// | constructor | keys |
 /// |---|---|
-/// | `Scene` | `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²) |
+/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `contact_detection = true`, `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
 /// | `Solid` | `shape*` (unless explicit mass properties), `solid_material` (`"Steel"`, a block material's name as string or identifier, or a `&str`/`String` expression), `mass_properties` (default: from density), `collision = false`, `contact_material` (string), `smoothing_radius` (m) |
 /// | `Visual` | `shape*` |
 /// | `MassProperties` | `mass*` (kg); with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
@@ -83,7 +87,9 @@ use proc_macro::TokenStream;
 ///
 /// ## Names and sub-assemblies
 ///
-/// Objects, joints and force elements are named `prefix + name`: top-level names are plain
+/// Inputs are set with `Simulation::set_input(name, values)`.
+///
+/// Objects, joints, force elements and inputs are named `prefix + name`: top-level names are plain
 /// (`"rev"`, signals `"rev.phi"`); a sub-assembly `arm1` adds `"arm1."` (`"arm1.rev.phi"`).
 /// References reach into sub-assemblies by path: `parent = arm1.tip`, `joint = arm1.rev`, to
 /// any depth. Keys of a sub-assembly component other than `parent` are its parameters.
@@ -113,8 +119,13 @@ use proc_macro::TokenStream;
 /// missing and duplicate keys, parent cycles, a missing/duplicate/misplaced `Scene`, an
 /// object moved by two joints, a joint with identical ends, kinematic loops, literal values out
 /// of range (lengths, masses, densities ≤ 0; negative damping; axes outside ±1..3; Poisson's
-/// ratio outside (0, 1)), `can_collide` outside joints, `collision = true` without a material,
-/// unknown literal material names, and (via rustc) unknown parts of sub-assemblies, unknown
+/// ratio outside (0, 1); scene options and contact pairs outside the ranges `SceneDesc::build`
+/// checks), `can_collide` outside joints, `collision = true` without a material,
+/// unknown literal material names, inputs on unknown, wrong-kind or non-Revolute/Prismatic
+/// joints (or a joint driven twice), two literal contact materials that can meet without a
+/// pair entry (built in or a `ContactPair` of the block; only in a model without
+/// sub-assemblies, with contact detection on and literal pair names; solids on one rigid body
+/// or on the two bodies of a Revolute/Prismatic without `can_collide` never meet), and (via rustc) unknown parts of sub-assemblies, unknown
 /// sub-assembly parameters and type mismatches of values. Everything else (e.g. values that are
 /// only known at run time) is checked by `SceneDesc::build`.
 #[proc_macro]
@@ -137,4 +148,13 @@ pub fn model(input: TokenStream) -> TokenStream {
 pub fn __solid_material_names(_input: TokenStream) -> TokenStream {
     let names = check::BUILTIN_SOLID_MATERIALS;
     quote::quote!(&[#(#names),*]).into()
+}
+
+/// The built-in contact-pair materials the macro knows, as `&[(&str, &str)]` (a test keeps them
+/// equal to the core's `CONTACT_PAIR_MATERIALS`).
+#[doc(hidden)]
+#[proc_macro]
+pub fn __contact_pair_names(_input: TokenStream) -> TokenStream {
+    let (a, b): (Vec<&str>, Vec<&str>) = check::BUILTIN_CONTACT_PAIRS.iter().copied().unzip();
+    quote::quote!(&[#((#a, #b)),*]).into()
 }
