@@ -1,6 +1,6 @@
 //! Modia3D's 16-ball billiards (reference/materials.md): the cue ball breaks the rack. Runs 5 s
 //! at rtol 1e-5, prints the wall time, statistics and where the balls end, and writes the
-//! trajectories to `out/billiards16.csv`.
+//! trajectories to `out/billiards16.csv` and the animation to `out/billiards16.{json,gltf,html}`.
 //!
 //!     cargo run --release --example billiards16 [-- k_red vy]
 
@@ -45,6 +45,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     std::fs::create_dir_all("out")?;
     res.write_csv("out/billiards16.csv")?;
-    println!("wrote out/billiards16.csv");
+    res.write_threejs_json("out/billiards16.json")?;
+    res.write_gltf("out/billiards16.gltf")?;
+    res.write_html("out/billiards16.html")?;
+    println!("wrote out/billiards16.{{csv,json,gltf,html}} (open the .html in a browser)");
     Ok(())
 }

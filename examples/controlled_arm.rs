@@ -18,6 +18,9 @@ model! {
         base2    = Object3D(parent = link2, translation = [0.0, 0.0, l2 / 2.0]),
         shoulder = Revolute(obj1 = world, obj2 = base1, axis = 1),
         elbow    = Revolute(obj1 = tip1, obj2 = base2, axis = 1),
+        // Inputs set by the controller between steps [N·m].
+        tau1     = JointForce(joint = shoulder),
+        tau2     = JointForce(joint = elbow),
     }
 }
 
@@ -43,11 +46,7 @@ pub struct Tracking {
 
 /// Runs the arm for `t_end` [s] with the PD controller updated every 1 ms.
 pub fn run_controller(t_end: f64) -> Result<Tracking, Box<dyn std::error::Error>> {
-    let mut scene = Arm::default().scene();
-    scene
-        .add_input(Input::joint_force("tau1", "shoulder"))
-        .add_input(Input::joint_force("tau2", "elbow"));
-    let model = scene.build()?;
+    let model = Arm::default().build()?;
     let (kp, kd) = ([300.0, 100.0], [20.0, 6.0]); // [N·m/rad], [N·m·s/rad]
     let dt = 1e-3;
     let mut sim = model.simulation(&SimOptions::new(t_end).tolerance(1e-6).interval(0.01))?;

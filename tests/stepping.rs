@@ -236,3 +236,31 @@ fn events_are_traced() {
     assert!(msgs.iter().any(|m| m.contains("contact started")));
     assert!(msgs.iter().any(|m| m.contains("simulation finished")));
 }
+
+#[test]
+fn contact_force_is_an_output_while_stepping() {
+    // A steel ball resting on a steel table (analytic static penetration from Hertz): stepping
+    // with contact results on, the normal force read by name balances the weight.
+    let d = 0.05;
+    let mut scene =
+        modia3d::demo::bouncing_sphere(d, 0.0, ContactPairMaterial::new(0.7, 0.5, 0.001));
+    // Start at the resting height so the ball is in contact from t = 0.
+    if let JointKind::FreeMotion { r, .. } = &mut scene.joints[0].kind {
+        r.z = modia3d::demo::resting_steel_ball_height(d);
+    }
+    let model = scene.build().unwrap();
+    let mut sim = model
+        .simulation(&SimOptions::new(0.2).tolerance(1e-8).contact_results(true))
+        .unwrap();
+    sim.advance_to(0.2).unwrap();
+    let names = sim.result().contact_pairs();
+    assert_eq!(names.len(), 1, "{names:?}");
+    let f_n = sim.output(&format!("{}.f_n", names[0])).unwrap()[0];
+    let weight = modia3d::demo::sphere_mass(d, 8000.0) * 9.81;
+    // At rest the contact force equals the weight; the ball settles from the analytic resting
+    // height within the tolerance, so 1e-4 relative is a safe bound.
+    assert!(
+        (f_n - weight).abs() < 1e-4 * weight,
+        "f_n {f_n} N vs weight {weight} N"
+    );
+}
