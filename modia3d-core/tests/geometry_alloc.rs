@@ -5,7 +5,8 @@ mod common;
 
 use common::*;
 use modia3d_core::geometry::{
-    signed_distance, world_aabb, world_aabbs_into, BroadPhase, CollisionShape, NarrowPhaseOptions,
+    contact_point, signed_distance, world_aabb, world_aabbs_into, BroadPhase, CollisionShape,
+    NarrowPhaseOptions,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -74,6 +75,9 @@ fn queries_and_updates_do_not_allocate() {
                     let r = signed_distance(&shapes[i], &poses[i], &shapes[j], &poses[j], opts)
                         .unwrap();
                     acc += r.distance;
+                    // The force's point of application, for every pair of kinds.
+                    let c = contact_point(&shapes[i], &poses[i], &shapes[j], &poses[j], &r);
+                    acc += c.x;
                 }
             }
         }

@@ -9,7 +9,9 @@ use crate::dynamics::forces::add_world_wrench;
 use crate::dynamics::kinematics::point_velocity;
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::{Plan, Workspace};
-use crate::geometry::{aabb_distance, signed_distance, world_aabb, GeometryError, SignedDistance};
+use crate::geometry::{
+    aabb_distance, contact_point, signed_distance, world_aabb, GeometryError, SignedDistance,
+};
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 
 /// How the collision stage is evaluated (spec §4).
@@ -140,6 +142,20 @@ impl ContactState {
         })
     }
 
+    /// Point of application of pair `p`'s force for its narrow-phase result `sd` (poses of the
+    /// same call).
+    fn point(&self, cp: &ContactPlan, p: usize, sd: &SignedDistance) -> Vector3<f64> {
+        let pp = &cp.pairs[p];
+        contact_point(
+            &cp.shapes[pp.a].shape,
+            &self.poses[pp.a],
+            &cp.shapes[pp.b].shape,
+            &self.poses[pp.b],
+            sd,
+        )
+        .coords
+    }
+
     /// Evaluates the collision stage in `mode` at the workspace state (`position_velocity`
     /// done). `Continuous` adds the contact forces to `ws.f_ext`; `Event` also fills
     /// `started`/`ended`.
@@ -159,10 +175,11 @@ impl ContactState {
                     self.poses[pp.a] = shape_pose(cp, ws, pp.a);
                     self.poses[pp.b] = shape_pose(cp, ws, pp.b);
                     let sd = self.narrow(plan, cp, p, t)?;
+                    let point = self.point(cp, p, &sd);
                     let ps = &mut self.pairs[p];
                     ps.geometry = sd;
                     ps.z = sd.distance;
-                    apply(cp, p, ps, ws);
+                    apply(cp, p, ps, &point, ws);
                 }
                 Ok(())
             }
@@ -199,11 +216,15 @@ impl ContactState {
         self.active.clear();
         for p in 0..cp.pairs.len() {
             let pp = &cp.pairs[p];
+            let now = self.pairs[p].z < -cp.hysteresis;
+            let point = if now && !self.pairs[p].in_contact {
+                self.point(cp, p, &self.pairs[p].geometry)
+            } else {
+                Vector3::zeros()
+            };
             let ps = &mut self.pairs[p];
-            let now = ps.z < -cp.hysteresis;
             if now && !ps.in_contact {
                 let sd = &ps.geometry;
-                let point = (sd.point_a.coords + sd.point_b.coords) * 0.5;
                 let (v1, _) = point_velocity(ws, cp.shapes[pp.a].body, &point);
                 let (v2, _) = point_velocity(ws, cp.shapes[pp.b].body, &point);
                 let dd = -(v2 - v1).dot(&sd.normal);
@@ -241,14 +262,13 @@ impl ContactState {
 }
 
 /// Response of pair `p` in contact, applied to both bodies.
-fn apply(cp: &ContactPlan, p: usize, ps: &mut PairState, ws: &mut Workspace) {
+fn apply(cp: &ContactPlan, p: usize, ps: &mut PairState, point: &Vector3<f64>, ws: &mut Workspace) {
     let pp = &cp.pairs[p];
     let (ba, bb) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
     let sd = &ps.geometry;
-    let point = (sd.point_a.coords + sd.point_b.coords) * 0.5;
-    let (v1, w1) = point_velocity(ws, ba, &point);
-    let (v2, w2) = point_velocity(ws, bb, &point);
-    let r = pair_response(cp, pp, ps.d, sd, &v1, &w1, &v2, &w2);
+    let (v1, w1) = point_velocity(ws, ba, point);
+    let (v2, w2) = point_velocity(ws, bb, point);
+    let r = pair_response(cp, pp, ps.d, sd, point, &v1, &w1, &v2, &w2);
     let f = r.normal_force + r.friction_force;
     add_world_wrench(ws, bb, &r.point, &f, &r.rolling_torque);
     add_world_wrench(ws, ba, &r.point, &-f, &-r.rolling_torque);

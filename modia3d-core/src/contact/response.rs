@@ -21,15 +21,16 @@ pub struct PairResponse {
     pub friction_force: Vector3<f64>,
     /// Rolling-resistance torque on body 2 [N·m].
     pub rolling_torque: Vector3<f64>,
-    /// Contact point: midpoint of the witness points [m].
+    /// Contact point [m]: where the forces act (see [`crate::geometry::contact_point`]).
     pub point: Vector3<f64>,
     /// Unit normal from body 1 (shape a) to body 2 (shape b).
     pub normal: Vector3<f64>,
 }
 
 /// The response law of spec §3 for pair `pp` with damping factor `d` [s/m] (fixed at contact
-/// start), contact geometry `sd` (normal a → b) and the velocities of the two bodies' material
-/// points at the contact point and their angular velocities (all world, [m/s], [rad/s]).
+/// start), contact geometry `sd` (normal a → b), the contact point `point` [m] and the
+/// velocities of the two bodies' material points there and their angular velocities (all
+/// world, [m/s], [rad/s]).
 /// Body 2 receives `normal_force + friction_force` at `point` and `rolling_torque`; body 1 the
 /// opposite.
 #[inline]
@@ -39,13 +40,14 @@ pub fn pair_response(
     pp: &PairPlan,
     d: f64,
     sd: &SignedDistance,
+    point: &Vector3<f64>,
     v1: &Vector3<f64>,
     w1: &Vector3<f64>,
     v2: &Vector3<f64>,
     w2: &Vector3<f64>,
 ) -> PairResponse {
     let n = sd.normal;
-    let point = (sd.point_a.coords + sd.point_b.coords) * 0.5;
+    let point = *point;
     let delta = (-sd.distance).max(0.0);
     let v_rel = v2 - v1;
     let vn = v_rel.dot(&n);

@@ -71,7 +71,132 @@ fn sgn(x: f64) -> f64 {
     }
 }
 
+/// Ramp weight of a feature point lying `below` [m] under the support plane, for a band [m]:
+/// 1 on the plane, 0 at `band` and deeper (linear in between).
+#[inline]
+fn ramp(below: f64, band: f64) -> f64 {
+    (1.0 - below / band).clamp(0.0, 1.0)
+}
+
+/// Weighted centroid of the segment `{-h, +h}` (as a coordinate) in a direction with component
+/// `d` (endpoint heights `±h·d`): `(centroid, variance)`.
+#[inline]
+fn soft_segment(h: f64, d: f64, band: f64) -> (f64, f64) {
+    let w_plus = ramp(h * (d.abs() - d), band);
+    let w_minus = ramp(h * (d.abs() + d), band);
+    let c = h * (w_plus - w_minus) / (w_plus + w_minus);
+    (c, h * h - c * c)
+}
+
+/// Centroid of the rim of a disk of radius `r` in a direction whose in-plane part has length
+/// `s`, weighted by the ramp of the rim points' depth `r·s·(1 − cos φ)` below the support plane,
+/// as a fraction of `r` towards the in-plane direction (0 for a face-on disk, → 1 edge-on).
+fn soft_rim_fraction(r: f64, s: f64, band: f64) -> f64 {
+    let a = r * s / band;
+    if a <= 0.5 {
+        // The whole rim carries weight 1 − a(1 − cos φ) > 0.
+        a / (2.0 * (1.0 - a))
+    } else {
+        // Weight zero beyond cos φ0 = 1 − 1/a.
+        let phi0 = (1.0 - 1.0 / a).clamp(-1.0, 1.0).acos();
+        let (sn, cs) = phi0.sin_cos();
+        let num = 2.0 * (1.0 - a) * sn + a * (phi0 + sn * cs);
+        let den = 2.0 * (1.0 - a) * phi0 + 2.0 * a * sn;
+        if den > 0.0 {
+            (num / den).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+}
+
 impl CoreShape {
+    /// The "soft" support feature in unit direction `dir` (shape frame): the centroid of the
+    /// points of the core lying at most `band` [m] below the support plane `dir·x = h(dir)`,
+    /// each weighted by `1 − depth/band` (the linear pressure law of a thin elastic layer that
+    /// penetrates `band` deep), and the feature's spread (weighted variance in the tangent
+    /// plane, approximately) [m²].
+    ///
+    /// Unlike [`Self::support`] this is continuous in `dir`: for a box face-on it is the
+    /// centre of the face, tilting the box moves it continuously towards the lower edge and
+    /// corner, which it reaches when the tilt lifts the other side by `band`. Boxes and
+    /// frustums are handled as Minkowski sums of segments (and disks), each part with its own
+    /// ramp; hulls by their vertices; points and ellipsoids (smooth) return the support point.
+    /// `band > 0`. No allocation.
+    pub fn soft_support(&self, dir: &Vector3<f64>, band: f64) -> (Point3<f64>, f64) {
+        match self {
+            CoreShape::Point { .. } | CoreShape::Ellipsoid { .. } => (self.support(dir), 0.0),
+            CoreShape::Segment { axis, half_length } => {
+                let k = axis.index();
+                let (c, var) = soft_segment(*half_length, dir[k], band);
+                let mut p = Point3::origin();
+                p[k] = c;
+                (p, var)
+            }
+            CoreShape::Box { half_extents: h } => {
+                let mut p = Point3::origin();
+                let mut var = 0.0;
+                for k in 0..3 {
+                    let (c, v) = soft_segment(h[k], dir[k], band);
+                    p[k] = c;
+                    var += v;
+                }
+                (p, var)
+            }
+            CoreShape::Frustum {
+                axis,
+                z0,
+                z1,
+                r0,
+                r1,
+            } => {
+                let k = axis.index();
+                let da = dir[k];
+                let mut radial = *dir;
+                radial[k] = 0.0;
+                let rn = radial.norm();
+                let u = if rn > 0.0 {
+                    radial / rn
+                } else {
+                    Vector3::zeros()
+                };
+                // The two rims: height of their support points, weight by the ramp.
+                let (h0, h1) = (da * z0 + rn * r0, da * z1 + rn * r1);
+                let h = h0.max(h1);
+                let (w0, w1) = (ramp(h - h0, band), ramp(h - h1, band));
+                let (g0, g1) = (
+                    soft_rim_fraction(*r0, rn, band),
+                    soft_rim_fraction(*r1, rn, band),
+                );
+                let sum = w0 + w1;
+                let z = (w0 * z0 + w1 * z1) / sum;
+                let rad = (w0 * r0 * g0 + w1 * r1 * g1) / sum;
+                let mut p = Point3::from(u * rad);
+                p[k] = z;
+                // Axial spread plus the rims' in-plane spread (their radius squared, less the
+                // part already in the centroid).
+                let var_axial = (w0 * (z0 - z).powi(2) + w1 * (z1 - z).powi(2)) / sum;
+                let var_rim = (w0 * r0 * r0 + w1 * r1 * r1) / sum - rad * rad;
+                (p, var_axial + var_rim.max(0.0))
+            }
+            CoreShape::Hull { vertices } => {
+                let h = vertices
+                    .iter()
+                    .map(|v| dir.dot(&v.coords))
+                    .fold(f64::NEG_INFINITY, f64::max);
+                let (mut c, mut sw, mut s2) = (Vector3::zeros(), 0.0, 0.0);
+                for v in vertices {
+                    let w = ramp(h - dir.dot(&v.coords), band);
+                    c += v.coords * w;
+                    s2 += v.coords.norm_squared() * w;
+                    sw += w;
+                }
+                let c = c / sw;
+                (Point3::from(c), (s2 / sw - c.norm_squared()).max(0.0))
+            }
+        }
+    }
+
     /// Support point in the shape frame: a point of the core maximising `dir·x` [m].
     /// `dir` is resolved in the shape frame and need not be unit; for `dir = 0` some point of the
     /// core is returned.

@@ -5,10 +5,12 @@
 //! form (`closed_form.rs`) or the improved MPR (`mpr.rs`) by the two shape kinds.
 
 mod closed_form;
+mod contact_point;
 mod dispatch;
 mod gjk_distance;
 mod mpr;
 
+pub use contact_point::contact_point;
 pub use dispatch::signed_distance;
 
 use nalgebra::{Point3, Vector3};
