@@ -9,10 +9,12 @@ use crate::dynamics::forces::add_world_wrench;
 use crate::dynamics::kinematics::point_velocity;
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::{Plan, Workspace};
+use crate::geometry::BroadPhase;
 use crate::geometry::{
     aabb_distance, contact_point, signed_distance, world_aabb, GeometryError, SignedDistance,
 };
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use parry3d_f64::bounding_volume::BoundingVolume;
 
 /// How the collision stage is evaluated (spec §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,6 +73,15 @@ pub struct ContactState {
     pub aabb_tests: u64,
     poses: Vec<Isometry3<f64>>,
     aabbs: Vec<crate::geometry::Aabb>,
+    /// AABBs loosened by half the margin on every side, for the broad phase.
+    grown: Vec<crate::geometry::Aabb>,
+    broad: BroadPhase,
+    /// Shape pairs reported by the broad phase at the last evaluation (capacity: all pairs).
+    near_shapes: Vec<(u32, u32)>,
+    /// Candidate pairs reported by the broad phase at the last evaluation.
+    near: Vec<u32>,
+    /// `in_near[p]`: pair `p` is in `near` (else its `z_AB` counts as the margin).
+    in_near: Vec<bool>,
 }
 
 fn to_isometry(t: &Transform) -> Isometry3<f64> {
@@ -116,6 +127,11 @@ impl ContactState {
             aabb_tests: 0,
             poses: vec![Isometry3::identity(); ns],
             aabbs: vec![crate::geometry::Aabb::new_invalid(); ns],
+            grown: vec![crate::geometry::Aabb::new_invalid(); ns],
+            broad: BroadPhase::new(ns),
+            near_shapes: Vec::with_capacity(np),
+            near: Vec::with_capacity(np),
+            in_near: vec![false; np],
         }
     }
 
@@ -187,10 +203,29 @@ impl ContactState {
                 for s in 0..cp.shapes.len() {
                     self.poses[s] = shape_pose(cp, ws, s);
                     self.aabbs[s] = world_aabb(&cp.shapes[s].shape, &self.poses[s]);
+                    self.grown[s] = BoundingVolume::loosened(&self.aabbs[s], 0.5 * cp.margin);
                 }
-                for p in 0..cp.pairs.len() {
+                // Broad phase: only candidate pairs whose loosened boxes overlap get a z_AB;
+                // the others count as `margin` (see ContactPlan::margin).
+                let pair_of = &cp.pair_of;
+                self.broad.update(
+                    &self.grown,
+                    |a, b| pair_of.contains_key(&(a, b)),
+                    &mut self.near_shapes,
+                );
+                self.aabb_tests += self.broad.box_tests();
+                for &p in &self.near {
+                    self.in_near[p as usize] = false;
+                }
+                self.near.clear();
+                for &(a, b) in &self.near_shapes {
+                    let p = pair_of[&(a, b)];
+                    self.in_near[p as usize] = true;
+                    self.near.push(p);
+                }
+                for k in 0..self.near.len() {
+                    let p = self.near[k] as usize;
                     let pp = &cp.pairs[p];
-                    self.aabb_tests += 1;
                     let da = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
                     if da > 0.0 {
                         self.pairs[p].z = da;
@@ -198,6 +233,15 @@ impl ContactState {
                         let sd = self.narrow(plan, cp, p, t)?;
                         self.pairs[p].geometry = sd;
                         self.pairs[p].z = sd.distance;
+                    }
+                }
+                // A pair still in the set but no longer reported moved far apart in one step:
+                // its z_AB (positive) lets z_1 cross upwards.
+                for k in 0..self.active.len() {
+                    let p = self.active[k] as usize;
+                    if !self.in_near[p] {
+                        let pp = &cp.pairs[p];
+                        self.pairs[p].z = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
                     }
                 }
                 if mode == Mode::Event {
@@ -213,8 +257,18 @@ impl ContactState {
     fn rebuild(&mut self, cp: &ContactPlan, ws: &Workspace) {
         self.started.clear();
         self.ended.clear();
+        // Pairs the broad phase no longer reports are far apart: they leave the set.
+        for k in 0..self.active.len() {
+            let p = self.active[k] as usize;
+            if !self.in_near[p] {
+                self.pairs[p].in_contact = false;
+                self.pairs[p].response = PairResponse::default();
+                self.ended.push(p as u32);
+            }
+        }
         self.active.clear();
-        for p in 0..cp.pairs.len() {
+        for k in 0..self.near.len() {
+            let p = self.near[k] as usize;
             let pp = &cp.pairs[p];
             let now = self.pairs[p].z < -cp.hysteresis;
             let point = if now && !self.pairs[p].in_contact {
@@ -244,16 +298,20 @@ impl ContactState {
     }
 
     /// The two root functions from the last `z` values: `z_1` = max over pairs in contact
-    /// (−42 if none), `z_2` = min over the others of `z + 2ε` (+42 if none) [m].
+    /// (−42 if none), `z_2` = min over the others of `z + 2ε` [m], where pairs the broad phase
+    /// does not report count as `margin` apart (so `z_2 ≤ margin + 2ε`).
     pub fn roots(&self, cp: &ContactPlan) -> (f64, f64) {
         let mut z1 = -42.0f64;
-        let mut z2 = 42.0f64;
         let mut any = false;
-        for ps in &self.pairs {
-            if ps.in_contact {
-                z1 = if any { z1.max(ps.z) } else { ps.z };
-                any = true;
-            } else {
+        for &p in &self.active {
+            let z = self.pairs[p as usize].z;
+            z1 = if any { z1.max(z) } else { z };
+            any = true;
+        }
+        let mut z2 = cp.margin + 2.0 * cp.hysteresis;
+        for &p in &self.near {
+            let ps = &self.pairs[p as usize];
+            if !ps.in_contact {
                 z2 = z2.min(ps.z + 2.0 * cp.hysteresis);
             }
         }

@@ -71,6 +71,12 @@ pub struct ContactPlan {
     pub profile: ContactProfile,
     /// Narrow-phase options.
     pub narrow: NarrowPhaseOptions,
+    /// Candidate pair index of each shape pair `(a, b)`, `a < b` (the broad phase's filter).
+    pub pair_of: std::collections::HashMap<(u32, u32), u32>,
+    /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
+    /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
+    /// continuous (spec §2 growth target: far fewer than n² box tests).
+    pub margin: f64,
 }
 
 impl ContactPlan {
@@ -203,7 +209,24 @@ impl ContactPlan {
         if pairs.is_empty() {
             return Ok(None);
         }
+        let pair_of = pairs
+            .iter()
+            .enumerate()
+            .map(|(p, pp)| {
+                let (a, b) = (pp.a.min(pp.b) as u32, pp.a.max(pp.b) as u32);
+                ((a, b), p as u32)
+            })
+            .collect();
+        // Half the smallest bounding radius: small enough that the broad phase prunes, any
+        // positive value gives the same events.
+        let margin = 0.5
+            * shapes
+                .iter()
+                .map(|s| s.shape.bounding_radius())
+                .fold(f64::INFINITY, f64::min);
         Ok(Some(ContactPlan {
+            pair_of,
+            margin,
             shapes,
             pairs,
             k_red: opts.k_red,
