@@ -25,7 +25,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let vx = res.signal("ball.v_abs[0]")?.values()[k];
     let wy = res.signal("ball.w_abs[1]")?.values()[k];
     let zc = res
-        .signal("ball|cushion_e.point[2]")?
+        .signal("ball|table.cushion_e.point[2]")?
         .values()
         .into_iter()
         .fold(0.0, f64::max);

@@ -182,26 +182,34 @@ pub fn rack(i: usize, j: usize, z: f64) -> [f64; 3] {
 }
 
 model! {
+    /// The billiard table of materials.md: a 2.24 × 1.12 m top (`top`, its upper face at z = 0)
+    /// and four cushions (`cushion_n`, `_s`, `_e`, `_w`) whose contact line lies 7/5·r above it.
+    pub assembly BilliardTable {
+        top       = Object3D(translation = [0.0, 0.0, -0.025],
+                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
+                                             solid_material = "BilliardTable", collision = true)),
+        cushion_n = Object3D(translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_s = Object3D(translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_e = Object3D(translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+        cushion_w = Object3D(translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
+                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
+                                             solid_material = "BilliardCushion", collision = true)),
+    }
+}
+
+model! {
     /// Modia3D's 16-ball billiards: the rack of 15 balls ([`rack`]) and the cue ball at
     /// x = −0.56 m with velocity `cue_v`, on the table with cushions; `k_red` scales the contact
     /// stiffness.
     pub Billiards16(cue_v: [f64; 3] = [3.0, 0.1, 0.0], k_red: f64 = 1.0) {
         world     = Object3D(feature = Scene(k_red = k_red)),
-        table     = Object3D(parent = world, translation = [0.0, 0.0, -0.025],
-                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
-                                             solid_material = "BilliardTable", collision = true)),
-        cushion_n = Object3D(parent = world, translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_s = Object3D(parent = world, translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_e = Object3D(parent = world, translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_w = Object3D(parent = world, translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
-                                             solid_material = "BilliardCushion", collision = true)),
+        table     = BilliardTable(parent = world),
         ball1     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
         ball1_free = FreeMotion(obj1 = world, obj2 = ball1, r = Var(init = rack(0, 0, billiard_ball_height(k_red)))),
         ball2     = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
@@ -247,21 +255,7 @@ model! {
     /// ball at x = −0.4 m.
     pub TwoBalls(v: f64 = 2.0) {
         world     = Object3D(feature = Scene()),
-        table     = Object3D(parent = world, translation = [0.0, 0.0, -0.025],
-                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
-                                             solid_material = "BilliardTable", collision = true)),
-        cushion_n = Object3D(parent = world, translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_s = Object3D(parent = world, translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_e = Object3D(parent = world, translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_w = Object3D(parent = world, translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
-                                             solid_material = "BilliardCushion", collision = true)),
+        table     = BilliardTable(parent = world),
         cue       = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
         cue_free  = FreeMotion(obj1 = world, obj2 = cue, r = Var(init = [-0.9, 0.0, billiard_ball_height(1.0)]),
                                v = Var(init = [v, 0.0, 0.0]), w = Var(init = [0.0, v / (0.5 * BALL_DIAMETER), 0.0])),
@@ -279,21 +273,7 @@ model! {
     /// A billiard ball rolling (v = ω r) along x at `v` towards the east cushion.
     pub BallCushion(v: f64 = 1.0) {
         world     = Object3D(feature = Scene()),
-        table     = Object3D(parent = world, translation = [0.0, 0.0, -0.025],
-                             feature = Solid(shape = Box(lengths = [TABLE[0], TABLE[1], 0.05]),
-                                             solid_material = "BilliardTable", collision = true)),
-        cushion_n = Object3D(parent = world, translation = [0.0, 0.5 * TABLE[1], CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_s = Object3D(parent = world, translation = [0.0, -0.5 * TABLE[1], CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 1, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[0]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_e = Object3D(parent = world, translation = [0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
-                                             solid_material = "BilliardCushion", collision = true)),
-        cushion_w = Object3D(parent = world, translation = [-0.5 * TABLE[0], 0.0, CUSHION_HEIGHT],
-                             feature = Solid(shape = Capsule(axis = 2, diameter = 2.0 * CUSHION_RADIUS, length = TABLE[1]),
-                                             solid_material = "BilliardCushion", collision = true)),
+        table     = BilliardTable(parent = world),
         ball      = Object3D(feature = Solid(shape = Sphere(diameter = BALL_DIAMETER), solid_material = "BilliardBall", collision = true)),
         ball_free = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = [0.8, 0.0, billiard_ball_height(1.0)]),
                                v = Var(init = [v, 0.0, 0.0]), w = Var(init = [0.0, v / (0.5 * BALL_DIAMETER), 0.0])),
