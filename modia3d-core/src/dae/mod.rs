@@ -6,7 +6,8 @@
 
 use crate::contact::{ContactError, ContactState, Mode};
 use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
-use crate::solver::{DaeSystem, ResidualError};
+use crate::scene::ValidForce;
+use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
 /// The multibody DAE of a plan, with its scratch workspace and contact set.
@@ -18,6 +19,65 @@ pub struct MultibodyDae {
     /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
     /// fail); reported by the driver.
     root_error: Option<ContactError>,
+    /// Jacobian blocks: one per independent joint tree (bodies whose chain reaches the world
+    /// through different root joints), with the couplings of the force elements; `None` when
+    /// the scene has a single tree (then IDA's dense Jacobian costs the same).
+    blocks: Option<TreeBlocks>,
+}
+
+/// The static part of the Jacobian's block structure (one block per joint tree).
+#[derive(Clone, Debug)]
+struct TreeBlocks {
+    /// Block of each body.
+    of_body: Vec<usize>,
+    /// Block of each unknown of `y = [q; v]` and the couplings by force elements.
+    fixed: BlockStructure,
+}
+
+impl TreeBlocks {
+    /// One block per root body (a body whose parent is the world); `None` for fewer than two.
+    fn new(plan: &Plan) -> Option<TreeBlocks> {
+        let mut of_body = vec![usize::MAX; plan.bodies.len()];
+        let mut n_blocks = 0;
+        // Bodies come parents first, so a child's root block is known when it is reached.
+        for (b, body) in plan.bodies.iter().enumerate() {
+            of_body[b] = match body.parent {
+                None => {
+                    n_blocks += 1;
+                    n_blocks - 1
+                }
+                Some(p) => of_body[p],
+            };
+        }
+        if n_blocks < 2 {
+            return None;
+        }
+        let mut block_of = vec![0; plan.nq + plan.nv];
+        for j in &plan.joints {
+            let blk = of_body[j.body];
+            block_of[j.q_offset..j.q_offset + j.coord.nq()].fill(blk);
+            let v0 = plan.nq + j.v_offset;
+            block_of[v0..v0 + j.coord.nv()].fill(blk);
+        }
+        let mut couplings = vec![];
+        for f in &plan.scene.forces {
+            if let ValidForce::SpringDamper { obj1, obj2, .. } = f {
+                if let (Some(a), Some(b)) = (plan.objects[*obj1].body, plan.objects[*obj2].body) {
+                    if of_body[a] != of_body[b] {
+                        couplings.push((of_body[a], of_body[b]));
+                    }
+                }
+            }
+        }
+        Some(TreeBlocks {
+            of_body,
+            fixed: BlockStructure {
+                block_of,
+                n_blocks,
+                couplings,
+            },
+        })
+    }
 }
 
 impl MultibodyDae {
@@ -25,11 +85,13 @@ impl MultibodyDae {
     pub fn new(plan: Arc<Plan>) -> Self {
         let ws = Workspace::new(&plan);
         let contact = plan.contact.as_ref().map(ContactState::new);
+        let blocks = TreeBlocks::new(&plan);
         MultibodyDae {
             plan,
             ws,
             contact,
             root_error: None,
+            blocks,
         }
     }
     /// The plan.
@@ -186,5 +248,29 @@ impl DaeSystem for MultibodyDae {
         let (z1, z2) = cs.roots(cp);
         g[0] = z1;
         g[1] = z2;
+    }
+
+    /// One block per independent joint tree, coupled by spring-dampers between trees and by
+    /// the pairs in the contact set (continuous mode computes forces for those only, and the
+    /// set changes only at events, after which IDA forms a new Jacobian).
+    fn jacobian_structure(&mut self, s: &mut BlockStructure) -> bool {
+        let Some(tb) = &self.blocks else {
+            return false;
+        };
+        s.block_of.clone_from(&tb.fixed.block_of);
+        s.n_blocks = tb.fixed.n_blocks;
+        s.couplings.clone_from(&tb.fixed.couplings);
+        if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.plan.contact.as_ref()) {
+            for &p in &cs.active {
+                let pp = &cp.pairs[p as usize];
+                if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {
+                    let (ba, bb) = (tb.of_body[a], tb.of_body[b]);
+                    if ba != bb {
+                        s.couplings.push((ba, bb));
+                    }
+                }
+            }
+        }
+        true
     }
 }

@@ -26,6 +26,8 @@ use std::slice;
 
 use sundials_sys as sys;
 
+use super::block_lu::BlockLu;
+use super::colouring::Colouring;
 use super::error::flag_hint;
 use super::{Atol, DaeSystem, IdaError, IdaOptions, IdaStats, ResidualError, SolveStatus};
 
@@ -44,6 +46,16 @@ struct CallbackState<S> {
     /// Earliest (component, time, value text) at which the residual was non-finite in the
     /// current call.
     non_finite: Option<(usize, f64, &'static str)>,
+    /// IDA memory (for the error weights and step size in the Jacobian callback).
+    mem: *mut c_void,
+    /// Coloured difference-quotient Jacobian, when the system reports a block structure.
+    colouring: Option<Colouring>,
+    /// Residual evaluations spent on coloured Jacobians in the current segment.
+    jac_residuals: u64,
+    /// Saved `(y_j, y'_j, increment)` of the perturbed unknowns (len n once used).
+    jac_saved: Vec<(f64, f64, f64)>,
+    /// Factors of the block-diagonal iteration matrix (with a colouring only).
+    block_lu: BlockLu,
 }
 
 impl<S> CallbackState<S> {
@@ -304,6 +316,30 @@ unsafe extern "C" fn error_handler(
     }));
 }
 
+/// The status code of a callback whose body ran under `catch_unwind`: the body's own code, or
+/// -1 after recording the first panic (its message prefixed by `context`) in the state.
+///
+/// # Safety
+/// `state` must be the valid CallbackState of the running Ida, with no live reference to it.
+unsafe fn settle<S>(
+    state: *mut CallbackState<S>,
+    t: f64,
+    outcome: std::thread::Result<c_int>,
+    context: &str,
+) -> c_int {
+    match outcome {
+        Ok(code) => code,
+        Err(payload) => {
+            let message = panic_message(payload.as_ref());
+            // SAFETY: per the contract.
+            let st = unsafe { &mut *state };
+            st.panic
+                .get_or_insert_with(|| (format!("{context}{message}"), t));
+            -1
+        }
+    }
+}
+
 /// IDA residual callback: F(t, y, y') into `rr`. Returns 0 on success, 1 for a recoverable
 /// failure (including a non-finite residual), -1 for a fatal one or a caught panic.
 unsafe extern "C" fn residual_callback<S: DaeSystem>(
@@ -344,18 +380,8 @@ unsafe extern "C" fn residual_callback<S: DaeSystem>(
             }
         }
     }));
-    match outcome {
-        Ok(code) => code,
-        Err(payload) => {
-            let message = panic_message(payload.as_ref());
-            // SAFETY: the closure's borrow of the state has ended.
-            let st = unsafe { &mut *state };
-            if st.panic.is_none() {
-                st.panic = Some((message, t));
-            }
-            -1
-        }
-    }
+    // SAFETY: the closure's borrow of the state has ended.
+    unsafe { settle(state, t, outcome, "") }
 }
 
 /// IDA root callback: g(t, y, y') into `gout` (length num_roots). Returns 0, or -1 after a
@@ -382,18 +408,194 @@ unsafe extern "C" fn root_callback<S: DaeSystem>(
         };
         st.system.roots(t, y, ypv, g);
     }));
-    match outcome {
-        Ok(()) => 0,
-        Err(payload) => {
-            let message = panic_message(payload.as_ref());
-            // SAFETY: the closure's borrow of the state has ended.
-            let st = unsafe { &mut *state };
-            if st.panic.is_none() {
-                st.panic = Some((format!("in roots(): {message}"), t));
+    // SAFETY: the closure's borrow of the state has ended.
+    unsafe { settle(state, t, outcome.map(|()| 0), "in roots(): ") }
+}
+
+/// IDA Jacobian callback for systems with a [`super::BlockStructure`]: the iteration matrix
+/// `∂F/∂y + c_j ∂F/∂y'` by difference quotients, perturbing the unknowns of all blocks of one
+/// colour together (increments exactly as IDA's dense difference quotients). Entries outside
+/// the structure stay zero (IDA zeroes the matrix before the call). Returns 0, 1 for a recoverable residual failure, -1 for a fatal one,
+/// an invalid structure or a caught panic.
+#[allow(clippy::too_many_arguments)] // the C signature
+unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
+    t: f64,
+    c_j: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    rr: sys::N_Vector,
+    jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    tmp1: sys::N_Vector,
+    tmp2: sys::N_Vector,
+    _tmp3: sys::N_Vector,
+) -> c_int {
+    let state = user_data.cast::<CallbackState<S>>();
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: as in residual_callback. yy and yp are IDA's current iterate, which IDA's own
+        // difference quotients also perturb in place and restore; rr, tmp1, tmp2 are distinct
+        // vectors of length n; jac is the n × n dense matrix attached in attach_linear_solver
+        // (column-major, leading dimension n); mem is the running IDA memory.
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let mut hh = 0.0;
+        let (y, ypv, r, rp, ewt, data) = unsafe {
+            sys::IDAGetErrWeights(st.mem, tmp2);
+            sys::IDAGetCurrentStep(st.mem, &mut hh);
+            (
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yy), n),
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yp), n),
+                slice::from_raw_parts(sys::N_VGetArrayPointer(rr), n),
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(tmp1), n),
+                slice::from_raw_parts(sys::N_VGetArrayPointer(tmp2), n),
+                slice::from_raw_parts_mut(sys::SUNDenseMatrix_Data(jac), n * n),
+            )
+        };
+        let Some(col) = st.colouring.as_mut() else {
+            return -1;
+        };
+        if !st.system.jacobian_structure(&mut col.structure) {
+            // The structure is gone for now: one block, i.e. plain dense difference quotients.
+            col.structure.block_of.clear();
+            col.structure.block_of.resize(n, 0);
+            col.structure.n_blocks = 1;
+            col.structure.couplings.clear();
+        }
+        if let Err(msg) = col.update(n) {
+            st.fatal.get_or_insert((msg, t));
+            return -1;
+        }
+        let saved = &mut st.jac_saved;
+        saved.resize(n, (0.0, 0.0, 0.0));
+        let srur = f64::EPSILON.sqrt();
+        for c in 0..col.n_colours() {
+            for k in 0..col.width(c) {
+                for &b in col.blocks_of_colour(c) {
+                    if let Some(&j) = col.members(b).get(k) {
+                        let (yj, ypj) = (y[j], ypv[j]);
+                        let mut inc = (srur * yj.abs().max((hh * ypj).abs())).max(1.0 / ewt[j]);
+                        if hh * ypj < 0.0 {
+                            inc = -inc;
+                        }
+                        inc = (yj + inc) - yj;
+                        saved[j] = (yj, ypj, inc);
+                        y[j] += inc;
+                        ypv[j] += c_j * inc;
+                    }
+                }
+                st.jac_residuals += 1;
+                let outcome = st.system.residual(t, y, ypv, rp);
+                for &b in col.blocks_of_colour(c) {
+                    if let Some(&j) = col.members(b).get(k) {
+                        (y[j], ypv[j], _) = saved[j];
+                    }
+                }
+                match outcome {
+                    Ok(()) => {}
+                    Err(ResidualError::Recoverable) => return 1,
+                    Err(ResidualError::Fatal(msg)) => {
+                        st.fatal.get_or_insert((msg, t));
+                        return -1;
+                    }
+                }
+                for &b in col.blocks_of_colour(c) {
+                    let Some(&j) = col.members(b).get(k) else {
+                        continue;
+                    };
+                    let inv = 1.0 / saved[j].2;
+                    let column = &mut data[j * n..(j + 1) * n];
+                    for blk in std::iter::once(b).chain(col.neighbours(b).iter().copied()) {
+                        for &i in col.members(blk) {
+                            let d = (rp[i] - r[i]) * inv;
+                            if !d.is_finite() {
+                                st.non_finite.get_or_insert((i, t, "NaN"));
+                                return 1;
+                            }
+                            column[i] = d;
+                        }
+                    }
+                }
             }
-            -1
+        }
+        0
+    }));
+    // SAFETY: the closure's borrow of the state has ended.
+    unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// Linear solver type: direct (matrix-based), like SUNDIALS' dense solver.
+unsafe extern "C" fn block_ls_type(_ls: sys::SUNLinearSolver) -> sys::SUNLinearSolver_Type {
+    sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
+}
+
+/// Linear solver id: a custom one.
+unsafe extern "C" fn block_ls_id(_ls: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
+    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
+}
+
+/// Factors the diagonal blocks (connected components of the last Jacobian's structure) of the
+/// dense iteration matrix. Returns 0, `SUNLS_LUFACT_FAIL` (recoverable: IDA retries with a
+/// smaller step) for a singular block, -1 after a caught panic.
+unsafe extern "C" fn block_ls_setup<S: DaeSystem>(
+    ls: sys::SUNLinearSolver,
+    a: sys::SUNMatrix,
+) -> c_int {
+    // SAFETY: the content of this solver is the CallbackState of the Ida that created it
+    // (set in attach_linear_solver); IDA calls setup only from inside an IDA call, while no
+    // Rust reference to the state is live, and never concurrently with another callback.
+    let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: see above; `a` is the n × n dense matrix attached with this solver.
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let data = unsafe { slice::from_raw_parts(sys::SUNDenseMatrix_Data(a), n * n) };
+        let Some(col) = st.colouring.as_ref() else {
+            return -1;
+        };
+        match st.block_lu.factor(col, data, n) {
+            Ok(()) => 0,
+            Err(_) => sys::SUNLS_LUFACT_FAIL as c_int,
+        }
+    }));
+    outcome.unwrap_or(-1)
+}
+
+/// Solves with the factors of `block_ls_setup`: `x = A⁻¹ b`.
+unsafe extern "C" fn block_ls_solve<S: DaeSystem>(
+    ls: sys::SUNLinearSolver,
+    _a: sys::SUNMatrix,
+    x: sys::N_Vector,
+    b: sys::N_Vector,
+    _tol: f64,
+) -> c_int {
+    // SAFETY: as in block_ls_setup; x and b are serial vectors of length n (possibly the same).
+    let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let (xp, bp) = unsafe { (sys::N_VGetArrayPointer(x), sys::N_VGetArrayPointer(b)) };
+        if xp != bp {
+            // SAFETY: distinct serial arrays of length n.
+            unsafe { ptr::copy_nonoverlapping(bp, xp, n) };
+        }
+        let xs = unsafe { slice::from_raw_parts_mut(xp, n) };
+        st.block_lu.solve(xs);
+        0
+    }));
+    outcome.unwrap_or(-1)
+}
+
+/// Frees the solver object; its content (the CallbackState) belongs to the Ida.
+unsafe extern "C" fn block_ls_free(ls: sys::SUNLinearSolver) -> sys::SUNErrCode {
+    if !ls.is_null() {
+        // SAFETY: ls was created by SUNLinSolNewEmpty; clearing the content keeps
+        // SUNLinSolFreeEmpty from freeing memory it does not own.
+        unsafe {
+            (*ls).content = ptr::null_mut();
+            sys::SUNLinSolFreeEmpty(ls);
         }
     }
+    0
 }
 
 impl<S: DaeSystem> Ida<S> {
@@ -420,6 +622,11 @@ impl<S: DaeSystem> Ida<S> {
             panic: None,
             fatal: None,
             non_finite: None,
+            mem: ptr::null_mut(),
+            colouring: None,
+            jac_residuals: 0,
+            jac_saved: Vec::new(),
+            block_lu: BlockLu::default(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());
         let mut ida = Ida {
@@ -517,6 +724,15 @@ impl<S: DaeSystem> Ida<S> {
             if let Some(k) = opts.max_order {
                 self.check(sys::IDASetMaxOrd(mem, k as c_int), "IDASetMaxOrd")?;
             }
+            if opts.structured_jacobian {
+                let st = &mut *self.state;
+                let mut colouring = Colouring::default();
+                if st.system.jacobian_structure(&mut colouring.structure) {
+                    colouring.update(self.n).map_err(bad)?;
+                    st.colouring = Some(colouring);
+                }
+            }
+            (*self.state).mem = mem;
             self.attach_linear_solver()?;
             let n_roots = self.root_info.len();
             if n_roots > 0 {
@@ -558,6 +774,21 @@ impl<S: DaeSystem> Ida<S> {
                     return Err(self.creation_error("SUNDenseMatrix", 0));
                 }
             }
+            if self.ls.is_null() && (*self.state).colouring.is_some() {
+                // Block-diagonal LU over the connected components of the Jacobian structure.
+                let ls = sys::SUNLinSolNewEmpty(self.ctx);
+                if ls.is_null() {
+                    return Err(self.creation_error("SUNLinSolNewEmpty", 0));
+                }
+                (*ls).content = self.state.cast();
+                let ops = &mut *(*ls).ops;
+                ops.gettype = Some(block_ls_type);
+                ops.getid = Some(block_ls_id);
+                ops.setup = Some(block_ls_setup::<S>);
+                ops.solve = Some(block_ls_solve::<S>);
+                ops.free = Some(block_ls_free);
+                self.ls = ls;
+            }
             if self.ls.is_null() {
                 self.ls = sys::SUNLinSol_Dense(self.y, self.mat, self.ctx);
                 if self.ls.is_null() {
@@ -576,6 +807,12 @@ impl<S: DaeSystem> Ida<S> {
                         .to_string(),
                     message,
                 });
+            }
+            if (*self.state).colouring.is_some() {
+                self.check(
+                    sys::IDASetJacFn(self.mem, Some(jacobian_callback::<S>)),
+                    "IDASetJacFn",
+                )?;
             }
         }
         Ok(())
@@ -790,6 +1027,7 @@ impl<S: DaeSystem> Ida<S> {
         check_state("y", y, self.n)?;
         check_state("yp", yp, self.n)?;
         self.base_stats += self.segment_stats();
+        self.state_mut().jac_residuals = 0;
         // SAFETY: y and yp are valid vectors of length n (validated lengths).
         unsafe {
             slice::from_raw_parts_mut(sys::N_VGetArrayPointer(self.y), self.n).copy_from_slice(y);
@@ -851,7 +1089,8 @@ impl<S: DaeSystem> Ida<S> {
             steps: get(sys::IDAGetNumSteps),
             residual_evals: get(sys::IDAGetNumResEvals),
             jacobian_evals: get(sys::IDAGetNumJacEvals),
-            residual_evals_for_jacobian: get(sys::IDAGetNumLinResEvals),
+            residual_evals_for_jacobian: get(sys::IDAGetNumLinResEvals)
+                + self.state_ref().jac_residuals,
             error_test_failures: get(sys::IDAGetNumErrTestFails),
             nonlinear_iterations: get(sys::IDAGetNumNonlinSolvIters),
             nonlinear_convergence_failures: get(sys::IDAGetNumNonlinSolvConvFails),

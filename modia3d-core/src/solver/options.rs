@@ -49,6 +49,10 @@ pub struct IdaOptions {
     pub nonlinear_convergence_coefficient: Option<f64>,
     /// Largest BDF order, 1 to 5 (`IDASetMaxOrd`); `None` keeps IDA's 5.
     pub max_order: Option<i32>,
+    /// Use the system's [`super::DaeSystem::jacobian_structure`], when it reports one, for a
+    /// coloured difference-quotient Jacobian (default true); false = IDA's dense difference
+    /// quotients, one residual evaluation per unknown.
+    pub structured_jacobian: bool,
 }
 
 impl Default for IdaOptions {
@@ -64,6 +68,7 @@ impl Default for IdaOptions {
             init_step: None,
             nonlinear_convergence_coefficient: None,
             max_order: None,
+            structured_jacobian: true,
         }
     }
 }
