@@ -1,7 +1,9 @@
 //! Work-precision table of the contact scenes: for each rtol, the median wall time of several
 //! runs, steps, residual and Jacobian evaluations, events, and the error of the final
 //! positions (max over moving bodies of |r − r_ref| [m]) against the same scene at a much
-//! tighter tolerance (reference rtol given per scene). Release build:
+//! tighter tolerance (reference rtol given per scene). Each rtol is also run with IDA's dense
+//! Jacobian (`structured_jacobian(false)`), interleaved with the default runs, for a
+//! before/after wall-time ratio measured under the same machine load. Release build:
 //!
 //!     cargo run --release --example work_precision
 
@@ -67,8 +69,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             runs: 3,
         },
     ];
-    println!("| scene | rtol | wall [s] (median) | steps | residuals | Jacobians (+residuals for them) | events | error [m] |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| scene | rtol | wall [s] (median) | dense Jacobian: wall [s] | steps | residuals | Jacobians (+residuals for them) | events | error [m] |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for c in &cases {
         let model = c.scene.build()?;
         let opts = |rtol: f64| {
@@ -76,17 +78,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .tolerance(rtol)
                 .interval(c.stop / 100.0)
         };
+        // Before/after in one run: IDA's dense difference quotients and dense LU.
+        let dense = |rtol: f64| opts(rtol).structured_jacobian(false);
         let reference = model.simulate(&opts(c.reference_rtol))?;
         let r_ref = final_positions(&reference, &c.bodies);
         for &rtol in &c.rtols {
-            let mut walls = vec![];
+            let (mut walls, mut walls_dense) = (vec![], vec![]);
             let mut last = None;
             for _ in 0..c.runs {
                 let res = model.simulate(&opts(rtol))?;
                 walls.push(res.stats.wall_time);
                 last = Some(res);
+                walls_dense.push(model.simulate(&dense(rtol))?.stats.wall_time);
             }
             walls.sort_by(f64::total_cmp);
+            walls_dense.sort_by(f64::total_cmp);
             let res = last.expect("runs > 0");
             let r = final_positions(&res, &c.bodies);
             let err = r
@@ -98,9 +104,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .fold(0.0, f64::max);
             let s = res.stats.solver;
             println!(
-                "| {} | {rtol:.0e} | {:.4} | {} | {} | {} (+{}) | {} | {err:.2e} |",
+                "| {} | {rtol:.0e} | {:.4} | {:.4} | {} | {} | {} (+{}) | {} | {err:.2e} |",
                 c.name,
                 walls[walls.len() / 2],
+                walls_dense[walls_dense.len() / 2],
                 s.steps,
                 s.residual_evals,
                 s.jacobian_evals,
@@ -109,7 +116,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
         println!(
-            "| {} (reference) | {:.0e} | {:.4} | {} | | | {} | |",
+            "| {} (reference) | {:.0e} | {:.4} | | {} | | | {} | |",
             c.name,
             c.reference_rtol,
             reference.stats.wall_time,
