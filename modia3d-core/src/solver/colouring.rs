@@ -131,7 +131,8 @@ impl Colouring {
                     }
                 }
             }
-            let c = (0..).find(|&c| c >= nb || self.stamp[c] != b).unwrap_or(0);
+            // At most nb colours exist, so one of 0..=nb is free.
+            let c = (0..=nb).find(|&c| self.stamp[c] != b).unwrap_or(nb);
             self.colour[b] = c;
             n_colours = n_colours.max(c + 1);
         }

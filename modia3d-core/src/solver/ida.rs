@@ -64,19 +64,24 @@ impl<S> CallbackState<S> {
         self.fatal = None;
         self.non_finite = None;
     }
+}
 
-    fn record_non_finite(&mut self, index: usize, t: f64, value: f64) {
-        let earlier = self.non_finite.is_none_or(|(_, t_prev, _)| t < t_prev);
-        if earlier {
-            let text = if value.is_nan() {
-                "NaN"
-            } else if value > 0.0 {
-                "inf"
-            } else {
-                "-inf"
-            };
-            self.non_finite = Some((index, t, text));
-        }
+/// Keeps in `slot` the earliest (component, time, value text) of a non-finite residual.
+fn record_non_finite(
+    slot: &mut Option<(usize, f64, &'static str)>,
+    index: usize,
+    t: f64,
+    value: f64,
+) {
+    if slot.is_none_or(|(_, t_prev, _)| t < t_prev) {
+        let text = if value.is_nan() {
+            "NaN"
+        } else if value > 0.0 {
+            "inf"
+        } else {
+            "-inf"
+        };
+        *slot = Some((index, t, text));
     }
 }
 
@@ -367,7 +372,7 @@ unsafe extern "C" fn residual_callback<S: DaeSystem>(
             Ok(()) => match res.iter().position(|v| !v.is_finite()) {
                 None => 0,
                 Some(i) => {
-                    st.record_non_finite(i, t, res[i]);
+                    record_non_finite(&mut st.non_finite, i, t, res[i]);
                     1
                 }
             },
@@ -415,8 +420,9 @@ unsafe extern "C" fn root_callback<S: DaeSystem>(
 /// IDA Jacobian callback for systems with a [`super::BlockStructure`]: the iteration matrix
 /// `∂F/∂y + c_j ∂F/∂y'` by difference quotients, perturbing the unknowns of all blocks of one
 /// colour together (increments exactly as IDA's dense difference quotients). Entries outside
-/// the structure stay zero (IDA zeroes the matrix before the call). Returns 0, 1 for a recoverable residual failure, -1 for a fatal one,
-/// an invalid structure or a caught panic.
+/// the structure stay zero (IDA zeroes the matrix before the call). Returns 0, 1 for a
+/// recoverable residual failure (or a non-finite quotient), -1 for a fatal one, an invalid
+/// structure or a caught panic.
 #[allow(clippy::too_many_arguments)] // the C signature
 unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     t: f64,
@@ -508,7 +514,7 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                         for &i in col.members(blk) {
                             let d = (rp[i] - r[i]) * inv;
                             if !d.is_finite() {
-                                st.non_finite.get_or_insert((i, t, "NaN"));
+                                record_non_finite(&mut st.non_finite, i, t, d);
                                 return 1;
                             }
                             column[i] = d;
