@@ -361,3 +361,72 @@ model! {
 pub fn falling_boxes(k_red: f64) -> SceneDesc {
     FallingBoxes { k_red }.scene()
 }
+
+/// Inner width [m] of the open steel box of [`ball_pile`].
+pub const PILE_BOX_WIDTH: f64 = 0.16;
+/// Diameter [m] of the balls of [`ball_pile`].
+pub const PILE_BALL_DIAMETER: f64 = 0.05;
+/// Number of balls of [`ball_pile`] (`b0` … `b11`).
+pub const PILE_BALLS: usize = 12;
+
+/// A stress scene: twelve steel balls (Ø 5 cm, three layers of 2 × 2, each ball slightly
+/// offset) dropped into an open steel box 16 cm wide (floor `floor`, walls `wx0`, `wx1`, `wy0`,
+/// `wy1`), so they hit the floor, the walls and each other in clusters. `pair` is the
+/// Steel–Steel pair material; `options` the scene options.
+pub fn ball_pile(options: SceneOptions, pair: ContactPairMaterial) -> SceneDesc {
+    let (w, t, h) = (PILE_BOX_WIDTH, 0.05, 0.3);
+    let mut s = SceneDesc::new();
+    s.add(world(options))
+        .add_contact_pair("Steel", "Steel", pair)
+        .add(fixed_box(
+            "floor",
+            [w + 2.0 * t, w + 2.0 * t, t],
+            [0.0, 0.0, -t / 2.0],
+            "Steel",
+        ))
+        .add(fixed_box(
+            "wx0",
+            [t, w, h],
+            [-(w + t) / 2.0, 0.0, h / 2.0],
+            "Steel",
+        ))
+        .add(fixed_box(
+            "wx1",
+            [t, w, h],
+            [(w + t) / 2.0, 0.0, h / 2.0],
+            "Steel",
+        ))
+        .add(fixed_box(
+            "wy0",
+            [w + 2.0 * t, t, h],
+            [0.0, -(w + t) / 2.0, h / 2.0],
+            "Steel",
+        ))
+        .add(fixed_box(
+            "wy1",
+            [w + 2.0 * t, t, h],
+            [0.0, (w + t) / 2.0, h / 2.0],
+            "Steel",
+        ));
+    for k in 0..PILE_BALLS {
+        let (layer, i, j) = (k / 4, (k / 2) % 2, k % 2);
+        let jitter = 0.004 * ((k * 7 % 5) as f64 - 2.0);
+        let r = [
+            -0.03 + 0.06 * i as f64 + jitter,
+            -0.03 + 0.06 * j as f64 - 0.5 * jitter,
+            0.05 + 0.07 * layer as f64,
+        ];
+        let name = format!("b{k}");
+        add_free_sphere(
+            &mut s,
+            &name,
+            PILE_BALL_DIAMETER,
+            "Steel",
+            None,
+            r,
+            [0.0; 3],
+            [0.0; 3],
+        );
+    }
+    s
+}
