@@ -6,7 +6,7 @@
 //! runs, for a before/after wall-time ratio measured under the same machine load. Release
 //! build:
 //!
-//!     cargo run --release --example work_precision
+//!     cargo run --release --example work_precision [scene-name-filter]
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -72,7 +72,25 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             reference_rtol: 1e-11,
             runs: 5,
         },
+        Case {
+            name: "ball_pile",
+            scene: demo::ball_pile(
+                SceneOptions {
+                    k_red: 1e-3,
+                    ..Default::default()
+                },
+                demo::STEEL_STEEL,
+            ),
+            stop: 2.0,
+            bodies: (0..demo::PILE_BALLS).map(|k| format!("b{k}")).collect(),
+            rtols: (3..=8).map(|k| 10f64.powi(-k)).collect(),
+            reference_rtol: 1e-10,
+            runs: 3,
+        },
     ];
+    // Optional filter: run only the scenes whose name contains the first argument.
+    let only = std::env::args().nth(1).unwrap_or_default();
+    let cases: Vec<Case> = cases.into_iter().filter(|c| c.name.contains(&only)).collect();
     println!("| scene | rtol | wall [s] (median) | dense Jacobian: wall [s] | steps | residuals | Jacobians (+residuals for them) | events | error [m] |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for c in &cases {
