@@ -90,7 +90,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ];
     // Optional filter: run only the scenes whose name contains the first argument.
     let only = std::env::args().nth(1).unwrap_or_default();
-    let cases: Vec<Case> = cases.into_iter().filter(|c| c.name.contains(&only)).collect();
+    let cases: Vec<Case> = cases
+        .into_iter()
+        .filter(|c| c.name.contains(&only))
+        .collect();
     println!("| scene | rtol | wall [s] (median) | dense Jacobian: wall [s] | steps | residuals | Jacobians (+residuals for them) | events | error [m] |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for c in &cases {
