@@ -37,18 +37,7 @@ struct TreeBlocks {
 impl TreeBlocks {
     /// One block per root body (a body whose parent is the world); `None` for fewer than two.
     fn new(plan: &Plan) -> Option<TreeBlocks> {
-        let mut of_body = vec![usize::MAX; plan.bodies.len()];
-        let mut n_blocks = 0;
-        // Bodies come parents first, so a child's root block is known when it is reached.
-        for (b, body) in plan.bodies.iter().enumerate() {
-            of_body[b] = match body.parent {
-                None => {
-                    n_blocks += 1;
-                    n_blocks - 1
-                }
-                Some(p) => of_body[p],
-            };
-        }
+        let (of_body, n_blocks) = plan.trees();
         if n_blocks < 2 {
             return None;
         }

@@ -1,30 +1,72 @@
 //! Mass matrix and consistent accelerations, for initial values and event restarts (not on the
 //! residual's hot path): `M(q)` column by column with inverse dynamics, and `M v̇ = τ − C`.
+//! `M` is block diagonal over the independent joint trees ([`Plan::velocity_groups`]), so it
+//! is formed and factored tree by tree: a scene of many free bodies costs O(bodies) per restart
+//! in the factorisation instead of O(bodies³).
 
 use super::forces::applied_forces;
 use super::kinematics::position_velocity;
 use super::spatial::Force;
 use super::{Plan, Workspace};
-use nalgebra::{DMatrix, DVector, Vector3};
+use nalgebra::{DMatrix, Vector3};
 
-/// The joint-space mass matrix `M(q)` (nv × nv).
+/// The joint-space mass matrix `M(q)` (nv × nv), assembled from the blocks of
+/// [`tree_mass_matrices`] (zero between trees).
 pub fn mass_matrix(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatrix<f64> {
+    let mut m = DMatrix::zeros(plan.nv, plan.nv);
+    for (group, block) in tree_mass_matrices(plan, ws, q) {
+        for (c, &j) in group.iter().enumerate() {
+            for (r, &i) in group.iter().enumerate() {
+                m[(i, j)] = block[(r, c)];
+            }
+        }
+    }
+    m
+}
+
+/// The diagonal blocks of `M(q)`, one per joint tree: the tree's velocity indices (ascending)
+/// and its symmetric block. Inverse dynamics with no velocity, gravity or external force is
+/// `τ = M v̇`, and `M` is block diagonal over the trees, so one call with a unit acceleration in
+/// the `c`-th coordinate of every tree at once yields column `c` of every block: the cost is
+/// (largest tree's coordinates) inverse-dynamics calls, not `nv`.
+pub fn tree_mass_matrices(
+    plan: &Plan,
+    ws: &mut Workspace,
+    q: &[f64],
+) -> Vec<(Vec<usize>, DMatrix<f64>)> {
     let nv = plan.nv;
     let zero_v = vec![0.0; nv];
     position_velocity(plan, ws, q, &zero_v);
     ws.f_ext.fill(Force::default());
-    let mut m = DMatrix::zeros(nv, nv);
+    let groups = plan.velocity_groups();
+    let width = groups.iter().map(Vec::len).max().unwrap_or(0);
+    let mut blocks: Vec<DMatrix<f64>> = groups
+        .iter()
+        .map(|g| DMatrix::zeros(g.len(), g.len()))
+        .collect();
     let mut e = vec![0.0; nv];
     let mut col = vec![0.0; nv];
-    for k in 0..nv {
-        e[k] = 1.0;
+    for c in 0..width {
+        e.fill(0.0);
+        for g in groups.iter().filter(|g| c < g.len()) {
+            e[g[c]] = 1.0;
+        }
         super::rnea::inverse_dynamics(plan, ws, &e, &Vector3::zeros(), &mut col);
-        e[k] = 0.0;
-        m.column_mut(k).copy_from_slice(&col);
+        for (g, m) in groups.iter().zip(&mut blocks).filter(|(g, _)| c < g.len()) {
+            for (r, &i) in g.iter().enumerate() {
+                m[(r, c)] = col[i];
+            }
+        }
     }
-    // Symmetrise the round-off.
-    let mt = m.transpose();
-    (m + mt) * 0.5
+    groups
+        .into_iter()
+        .zip(blocks)
+        .map(|(g, m)| {
+            // Symmetrise the round-off.
+            let mt = m.transpose();
+            (g, (m + mt) * 0.5)
+        })
+        .collect()
 }
 
 /// Cholesky factorisation `M = L Lᵀ` in place (lower triangle); `Err(k)` names the first
@@ -77,46 +119,54 @@ pub fn consistent_accelerations_with(
     extra: &mut dyn FnMut(&Plan, &mut Workspace),
 ) -> Option<Vec<f64>> {
     let nv = plan.nv;
-    let m = mass_matrix(plan, ws, q);
+    let blocks = tree_mass_matrices(plan, ws, q);
     position_velocity(plan, ws, q, v);
     applied_forces(plan, ws, t, q, v);
     extra(plan, ws);
     let mut bias = vec![0.0; nv];
     super::rnea::inverse_dynamics(plan, ws, &vec![0.0; nv], &plan.gravity, &mut bias);
-    // Prescribed accelerations are known; solve M_FF v̇_F = τ_F − C_F − M_FP a_P for the rest.
     let mut vd = vec![0.0; nv];
     for (k, p) in plan.prescribed.iter().enumerate() {
         if let Some(i) = p {
             vd[k] = ws.inputs[*i];
         }
     }
-    let free: Vec<usize> = (0..nv).filter(|&k| plan.prescribed[k].is_none()).collect();
-    let rhs = DVector::from_iterator(
-        free.len(),
-        free.iter().map(|&k| {
-            let coupling: f64 = (0..nv).map(|p| m[(k, p)] * vd[p]).sum();
-            ws.tau_applied[k] - bias[k] - coupling
-        }),
-    );
-    let mut mf = m.select_rows(&free).select_columns(&free);
-    cholesky_in_place(&mut mf).ok()?;
-    let n = free.len();
-    // Forward and back substitution with the lower factor.
-    let mut y = rhs;
-    for i in 0..n {
-        for p in 0..i {
-            y[i] -= mf[(i, p)] * y[p];
+    // Per tree: prescribed accelerations are known; solve M_FF v̇_F = τ_F − C_F − M_FP a_P
+    // for the rest of the tree.
+    for (group, m) in blocks {
+        let free: Vec<usize> = (0..group.len())
+            .filter(|&r| plan.prescribed[group[r]].is_none())
+            .collect();
+        if free.is_empty() {
+            continue;
         }
-        y[i] /= mf[(i, i)];
-    }
-    for i in (0..n).rev() {
-        for p in i + 1..n {
-            y[i] -= mf[(p, i)] * y[p];
+        let mut y: Vec<f64> = free
+            .iter()
+            .map(|&r| {
+                let k = group[r];
+                let coupling: f64 = (0..group.len()).map(|c| m[(r, c)] * vd[group[c]]).sum();
+                ws.tau_applied[k] - bias[k] - coupling
+            })
+            .collect();
+        let mut mf = m.select_rows(&free).select_columns(&free);
+        cholesky_in_place(&mut mf).ok()?;
+        let n = free.len();
+        // Forward and back substitution with the lower factor.
+        for i in 0..n {
+            for p in 0..i {
+                y[i] -= mf[(i, p)] * y[p];
+            }
+            y[i] /= mf[(i, i)];
         }
-        y[i] /= mf[(i, i)];
-    }
-    for (i, &k) in free.iter().enumerate() {
-        vd[k] = y[i];
+        for i in (0..n).rev() {
+            for p in i + 1..n {
+                y[i] -= mf[(p, i)] * y[p];
+            }
+            y[i] /= mf[(i, i)];
+        }
+        for (i, &r) in free.iter().enumerate() {
+            vd[group[r]] = y[i];
+        }
     }
     Some(vd)
 }

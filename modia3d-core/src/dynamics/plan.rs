@@ -486,13 +486,18 @@ impl Plan {
     /// the initial state; otherwise names the joint whose coordinate has no inertia.
     fn check_inertia(&self) -> Result<(), SceneErrors> {
         let mut ws = super::Workspace::new(self);
-        let m = super::mass_matrix::mass_matrix(self, &mut ws, &self.q0);
-        let free: Vec<usize> = (0..self.nv)
-            .filter(|&k| self.prescribed[k].is_none())
-            .collect();
-        let mut mf = m.select_rows(&free).select_columns(&free);
-        if let Err(kf) = super::mass_matrix::cholesky_in_place(&mut mf) {
-            let k = free[kf];
+        let singular = super::mass_matrix::tree_mass_matrices(self, &mut ws, &self.q0)
+            .into_iter()
+            .find_map(|(group, m)| {
+                let free: Vec<usize> = (0..group.len())
+                    .filter(|&r| self.prescribed[group[r]].is_none())
+                    .collect();
+                let mut mf = m.select_rows(&free).select_columns(&free);
+                super::mass_matrix::cholesky_in_place(&mut mf)
+                    .err()
+                    .map(|kf| group[free[kf]])
+            });
+        if let Some(k) = singular {
             let j = self
                 .joints
                 .iter()
@@ -525,6 +530,39 @@ impl Plan {
     /// Index of the tree joint with this name.
     pub fn joint_index(&self, name: &str) -> Option<usize> {
         self.joints.iter().position(|j| j.name == name)
+    }
+
+    /// The independent joint trees: for each body the index of its tree (one per root body,
+    /// i.e. per body whose parent is the world), and the number of trees. `M(q)` is block
+    /// diagonal over the trees, and the rows of one tree depend on another's state only through
+    /// forces between them (contacts, spring-dampers).
+    pub fn trees(&self) -> (Vec<usize>, usize) {
+        let mut tree = vec![0; self.bodies.len()];
+        let mut n = 0;
+        // Bodies come parents first, so a parent's tree is known when its children are reached.
+        for (b, body) in self.bodies.iter().enumerate() {
+            tree[b] = match body.parent {
+                None => {
+                    n += 1;
+                    n - 1
+                }
+                Some(p) => tree[p],
+            };
+        }
+        (tree, n)
+    }
+
+    /// Velocity indices of each joint tree (see [`Plan::trees`]), ascending.
+    pub fn velocity_groups(&self) -> Vec<Vec<usize>> {
+        let (tree, n) = self.trees();
+        let mut groups = vec![vec![]; n];
+        for j in &self.joints {
+            groups[tree[j.body]].extend(j.v_offset..j.v_offset + j.coord.nv());
+        }
+        for g in &mut groups {
+            g.sort_unstable();
+        }
+        groups
     }
 
     /// Initial state `y0 = [q0; v0]`.

@@ -1,19 +1,25 @@
 //! Block-diagonal LU for the iteration matrix of a DAE with a [`super::BlockStructure`]: the
-//! matrix is block diagonal over the connected components of the block graph, so each
-//! component is factored on its own (partial pivoting) instead of the whole `n × n` matrix.
-//! Safe code; `ida.rs` wraps it as a SUNDIALS linear solver. Buffers are reused, so a warm
-//! factorisation allocates nothing.
+//! matrix is block diagonal over the connected components of the block graph, so only those
+//! blocks are stored and each is factored on its own (partial pivoting) — memory and time
+//! O(Σ m_k²) and O(Σ m_k³) instead of O(n²) and O(n³). Safe code; `ida.rs` wraps it as a
+//! SUNDIALS matrix and linear solver. Buffers are reused, so a warm layout and factorisation
+//! allocate nothing.
 
 use super::colouring::Colouring;
 
-/// LU factors of the diagonal blocks of a dense column-major `n × n` matrix.
+/// The diagonal blocks of an iteration matrix (one dense column-major block per connected
+/// component of a [`Colouring`]) and their LU factors. The Jacobian is written straight into
+/// the blocks ([`Self::set`]), so no `n × n` matrix exists.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct BlockLu {
-    /// Unknowns of component `k`: `index[start[k]..start[k + 1]]` (copied at factorisation, so
-    /// a later change of the structure cannot mismatch the factors).
+    /// Unknowns of component `k`: `index[start[k]..start[k + 1]]` (copied at layout, so a later
+    /// change of the structure cannot mismatch the factors).
     index: Vec<usize>,
     start: Vec<usize>,
-    /// Column-major LU factors of component k at `lu[off[k]..]`, size m_k².
+    /// Component and position within it of each unknown.
+    comp: Vec<usize>,
+    local: Vec<usize>,
+    /// Column-major block (then LU factors) of component k at `lu[off[k]..]`, size m_k².
     lu: Vec<f64>,
     off: Vec<usize>,
     /// Row permutation of each component (local indices), at `piv[start[k]..]`.
@@ -23,16 +29,21 @@ pub(crate) struct BlockLu {
 }
 
 impl BlockLu {
-    /// Factors the components of `col` of the column-major `n × n` matrix `a`. Returns the
-    /// global index of the first zero pivot if a block is singular.
-    pub fn factor(&mut self, col: &Colouring, a: &[f64], n: usize) -> Result<(), usize> {
+    /// Lays out zeroed blocks for the components of `col` (n unknowns).
+    pub fn layout(&mut self, col: &Colouring, n: usize) {
         self.index.clear();
         self.start.clear();
         self.off.clear();
         self.start.push(0);
+        self.comp.resize(n, 0);
+        self.local.resize(n, 0);
         let mut size = 0;
         for k in 0..col.n_components() {
             let c = col.component(k);
+            for (l, &i) in c.iter().enumerate() {
+                self.comp[i] = k;
+                self.local[i] = l;
+            }
             self.index.extend_from_slice(c);
             self.start.push(self.index.len());
             self.off.push(size);
@@ -43,15 +54,25 @@ impl BlockLu {
         self.piv.clear();
         self.piv.resize(self.index.len(), 0);
         self.work.resize(n, 0.0);
+    }
+
+    /// Sets entry (`i`, `j`) of the matrix; both unknowns must be in one component (entries
+    /// between components are zero by construction).
+    #[inline]
+    pub fn set(&mut self, i: usize, j: usize, value: f64) {
+        let k = self.comp[j];
+        debug_assert_eq!(self.comp[i], k, "entry ({i}, {j}) couples two components");
+        let m = self.start[k + 1] - self.start[k];
+        self.lu[self.off[k] + self.local[j] * m + self.local[i]] = value;
+    }
+
+    /// Factors every block in place. Returns the global index of the first zero pivot if a
+    /// block is singular.
+    pub fn factor(&mut self) -> Result<(), usize> {
         for k in 0..self.off.len() {
             let idx = &self.index[self.start[k]..self.start[k + 1]];
             let m = idx.len();
             let lu = &mut self.lu[self.off[k]..self.off[k] + m * m];
-            for (jl, &j) in idx.iter().enumerate() {
-                for (il, &i) in idx.iter().enumerate() {
-                    lu[jl * m + il] = a[j * n + i];
-                }
-            }
             let piv = &mut self.piv[self.start[k]..self.start[k + 1]];
             lu_in_place(lu, m, piv).map_err(|local| idx[local])?;
         }
@@ -183,7 +204,18 @@ mod tests {
         let b = DVector::<f64>::from_fn(n, |_, _| rnd());
         let exact = a.clone().lu().solve(&b).unwrap();
         let mut lu = BlockLu::default();
-        lu.factor(&col, a.as_slice(), n).unwrap();
+        let load = |lu: &mut BlockLu, a: &DMatrix<f64>| {
+            lu.layout(&col, n);
+            for i in 0..n {
+                for j in 0..n {
+                    if coupled(block_of[i], block_of[j]) {
+                        lu.set(i, j, a[(i, j)]);
+                    }
+                }
+            }
+        };
+        load(&mut lu, &a);
+        lu.factor().unwrap();
         let mut xs = b.as_slice().to_vec();
         lu.solve(&mut xs);
         let err = (DVector::from_vec(xs) - &exact).amax();
@@ -191,6 +223,7 @@ mod tests {
         // A zero column in a block is reported by its global index.
         let mut sing = a.clone();
         sing.column_mut(5).fill(0.0);
-        assert_eq!(lu.factor(&col, sing.as_slice(), n), Err(5));
+        load(&mut lu, &sing);
+        assert_eq!(lu.factor(), Err(5));
     }
 }

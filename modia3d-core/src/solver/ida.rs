@@ -419,8 +419,9 @@ unsafe extern "C" fn root_callback<S: DaeSystem>(
 
 /// IDA Jacobian callback for systems with a [`super::BlockStructure`]: the iteration matrix
 /// `∂F/∂y + c_j ∂F/∂y'` by difference quotients, perturbing the unknowns of all blocks of one
-/// colour together (increments exactly as IDA's dense difference quotients). Entries outside
-/// the structure stay zero (IDA zeroes the matrix before the call). Returns 0, 1 for a
+/// colour together (increments exactly as IDA's dense difference quotients), written into the
+/// zeroed diagonal blocks of the `BlockLu` (the SUNMatrix IDA passes is a handle without
+/// storage, see `attach_linear_solver`). Entries outside the structure stay zero. Returns 0, 1 for a
 /// recoverable residual failure (or a non-finite quotient), -1 for a fatal one, an invalid
 /// structure or a caught panic.
 #[allow(clippy::too_many_arguments)] // the C signature
@@ -430,7 +431,7 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     yy: sys::N_Vector,
     yp: sys::N_Vector,
     rr: sys::N_Vector,
-    jac: sys::SUNMatrix,
+    _jac: sys::SUNMatrix,
     user_data: *mut c_void,
     tmp1: sys::N_Vector,
     tmp2: sys::N_Vector,
@@ -445,7 +446,7 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         let st = unsafe { &mut *state };
         let n = st.n;
         let mut hh = 0.0;
-        let (y, ypv, r, rp, ewt, data) = unsafe {
+        let (y, ypv, r, rp, ewt) = unsafe {
             sys::IDAGetErrWeights(st.mem, tmp2);
             sys::IDAGetCurrentStep(st.mem, &mut hh);
             (
@@ -454,7 +455,6 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 slice::from_raw_parts(sys::N_VGetArrayPointer(rr), n),
                 slice::from_raw_parts_mut(sys::N_VGetArrayPointer(tmp1), n),
                 slice::from_raw_parts(sys::N_VGetArrayPointer(tmp2), n),
-                slice::from_raw_parts_mut(sys::SUNDenseMatrix_Data(jac), n * n),
             )
         };
         let Some(col) = st.colouring.as_mut() else {
@@ -471,6 +471,7 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
             st.fatal.get_or_insert((msg, t));
             return -1;
         }
+        st.block_lu.layout(col, n);
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
         let srur = f64::EPSILON.sqrt();
@@ -509,7 +510,6 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                         continue;
                     };
                     let inv = 1.0 / saved[j].2;
-                    let column = &mut data[j * n..(j + 1) * n];
                     for blk in std::iter::once(b).chain(col.neighbours(b).iter().copied()) {
                         for &i in col.members(blk) {
                             let d = (rp[i] - r[i]) * inv;
@@ -517,7 +517,7 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                                 record_non_finite(&mut st.non_finite, i, t, d);
                                 return 1;
                             }
-                            column[i] = d;
+                            st.block_lu.set(i, j, d);
                         }
                     }
                 }
@@ -527,6 +527,27 @@ unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     }));
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// Matrix id of the storage-less handle: a custom one.
+unsafe extern "C" fn block_mat_id(_a: sys::SUNMatrix) -> sys::SUNMatrix_ID {
+    sys::SUNMatrix_ID_SUNMATRIX_CUSTOM
+}
+
+/// `SUNMatZero` on the handle: nothing to do (the Jacobian callback lays out zeroed blocks).
+unsafe extern "C" fn block_mat_zero(_a: sys::SUNMatrix) -> sys::SUNErrCode {
+    0
+}
+
+/// Frees the handle; it owns no storage.
+unsafe extern "C" fn block_mat_destroy(a: sys::SUNMatrix) {
+    if !a.is_null() {
+        // SAFETY: a was created by SUNMatNewEmpty with a null content.
+        unsafe {
+            (*a).content = ptr::null_mut();
+            sys::SUNMatFreeEmpty(a);
+        }
+    }
 }
 
 /// Linear solver type: direct (matrix-based), like SUNDIALS' dense solver.
@@ -539,26 +560,21 @@ unsafe extern "C" fn block_ls_id(_ls: sys::SUNLinearSolver) -> sys::SUNLinearSol
     sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
 }
 
-/// Factors the diagonal blocks (connected components of the last Jacobian's structure) of the
-/// dense iteration matrix. Returns 0, `SUNLS_LUFACT_FAIL` (recoverable: IDA retries with a
+/// Factors the diagonal blocks (connected components of the last Jacobian's structure) that
+/// the Jacobian callback filled. Returns 0, `SUNLS_LUFACT_FAIL` (recoverable: IDA retries with a
 /// smaller step) for a singular block, -1 after a caught panic.
 unsafe extern "C" fn block_ls_setup<S: DaeSystem>(
     ls: sys::SUNLinearSolver,
-    a: sys::SUNMatrix,
+    _a: sys::SUNMatrix,
 ) -> c_int {
     // SAFETY: the content of this solver is the CallbackState of the Ida that created it
     // (set in attach_linear_solver); IDA calls setup only from inside an IDA call, while no
     // Rust reference to the state is live, and never concurrently with another callback.
     let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
     let outcome = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: see above; `a` is the n × n dense matrix attached with this solver.
+        // SAFETY: see above.
         let st = unsafe { &mut *state };
-        let n = st.n;
-        let data = unsafe { slice::from_raw_parts(sys::SUNDenseMatrix_Data(a), n * n) };
-        let Some(col) = st.colouring.as_ref() else {
-            return -1;
-        };
-        match st.block_lu.factor(col, data, n) {
+        match st.block_lu.factor() {
             Ok(()) => 0,
             Err(_) => sys::SUNLS_LUFACT_FAIL as c_int,
         }
@@ -774,13 +790,27 @@ impl<S: DaeSystem> Ida<S> {
         let n = self.n as sys::sunindextype;
         // SAFETY: ctx, y and mem are valid (created in setup); mat/ls are null or valid.
         unsafe {
+            let structured = (*self.state).colouring.is_some();
+            if self.mat.is_null() && structured {
+                // A handle without storage: the Jacobian goes straight into the diagonal
+                // blocks of the BlockLu, so no n × n matrix is allocated or zeroed.
+                let a = sys::SUNMatNewEmpty(self.ctx);
+                if a.is_null() {
+                    return Err(self.creation_error("SUNMatNewEmpty", 0));
+                }
+                let ops = &mut *(*a).ops;
+                ops.getid = Some(block_mat_id);
+                ops.zero = Some(block_mat_zero);
+                ops.destroy = Some(block_mat_destroy);
+                self.mat = a;
+            }
             if self.mat.is_null() {
                 self.mat = sys::SUNDenseMatrix(n, n, self.ctx);
                 if self.mat.is_null() {
                     return Err(self.creation_error("SUNDenseMatrix", 0));
                 }
             }
-            if self.ls.is_null() && (*self.state).colouring.is_some() {
+            if self.ls.is_null() && structured {
                 // Block-diagonal LU over the connected components of the Jacobian structure.
                 let ls = sys::SUNLinSolNewEmpty(self.ctx);
                 if ls.is_null() {
