@@ -31,7 +31,16 @@ fn balls_on_table(n: usize) -> SceneDesc {
             0.05 + 0.01 * (k % 7) as f64,
         ];
         let v = [0.1 * ((k % 3) as f64 - 1.0), 0.0, 0.0];
-        demo::add_free_sphere(&mut s, &format!("b{k}"), 0.05, "Steel", None, r, v, [0.0; 3]);
+        demo::add_free_sphere(
+            &mut s,
+            &format!("b{k}"),
+            0.05,
+            "Steel",
+            None,
+            r,
+            v,
+            [0.0; 3],
+        );
     }
     s
 }
@@ -39,7 +48,10 @@ fn balls_on_table(n: usize) -> SceneDesc {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| balls | Jacobian | wall [s] | steps | residuals | Jacobians (+residuals for them) | events | wall per step [ms] |");
     println!("|---:|---|---:|---:|---:|---:|---:|---:|");
-    for n in std::env::args().nth(1).map_or(vec![16, 64, 256], |a| vec![a.parse().unwrap()]) {
+    for n in std::env::args()
+        .nth(1)
+        .map_or(vec![16, 64, 256], |a| vec![a.parse().unwrap()])
+    {
         let model = balls_on_table(n).build()?;
         for structured in [true, false] {
             if !structured && n > 64 {
