@@ -766,3 +766,65 @@ fn coloured_jacobian_matches_dense_and_costs_less() {
         s_dense.nonlinear_iterations
     );
 }
+
+/// The spring chain whose `jacobian_structure` misbehaves after the set-up call: it panics, or
+/// it reports an unknown in a block that does not exist.
+struct BadStructure {
+    calls: usize,
+    panic: bool,
+}
+
+impl DaeSystem for BadStructure {
+    fn len(&self) -> usize {
+        SpringChain { structure: None }.len()
+    }
+    fn residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        r: &mut [f64],
+    ) -> Result<(), ResidualError> {
+        SpringChain { structure: None }.residual(t, y, yp, r)
+    }
+    fn jacobian_structure(&mut self, s: &mut BlockStructure) -> bool {
+        self.calls += 1;
+        let ok = SpringChain {
+            structure: Some(true),
+        }
+        .jacobian_structure(s);
+        if self.calls > 1 {
+            if self.panic {
+                panic!("structure gave up");
+            }
+            s.block_of[3] = 99;
+        }
+        ok
+    }
+}
+
+#[test]
+fn misbehaving_jacobian_structure_is_an_error_not_a_crash() {
+    let n = 2 * SpringChain::N;
+    let y0: Vec<f64> = (0..n).map(|i| if i == 0 { 0.01 } else { 0.0 }).collect();
+    let mut yp0 = vec![0.0; n];
+    yp0[1] = -10.0; // −k x of the first mass; the rest starts at rest
+    for panic in [true, false] {
+        let sys = BadStructure { calls: 0, panic };
+        let mut ida = Ida::new(sys, 0.0, &y0, &yp0, &IdaOptions::default()).unwrap();
+        let err = ida.solve(1.0, false).unwrap_err();
+        let text = err.to_string();
+        match (panic, &err) {
+            (true, IdaError::Panic { message, .. }) => {
+                assert!(
+                    message.contains("in the Jacobian") && message.contains("gave up"),
+                    "{text}"
+                );
+            }
+            (false, IdaError::ResidualFatal { .. }) => {
+                assert!(text.contains("unknown 3 is in block 99"), "{text}");
+            }
+            _ => panic!("unexpected error for panic = {panic}: {err:?}"),
+        }
+    }
+}
