@@ -95,6 +95,24 @@ pub fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
     Ok(())
 }
 
+/// The block `m` of tree `group` (see [`tree_mass_matrices`]) restricted to the coordinates
+/// that are not prescribed: their positions in `group`, and its Cholesky factor, or the global
+/// velocity index of the first pivot that is not clearly positive.
+pub fn free_cholesky(
+    plan: &Plan,
+    group: &[usize],
+    m: &DMatrix<f64>,
+) -> (Vec<usize>, Result<DMatrix<f64>, usize>) {
+    let free: Vec<usize> = (0..group.len())
+        .filter(|&r| plan.prescribed[group[r]].is_none())
+        .collect();
+    let mut mf = m.select_rows(&free).select_columns(&free);
+    let factor = cholesky_in_place(&mut mf)
+        .map(|()| mf)
+        .map_err(|kf| group[free[kf]]);
+    (free, factor)
+}
+
 /// Accelerations `v̇` consistent with `q`, `v` at time `t` [s]: solves `M v̇ = τ_applied − C`,
 /// where `C` holds gravity, velocity terms and external forces. `None` if `M` is singular.
 pub fn consistent_accelerations(
@@ -134,12 +152,11 @@ pub fn consistent_accelerations_with(
     // Per tree: prescribed accelerations are known; solve M_FF v̇_F = τ_F − C_F − M_FP a_P
     // for the rest of the tree.
     for (group, m) in blocks {
-        let free: Vec<usize> = (0..group.len())
-            .filter(|&r| plan.prescribed[group[r]].is_none())
-            .collect();
+        let (free, mf) = free_cholesky(plan, &group, &m);
         if free.is_empty() {
             continue;
         }
+        let mf = mf.ok()?;
         let mut y: Vec<f64> = free
             .iter()
             .map(|&r| {
@@ -148,8 +165,6 @@ pub fn consistent_accelerations_with(
                 ws.tau_applied[k] - bias[k] - coupling
             })
             .collect();
-        let mut mf = m.select_rows(&free).select_columns(&free);
-        cholesky_in_place(&mut mf).ok()?;
         let n = free.len();
         // Forward and back substitution with the lower factor.
         for i in 0..n {

@@ -488,15 +488,7 @@ impl Plan {
         let mut ws = super::Workspace::new(self);
         let singular = super::mass_matrix::tree_mass_matrices(self, &mut ws, &self.q0)
             .into_iter()
-            .find_map(|(group, m)| {
-                let free: Vec<usize> = (0..group.len())
-                    .filter(|&r| self.prescribed[group[r]].is_none())
-                    .collect();
-                let mut mf = m.select_rows(&free).select_columns(&free);
-                super::mass_matrix::cholesky_in_place(&mut mf)
-                    .err()
-                    .map(|kf| group[free[kf]])
-            });
+            .find_map(|(group, m)| super::mass_matrix::free_cholesky(self, &group, &m).1.err());
         if let Some(k) = singular {
             let j = self
                 .joints
