@@ -481,3 +481,28 @@ fn tree_blocked_mass_matrix_matches_the_column_definition() {
         "max |ΔM| = {max_err:e} (scale {scale:e})"
     );
 }
+
+/// The model's public queries describe the compiled scene: a Fix joint merges two solids into
+/// one body whose mass is the sum of the parts (1 kg + 2 kg, given explicitly), the free body's
+/// states are 7 + 6, and the signal names are those a result answers to.
+#[test]
+fn model_queries_describe_bodies_joints_and_signals() {
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("a").solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(1.0)))
+        .add(Object3D::new("b").solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(2.0)))
+        .add_joint(Joint::new("free", "world", "a", JointKind::free()))
+        .add_joint(Joint::new("fix", "a", "b", JointKind::Fix));
+    let m = s.build().unwrap();
+    assert_eq!(m.joint_names(), ["free"]);
+    let bodies = m.bodies();
+    assert_eq!(bodies.len(), 1);
+    assert_eq!((bodies[0].joint.as_str(), bodies[0].mass), ("free", 3.0));
+    assert_eq!(bodies[0].objects, ["a", "b"]);
+    assert_eq!(m.state_len(), 13);
+    assert!(m.contact_pairs().is_empty() && m.input_names().is_empty());
+    let names = m.signal_names();
+    let r = m.simulate(&SimOptions::new(0.01).progress(false)).unwrap();
+    assert_eq!(names, r.signal_names());
+    assert!(names.iter().any(|n| n == "free.r") && names.iter().any(|n| n == "b.r_abs"));
+}

@@ -27,7 +27,7 @@ pub mod solver;
 
 pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
-pub use model::Model;
+pub use model::{BodyInfo, ContactPairInfo, Model};
 #[cfg(feature = "solver")]
 pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
 pub use scene::{

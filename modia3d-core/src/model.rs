@@ -21,6 +21,43 @@ pub struct Model {
     pub(crate) contact: Option<Arc<ContactPlan>>,
 }
 
+/// A candidate collision pair and its constants (fixed when the model is built; the damping
+/// factor is fixed when a contact starts), see `docs/contact-model.md` §3.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactPairInfo {
+    /// `"<object a>|<object b>"`, the owner part of its signals (normal from a to b).
+    pub name: String,
+    /// Coefficient of restitution [-].
+    pub cor: f64,
+    /// Sliding friction coefficient [-].
+    pub mu_k: f64,
+    /// Rolling resistance coefficient [-].
+    pub mu_r: f64,
+    /// Regularisation velocity [m/s].
+    pub v_min: f64,
+    /// Regularisation angular velocity [rad/s].
+    pub w_min: f64,
+    /// Combined elastic modulus `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
+    pub c_res: f64,
+    /// Geometry coefficient `μ_geo` [m] (1 for the linear law).
+    pub mu_geo: f64,
+    /// Geometry coefficient `c_geo` [m^(1/2)] (1 for the linear law).
+    pub c_geo: f64,
+    /// Exponent of the penetration `n_geo` [-]: 3/2 (Hertz) or 1.
+    pub n_geo: f64,
+}
+
+/// A moving body of a model: objects rigidly attached to each other, moved by one joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyInfo {
+    /// The joint that moves it.
+    pub joint: String,
+    /// Its objects, in declaration order.
+    pub objects: Vec<String>,
+    /// Combined mass [kg].
+    pub mass: f64,
+}
+
 impl SceneDesc {
     /// Validates and compiles the scene into a runnable model.
     pub fn build(&self) -> Result<Model, SceneErrors> {
@@ -42,14 +79,84 @@ impl Model {
         })
     }
 
-    /// The compiled plan.
+    /// The compiled multibody plan. Not part of the API (hidden from the docs; use the queries
+    /// below): kept for the two integration tests that check internals through it (the
+    /// allocation-free hot path and the tree-blocked mass matrix).
+    #[doc(hidden)]
     pub fn plan(&self) -> &Plan {
         &self.plan
     }
 
-    /// The compiled collision pipeline, `None` without candidate pairs.
+    /// The compiled collision pipeline, `None` without candidate pairs. Not part of the API
+    /// (hidden; use [`Model::contact_pairs`]): kept for the allocation test of the hot path.
+    #[doc(hidden)]
     pub fn contact_plan(&self) -> Option<&ContactPlan> {
         self.contact.as_deref()
+    }
+
+    /// The candidate collision pairs (after the preprocessing rules, `docs/contact-model.md`
+    /// §2.1) with their constants, in the order of their signals; empty without collisions.
+    pub fn contact_pairs(&self) -> Vec<ContactPairInfo> {
+        let Some(cp) = self.contact.as_deref() else {
+            return vec![];
+        };
+        cp.pairs
+            .iter()
+            .enumerate()
+            .map(|(p, pp)| ContactPairInfo {
+                name: cp.pair_name(&self.plan.scene, p),
+                cor: pp.cor,
+                mu_k: pp.mu_k,
+                mu_r: pp.mu_r,
+                v_min: pp.v_min,
+                w_min: pp.w_min,
+                c_res: pp.c_res,
+                mu_geo: pp.mu_geo,
+                c_geo: pp.c_geo,
+                n_geo: pp.n_geo,
+            })
+            .collect()
+    }
+
+    /// Names of the joints that carry states (Fix joints are merged away), parents first.
+    pub fn joint_names(&self) -> Vec<&str> {
+        self.plan.joints.iter().map(|j| j.name.as_str()).collect()
+    }
+
+    /// The moving bodies, parents first: the objects rigidly attached to each other that one
+    /// joint moves, with their combined mass [kg].
+    pub fn bodies(&self) -> Vec<BodyInfo> {
+        self.plan
+            .bodies
+            .iter()
+            .map(|b| BodyInfo {
+                joint: self.plan.joints[b.joint].name.clone(),
+                objects: b
+                    .objects
+                    .iter()
+                    .map(|&o| self.plan.objects[o].name.clone())
+                    .collect(),
+                mass: b.inertia.mass,
+            })
+            .collect()
+    }
+
+    /// Number of unknowns `y = [q; v]` of the DAE.
+    pub fn state_len(&self) -> usize {
+        self.plan.nq + self.plan.nv
+    }
+
+    /// Names of the declared inputs.
+    pub fn input_names(&self) -> Vec<&str> {
+        self.plan.inputs.iter().map(|i| i.name.as_str()).collect()
+    }
+
+    /// Names of the signals a result of this model has (joint coordinates and object motions;
+    /// see [`SimulationResult::signal_names`]). Contact signals (`"<a>|<b>.f_n"`, …) exist in
+    /// addition for each of [`Model::contact_pairs`] when the run records them
+    /// ([`SimOptions::contact_results`]).
+    pub fn signal_names(&self) -> Vec<String> {
+        SimulationResult::new(self.clone()).signal_names()
     }
 
     /// Runs the model with error control from `opts.start_time` to `opts.stop_time`.
