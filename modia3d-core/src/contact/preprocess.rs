@@ -5,7 +5,9 @@
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::ObjectPlan;
 use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape, ShapeKind};
-use crate::scene::{ContactProfile, SceneError, ValidJointKind, ValidScene};
+use crate::scene::{
+    missing_contact_pairs, CollisionFilter, ContactProfile, SceneError, ValidScene,
+};
 
 /// A collision shape of the plan.
 #[derive(Clone, Debug)]
@@ -133,49 +135,19 @@ impl ContactPlan {
                 c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
             });
         }
-        // Body pairs joined by a joint that forbids collisions. A FreeMotion is no mechanical
-        // connection (as in Modia3D): it never excludes a pair.
-        let mut no_collide: Vec<(Option<usize>, Option<usize>)> = vec![];
-        for j in &scene.joints {
-            let mechanical = matches!(
-                j.kind,
-                ValidJointKind::Revolute { .. } | ValidJointKind::Prismatic { .. }
-            );
-            if mechanical && !j.can_collide {
-                no_collide.push((objects[j.obj1].body, objects[j.obj2].body));
-            }
-        }
+        // Which solids can meet, and the pairs without a material: the scene's contact rules
+        // (`scene/contact_rules.rs`), shared with the `model!` macro's compile-time check.
+        let filter = CollisionFilter::new(scene);
+        errors.extend(missing_contact_pairs(scene));
         let mut pairs = vec![];
-        let mut missing: Vec<(String, String)> = vec![];
         for a in 0..shapes.len() {
             for b in a + 1..shapes.len() {
                 let (sa, sb) = (&shapes[a], &shapes[b]);
-                if sa.body == sb.body {
-                    continue; // rigidly attached (or both fixed to the world)
-                }
-                if no_collide
-                    .iter()
-                    .any(|&(x, y)| (x, y) == (sa.body, sb.body) || (y, x) == (sa.body, sb.body))
-                {
+                if !filter.can_meet(sa.object, sb.object) {
                     continue;
                 }
-                let (ma, mb) = (&sa.contact_material, &sb.contact_material);
-                let Some(m) = scene.contact_pair(ma, mb) else {
-                    let key = if ma <= mb {
-                        (ma.clone(), mb.clone())
-                    } else {
-                        (mb.clone(), ma.clone())
-                    };
-                    if !missing.contains(&key) {
-                        missing.push(key);
-                        errors.push(SceneError::MissingContactPair {
-                            material1: ma.clone(),
-                            material2: mb.clone(),
-                            object1: scene.objects[sa.object].name.clone(),
-                            object2: scene.objects[sb.object].name.clone(),
-                        });
-                    }
-                    continue;
+                let Some(m) = scene.contact_pair(&sa.contact_material, &sb.contact_material) else {
+                    continue; // reported by `missing_contact_pairs`
                 };
                 // Keep a sphere first: μ_geo = r1 for sphere–other.
                 let (a, b) = if sb.shape.kind() == ShapeKind::Sphere

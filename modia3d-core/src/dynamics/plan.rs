@@ -148,9 +148,6 @@ pub struct Plan {
     pub gravity: Vector3<f64>,
     /// The validated scene it was compiled from.
     pub scene: ValidScene,
-    /// The collision pipeline; `None` when the scene has no candidate pair (then no collision
-    /// code runs and there are no root functions).
-    pub contact: Option<crate::contact::ContactPlan>,
     /// Inputs, in declaration order.
     pub inputs: Vec<InputPlan>,
     /// Total number of input values.
@@ -425,13 +422,6 @@ impl Plan {
             tree_joint_of[j.scene_joint] = Some(tj);
         }
 
-        let contact = match crate::contact::ContactPlan::compile(&scene, &objects) {
-            Ok(c) => c,
-            Err(e) => {
-                errors.extend(e);
-                None
-            }
-        };
         if !errors.is_empty() {
             return Err(SceneErrors(errors));
         }
@@ -466,7 +456,6 @@ impl Plan {
             inputs,
             n_inputs,
             prescribed,
-            contact,
             bodies,
             joints,
             objects,
@@ -478,13 +467,12 @@ impl Plan {
             gravity: scene.options.gravity,
             scene,
         };
-        plan.check_inertia()?;
         Ok(plan)
     }
 
     /// The mass matrix of the coordinates that are not prescribed must be positive definite at
     /// the initial state; otherwise names the joint whose coordinate has no inertia.
-    fn check_inertia(&self) -> Result<(), SceneErrors> {
+    pub(crate) fn check_inertia(&self) -> Result<(), SceneErrors> {
         let mut ws = super::Workspace::new(self);
         let singular = super::mass_matrix::tree_mass_matrices(self, &mut ws, &self.q0)
             .into_iter()
@@ -527,7 +515,7 @@ impl Plan {
     /// The independent joint trees: for each body the index of its tree (one per root body,
     /// i.e. per body whose parent is the world), and the number of trees. `M(q)` is block
     /// diagonal over the trees, and the rows of one tree depend on another's state only through
-    /// forces between them (contacts, spring-dampers).
+    /// forces between them (spring-dampers, forces of other stages).
     pub fn trees(&self) -> (Vec<usize>, usize) {
         let mut tree = vec![0; self.bodies.len()];
         let mut n = 0;

@@ -190,12 +190,12 @@ impl Solid {
         self.material = Some(MaterialRef::Value(m));
         self
     }
-    /// Sets the mass [kg]; inertia follows from the shape.
+    /// Sets the mass [kg] (> 0); inertia follows from the shape.
     pub fn mass(mut self, mass: f64) -> Self {
         self.mass_properties = MassSpec::FromShapeAndMass(mass);
         self
     }
-    /// Sets explicit mass properties in the object's frame: mass [kg], centre of mass [m],
+    /// Sets explicit mass properties in the object's frame: mass [kg] (> 0), centre of mass [m],
     /// inertia about the centre of mass [kg·m²].
     pub fn mass_properties(mut self, mass: f64, com: Vector3<f64>, inertia: Matrix3<f64>) -> Self {
         self.mass_properties = MassSpec::Explicit { mass, com, inertia };

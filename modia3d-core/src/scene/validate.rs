@@ -969,7 +969,7 @@ fn solid_mass(
             }
         }
         MassSpec::FromShapeAndMass(mass) => {
-            c.non_negative(|| format!("solid `{object}`: mass [kg]"), *mass);
+            c.positive(|| format!("solid `{object}`: mass [kg]"), *mass);
             if s.shape.is_none() {
                 c.errors.push(SceneError::NoMassSource {
                     object: object.into(),
@@ -987,7 +987,7 @@ fn solid_mass(
             }
         }
         MassSpec::Explicit { mass, com, inertia } => {
-            c.non_negative(|| format!("solid `{object}`: mass [kg]"), *mass);
+            c.positive(|| format!("solid `{object}`: mass [kg]"), *mass);
             c.finite(
                 || format!("solid `{object}`: centre of mass [m]"),
                 com.as_slice(),

@@ -16,7 +16,7 @@
 //! resolves an oscillation with some tens of steps per period): `k_red · (T/T*)²`.
 //! Only read at the end of a failed run: allocates freely.
 
-use crate::contact::ContactState;
+use crate::contact::{ContactPlan, ContactState};
 use crate::dynamics::{JointCoord, Plan};
 use crate::results::Event;
 use crate::scene::ValidForce;
@@ -170,10 +170,15 @@ fn period(m: f64, k: f64) -> f64 {
 
 /// The stiffest element: contacts in the set (with the suggested `k_red` for a budget step
 /// `h_budget` [s]) and springs.
-pub(crate) fn stiffest(plan: &Plan, cs: Option<&ContactState>, h_budget: f64) -> SlowCause {
+pub(crate) fn stiffest(
+    plan: &Plan,
+    cp: Option<&ContactPlan>,
+    cs: Option<&ContactState>,
+    h_budget: f64,
+) -> SlowCause {
     let mut best = SlowCause::Unknown;
     let mut best_t = f64::INFINITY;
-    if let (Some(cs), Some(cp)) = (cs, plan.contact.as_ref()) {
+    if let (Some(cs), Some(cp)) = (cs, cp) {
         for &p in &cs.active {
             let (pp, ps) = (&cp.pairs[p as usize], &cs.pairs[p as usize]);
             let delta = ps.response.penetration;

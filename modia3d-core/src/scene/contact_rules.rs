@@ -1,0 +1,146 @@
+//! Scene stage, contact rules: which colliding solids can meet, and which of those lack a
+//! contact-pair material. Solver-free: the contact preprocessing (`contact/preprocess.rs`)
+//! builds its candidate pairs with [`CollisionFilter`], and the `model!` macro reports missing
+//! pairs at compile time with [`missing_contact_pairs`] — one rule for both.
+//! Touches only the validated scene.
+
+use super::desc::SceneDesc;
+use super::validate::{SceneError, ValidJointKind, ValidScene};
+
+/// Which objects can collide with which (spec §2.1, as in Modia3D): two solids meet unless they
+/// are on one rigid body (parent links and `Fix` joints merge objects; everything attached to
+/// the world is one body) or on the two bodies of a Revolute or Prismatic joint with
+/// `can_collide = false`. A FreeMotion is no mechanical connection: it never excludes a pair.
+#[derive(Clone, Debug)]
+pub struct CollisionFilter {
+    /// Rigid body (a representative object index) of every object.
+    body: Vec<usize>,
+    /// Body pairs joined by a joint that forbids collisions.
+    excluded: Vec<(usize, usize)>,
+}
+
+impl CollisionFilter {
+    /// The filter of a validated scene.
+    pub fn new(scene: &ValidScene) -> Self {
+        let n = scene.objects.len();
+        let mut up: Vec<usize> = (0..n).collect();
+        fn find(up: &mut [usize], mut i: usize) -> usize {
+            while up[i] != i {
+                up[i] = up[up[i]];
+                i = up[i];
+            }
+            i
+        }
+        let join = |up: &mut Vec<usize>, a: usize, b: usize| {
+            let (ra, rb) = (find(up, a), find(up, b));
+            up[ra] = rb;
+        };
+        for (i, o) in scene.objects.iter().enumerate() {
+            if let Some(p) = o.parent {
+                join(&mut up, i, p);
+            }
+        }
+        for j in &scene.joints {
+            if j.kind == ValidJointKind::Fix {
+                join(&mut up, j.obj1, j.obj2);
+            }
+        }
+        let body: Vec<usize> = (0..n).map(|i| find(&mut up, i)).collect();
+        let excluded = scene
+            .joints
+            .iter()
+            .filter(|j| {
+                matches!(
+                    j.kind,
+                    ValidJointKind::Revolute { .. } | ValidJointKind::Prismatic { .. }
+                ) && !j.can_collide
+            })
+            .map(|j| (body[j.obj1], body[j.obj2]))
+            .collect();
+        CollisionFilter { body, excluded }
+    }
+
+    /// Whether objects `a` and `b` (indices into `ValidScene::objects`) can touch.
+    pub fn can_meet(&self, a: usize, b: usize) -> bool {
+        let (ba, bb) = (self.body[a], self.body[b]);
+        ba != bb
+            && !self
+                .excluded
+                .iter()
+                .any(|&(x, y)| (x, y) == (ba, bb) || (y, x) == (ba, bb))
+    }
+}
+
+/// The objects that take part in collision handling: collision solids with a shape, a contact
+/// material and its elasticity (the others are validation errors), in declaration order; none
+/// when the scene's `contact_detection` is off.
+pub fn colliding_objects(scene: &ValidScene) -> Vec<usize> {
+    if !scene.options.contact_detection {
+        return vec![];
+    }
+    scene
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| {
+            o.solid.as_ref().is_some_and(|s| {
+                s.collision
+                    && s.shape.is_some()
+                    && s.contact_material.is_some()
+                    && s.contact_elasticity.is_some()
+            })
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// [`SceneError::MissingContactPair`] for every pair of contact materials that two colliding
+/// solids which can meet ([`CollisionFilter`]) need and neither the scene nor the built-in
+/// palette defines; once per material pair, naming the first two objects that need it (in
+/// declaration order).
+pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
+    let objects = colliding_objects(scene);
+    let filter = CollisionFilter::new(scene);
+    let material = |i: usize| {
+        scene.objects[i]
+            .solid
+            .as_ref()
+            .and_then(|s| s.contact_material.as_deref())
+            .unwrap_or_default()
+    };
+    let mut seen: Vec<(&str, &str)> = vec![];
+    let mut errors = vec![];
+    for (k, &a) in objects.iter().enumerate() {
+        for &b in &objects[k + 1..] {
+            let (ma, mb) = (material(a), material(b));
+            if !filter.can_meet(a, b) || scene.contact_pair(ma, mb).is_some() {
+                continue;
+            }
+            let key = if ma <= mb { (ma, mb) } else { (mb, ma) };
+            if seen.contains(&key) {
+                continue;
+            }
+            seen.push(key);
+            errors.push(SceneError::MissingContactPair {
+                material1: ma.to_string(),
+                material2: mb.to_string(),
+                object1: scene.objects[a].name.clone(),
+                object2: scene.objects[b].name.clone(),
+            });
+        }
+    }
+    errors
+}
+
+impl SceneDesc {
+    /// Every error [`SceneDesc::validate`] finds, or — for a valid scene — the contact pairs
+    /// it lacks ([`missing_contact_pairs`]); empty if the scene passes both. This is the check
+    /// the `model!` macro runs on the literal part of a block at compile time; `build()` runs
+    /// the same rules (validation, then the contact preprocessing) plus the plan's own checks.
+    pub fn scene_errors(&self) -> Vec<SceneError> {
+        match self.validate() {
+            Err(e) => e.0,
+            Ok(valid) => missing_contact_pairs(&valid),
+        }
+    }
+}
