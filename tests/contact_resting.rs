@@ -1,5 +1,5 @@
 //! Boxes and cylinders of dry wood landing and coming to rest on a wooden table (two
-//! non-spheres: linear law `f_n = k_red·c_res·δ·(1 + d·δ̇)`, spec §3; smoothed shapes, so the
+//! non-spheres: linear law `f_n = k_red·c_res·δ·(1 + d·δ̇)`, docs/contact-model.md §3; smoothed shapes, so the
 //! cores are separated and the force point is the soft-support centre of pressure, see
 //! `modia3d_core::geometry::contact_point`).
 //!

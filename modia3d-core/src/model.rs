@@ -30,9 +30,10 @@ impl SceneDesc {
 
 impl Model {
     /// Compiles both plans of a validated scene. The mass-matrix positivity check comes last:
-    /// it needs the compiled plan and an inverse-dynamics pass at the initial state.
+    /// it needs the compiled plan and an inverse-dynamics pass at the initial state (see
+    /// `Plan::check_inertia` for why it is not a validation check).
     pub(crate) fn compile(valid: ValidScene) -> Result<Model, SceneErrors> {
-        let plan = Plan::compile(valid)?;
+        let plan = Plan::compile(valid);
         let contact = ContactPlan::compile(&plan.scene, &plan.objects).map_err(SceneErrors)?;
         plan.check_inertia()?;
         Ok(Model {

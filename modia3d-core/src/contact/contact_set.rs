@@ -1,5 +1,5 @@
 //! Contact stage: the contact set (the paper's `contactDict`) and the zero-crossing functions
-//! (spec §4). `(&ContactPlan, &mut ContactState)` plus the dynamics workspace (read-only poses
+//! (docs/contact-model.md §4). `(&ContactPlan, &mut ContactState)` plus the dynamics workspace (read-only poses
 //! and velocities; contact forces are added to `ws.f_ext`). No allocation after construction.
 
 use super::preprocess::ContactPlan;
@@ -16,7 +16,7 @@ use crate::geometry::{
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::bounding_volume::BoundingVolume;
 
-/// How the collision stage is evaluated (spec §4).
+/// How the collision stage is evaluated (docs/contact-model.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Mode {
     /// At an event: all `z_AB`, rebuild the contact set, store `δ̇⁻` of new contacts.

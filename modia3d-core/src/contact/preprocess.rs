@@ -1,13 +1,11 @@
-//! Contact stage, preprocessing (spec §2.1): once, when the plan is compiled, the collision
+//! Contact stage, preprocessing (docs/contact-model.md §2.1): once, when the plan is compiled, the collision
 //! shapes, the candidate pairs (not rigidly attached, not joined by a joint with
 //! `can_collide = false`) and each pair's material and geometry constants. Immutable.
 
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::ObjectPlan;
 use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape, ShapeKind};
-use crate::scene::{
-    missing_contact_pairs, CollisionFilter, ContactProfile, SceneError, ValidScene,
-};
+use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
 /// A collision shape of the plan.
 #[derive(Clone, Debug)]
@@ -77,7 +75,7 @@ pub struct ContactPlan {
     pub pair_of: std::collections::HashMap<(u32, u32), u32>,
     /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
-    /// continuous (spec §2 growth target: far fewer than n² box tests).
+    /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
     pub margin: f64,
 }
 
@@ -93,7 +91,8 @@ impl ContactPlan {
     }
 
     /// Compiles the pipeline; `Ok(None)` when collision handling is off or there is no
-    /// candidate pair. Errors: missing contact-pair materials, shapes that cannot be smoothed.
+    /// candidate pair. Errors: shapes that cannot be smoothed (missing contact-pair materials
+    /// are validation errors).
     pub(crate) fn compile(
         scene: &ValidScene,
         objects: &[ObjectPlan],
@@ -135,10 +134,9 @@ impl ContactPlan {
                 c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
             });
         }
-        // Which solids can meet, and the pairs without a material: the scene's contact rules
-        // (`scene/contact_rules.rs`), shared with the `model!` macro's compile-time check.
+        // Which solids can meet: the scene's contact rules (`scene/contact_rules.rs`), which
+        // validation also uses to report pairs without a material.
         let filter = CollisionFilter::new(scene);
-        errors.extend(missing_contact_pairs(scene));
         let mut pairs = vec![];
         for a in 0..shapes.len() {
             for b in a + 1..shapes.len() {
@@ -147,7 +145,7 @@ impl ContactPlan {
                     continue;
                 }
                 let Some(m) = scene.contact_pair(&sa.contact_material, &sb.contact_material) else {
-                    continue; // reported by `missing_contact_pairs`
+                    continue; // a validation error (`missing_contact_pairs`)
                 };
                 // Keep a sphere first: μ_geo = r1 for sphere–other.
                 let (a, b) = if sb.shape.kind() == ShapeKind::Sphere
@@ -224,7 +222,7 @@ fn user_shape<'a>(scene: &'a ValidScene, s: &ShapePlan) -> &'a Shape {
         .expect("collision shapes come from solids with a shape")
 }
 
-/// `(μ_geo, c_geo, n_geo)` of a pair (spec §3 table; later profile: Hertz for every pair).
+/// `(μ_geo, c_geo, n_geo)` of a pair (docs/contact-model.md §3 table; later profile: Hertz for every pair).
 fn geometry_coefficients(
     profile: ContactProfile,
     scene: &ValidScene,

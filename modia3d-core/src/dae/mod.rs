@@ -133,7 +133,7 @@ impl MultibodyDae {
         self.root_error.take()
     }
 
-    /// Event mode (spec §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
+    /// Event mode (docs/contact-model.md §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
     /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
     /// nothing without collision pairs.
     pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
