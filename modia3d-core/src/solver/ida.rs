@@ -616,6 +616,65 @@ impl<S: DaeSystem> Ida<S> {
         self.attach_linear_solver()
     }
 
+    /// Sets the largest number of internal steps of the next `solve` calls
+    /// (`IDASetMaxNumSteps`, ≥ 1). A call that reaches it returns `IDA_TOO_MUCH_WORK` with the
+    /// solution at the last step taken; calling `solve` again continues from there.
+    pub fn set_max_num_steps(&mut self, n: usize) -> Result<(), IdaError> {
+        let Ok(n) = c_long::try_from(n.max(1)) else {
+            return Err(bad(format!("max_num_steps = {n} must fit a C long")));
+        };
+        self.begin_call();
+        // SAFETY: mem is valid.
+        let rc = unsafe { sys::IDASetMaxNumSteps(self.mem, n) };
+        self.check(rc, "IDASetMaxNumSteps")
+    }
+
+    /// The component of y whose estimated local error, weighted as in IDA's error test
+    /// (`IDAGetEstLocalErrors` × `IDAGetErrWeights`), was largest at the last step, with that
+    /// weighted error (≈ 1 at the limit of the error test); `None` before the first step.
+    /// Allocates (two vectors): for diagnoses, not for the hot path.
+    pub fn limiting_component(&mut self) -> Option<(usize, f64)> {
+        if self.mem.is_null() || self.n == 0 {
+            return None;
+        }
+        self.begin_call();
+        // SAFETY: y is a valid serial vector of this context; clones are freed below.
+        let (ele, ewt) = unsafe { (sys::N_VClone(self.y), sys::N_VClone(self.y)) };
+        let mut best = None;
+        if !ele.is_null() && !ewt.is_null() {
+            // SAFETY: mem is valid; ele/ewt are vectors of length n owned here.
+            let ok = unsafe {
+                sys::IDAGetEstLocalErrors(self.mem, ele) >= 0
+                    && sys::IDAGetErrWeights(self.mem, ewt) >= 0
+            };
+            if ok {
+                // SAFETY: both are serial vectors of length n.
+                let (e, w) = unsafe {
+                    (
+                        slice::from_raw_parts(sys::N_VGetArrayPointer(ele), self.n),
+                        slice::from_raw_parts(sys::N_VGetArrayPointer(ewt), self.n),
+                    )
+                };
+                for (i, (a, b)) in e.iter().zip(w).enumerate() {
+                    let x = (a * b).abs();
+                    if x.is_finite() && best.is_none_or(|(_, y)| x > y) {
+                        best = Some((i, x));
+                    }
+                }
+            }
+        }
+        // SAFETY: each is null or a vector created above, destroyed once.
+        unsafe {
+            if !ele.is_null() {
+                sys::N_VDestroy(ele);
+            }
+            if !ewt.is_null() {
+                sys::N_VDestroy(ewt);
+            }
+        }
+        best
+    }
+
     /// Time \[s\] of the current [`Ida::y`] and [`Ida::yp`].
     pub fn t(&self) -> f64 {
         self.t

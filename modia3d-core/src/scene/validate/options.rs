@@ -37,7 +37,14 @@ pub(super) fn check_options(c: &mut Checker, scene: &str, o: &SceneOptions) {
     c.positive(|| what("v_min [m/s]"), o.v_min);
     c.positive(|| what("w_min [rad/s]"), o.w_min);
     c.positive(|| what("hysteresis [m]"), o.hysteresis);
-    c.positive(|| what("MPR tolerance"), o.mpr_tolerance);
+    // Relative accuracy of the narrow phase: looser than 1e-6 of the shapes' size the
+    // distances are meaningless at the hysteresis scale and contacts flicker without end.
+    c.value(
+        || what("mpr_tolerance (relative MPR/GJK tolerance)"),
+        o.mpr_tolerance,
+        o.mpr_tolerance > 0.0 && o.mpr_tolerance <= 1e-6,
+        "in (0, 1e-6]",
+    );
     c.value(
         || what("MPR iteration limit"),
         o.mpr_max_iterations as f64,
