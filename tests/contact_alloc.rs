@@ -15,7 +15,8 @@ use std::sync::Arc;
 fn residual_roots_and_events_do_not_allocate() {
     let model = demo::billiards16([3.0, 0.1, 0.0], 1.0).build().unwrap();
     let plan = Arc::new(model.plan().clone());
-    let mut dae = MultibodyDae::new(plan.clone());
+    let contact = model.contact_plan().map(|c| Arc::new(c.clone()));
+    let mut dae = MultibodyDae::new(plan.clone(), contact);
     let y = plan.y0();
     let n = y.len();
     dae.handle_event(0.0, &y).unwrap();

@@ -14,7 +14,7 @@ fn ball(name: &str) -> Object3D {
 
 fn pair_count(s: &SceneDesc) -> usize {
     let m = s.build().unwrap();
-    m.plan().contact.as_ref().map_or(0, |c| c.pairs.len())
+    m.contact_plan().map_or(0, |c| c.pairs.len())
 }
 
 /// Two collision spheres on one body (parent link) and a third on a body joined to it.
@@ -42,7 +42,7 @@ fn rigidly_attached_and_jointed_solids_form_pairs_only_when_allowed() {
     assert_eq!(pair_count(&chain(false)), 0);
     assert_eq!(pair_count(&chain(true)), 2);
     let m = chain(true).build().unwrap();
-    let cp = m.plan().contact.as_ref().unwrap();
+    let cp = m.contact_plan().unwrap();
     let names: Vec<String> = (0..2).map(|p| cp.pair_name(&m.plan().scene, p)).collect();
     assert_eq!(names, ["a|b", "a2|b"]);
     // A fixed joint merges: solids on the two sides are one body.
@@ -196,7 +196,7 @@ fn palettes_load_from_json() {
         .add(ball("ball"))
         .add_joint(Joint::new("free", "world", "ball", JointKind::free()));
     let m = s.build().unwrap();
-    let cp = m.plan().contact.as_ref().unwrap();
+    let cp = m.contact_plan().unwrap();
     assert_eq!(
         (cp.pairs[0].cor, cp.pairs[0].v_min, cp.pairs[0].w_min),
         (0.5, 0.02, 0.01)
@@ -243,7 +243,7 @@ fn the_later_modia3d_profile_is_an_option() {
         )
         .add_joint(Joint::new("free", "world", "cube", JointKind::free()));
     let m = s.build().unwrap();
-    let p = &m.plan().contact.as_ref().unwrap().pairs[0];
+    let p = &m.contact_plan().unwrap().pairs[0];
     let r_star = 1.0 / (1.0 / 0.05 + 1.0 / 0.05);
     assert_eq!(p.n_geo, 1.5);
     assert!(
@@ -252,7 +252,7 @@ fn the_later_modia3d_profile_is_an_option() {
     // Default profile: linear law for two non-spheres.
     s.objects[0] = demo::world(SceneOptions::default());
     let m = s.build().unwrap();
-    let p = &m.plan().contact.as_ref().unwrap().pairs[0];
+    let p = &m.contact_plan().unwrap().pairs[0];
     assert_eq!((p.n_geo, p.c_geo, p.mu_geo), (1.0, 1.0, 1.0));
     // A slow drop (impact 5 mm/s < v_min): cor replaced by 0, no rebound event.
     let mut s = demo::bouncing_sphere(

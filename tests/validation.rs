@@ -334,3 +334,38 @@ fn failed_run_carries_results_up_to_the_failure() {
     let last = *e.partial.time().last().unwrap();
     assert!(last > 0.25 && last <= 0.31, "last output at {last}");
 }
+
+/// Topology is checked in validation, with everything else: a typo, a kinematic loop, a body
+/// not connected to the world and a bad value all come back from one `build()` call (before,
+/// loops and connectivity were found only once every other error was fixed), and nothing
+/// else — no follow-up error of the typo (the object with the unknown parent is not reported
+/// as unconnected).
+#[test]
+fn typo_loop_disconnected_body_and_bad_value_in_one_call() {
+    let mut s = base();
+    s.add(ball("a"))
+        .add(ball("b"))
+        .add(ball("floating"))
+        .add(ball("tip").parent("aa"))
+        .add(
+            Object3D::new("c")
+                .parent("world")
+                .solid(Solid::new(Shape::Sphere { diameter: -0.1 }).material("Steel")),
+        )
+        .add_joint(Joint::new("j1", "world", "a", JointKind::revolute(1)))
+        .add_joint(Joint::new("j2", "a", "b", JointKind::revolute(1)))
+        .add_joint(Joint::new("j3", "b", "world", JointKind::revolute(1)));
+    let errs = errors(&s);
+    let has = |needles: &[&str]| errs.iter().any(|e| needles.iter().all(|n| e.contains(n)));
+    assert!(
+        has(&["object `tip`'s parent", "`aa`", "did you mean `a`"]),
+        "{errs:#?}"
+    );
+    assert!(has(&["kinematic loop", "`b`", "`world`"]), "{errs:#?}");
+    assert!(
+        has(&["`floating` is not connected to the world"]),
+        "{errs:#?}"
+    );
+    assert!(has(&["object `c`", "diameter", "-0.1"]), "{errs:#?}");
+    assert_eq!(errs.len(), 4, "{errs:#?}");
+}

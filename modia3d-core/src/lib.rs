@@ -15,6 +15,8 @@ pub mod dae;
 pub mod dynamics;
 pub mod geometry;
 #[cfg(feature = "solver")]
+pub mod model;
+#[cfg(feature = "solver")]
 pub mod results;
 pub mod scene;
 #[cfg(feature = "solver")]
@@ -24,6 +26,8 @@ pub mod solver;
 
 pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
+pub use model::Model;
+#[cfg(feature = "solver")]
 pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
 pub use scene::{
     ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,
@@ -31,4 +35,4 @@ pub use scene::{
     Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid, SolidMaterial, Wrench,
 };
 #[cfg(feature = "solver")]
-pub use simulation::{InputError, Model, SimError, SimErrorKind, SimOptions, Simulation};
+pub use simulation::{InputError, SimError, SimErrorKind, SimOptions, Simulation};

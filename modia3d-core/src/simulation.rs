@@ -1,15 +1,14 @@
-//! Simulation driver: `Model::simulate` runs the DAE of a plan with IDA from the start to the
+//! Simulation driver: [`Simulation`] runs the DAE of a model with IDA from the start to the
 //! stop time, records output points, handles events, and returns results — or, on failure, an
-//! error that carries the results up to the failure.
+//! error that carries the results up to the failure. [`SimOptions`] and [`SimError`] live here;
+//! [`Model::simulate`](crate::Model::simulate) is `Simulation::new` + `advance_to(stop_time)`.
 
 use crate::contact::ContactError;
 use crate::dae::MultibodyDae;
-use crate::dynamics::Plan;
+use crate::model::Model;
 use crate::results::Event;
 use crate::results::{SimStats, SimulationResult};
-use crate::scene::{SceneDesc, SceneErrors};
 use crate::solver::{Atol, Ida, IdaError, IdaOptions, SolveStatus};
-use std::sync::Arc;
 use std::time::Instant;
 
 /// Options of a simulation run. Build with [`SimOptions::new`] and the setters.
@@ -167,66 +166,38 @@ pub struct SimError {
     pub partial: Box<SimulationResult>,
 }
 
-/// A compiled, runnable model. Cheap to clone; runs share the immutable plan.
-#[derive(Clone, Debug)]
-pub struct Model {
-    plan: Arc<Plan>,
-}
-
-impl SceneDesc {
-    /// Validates and compiles the scene into a runnable model.
-    pub fn build(&self) -> Result<Model, SceneErrors> {
-        let valid = self.validate()?;
-        Ok(Model {
-            plan: Arc::new(Plan::compile(valid)?),
-        })
-    }
-}
-
-impl Model {
-    /// The compiled plan.
-    pub fn plan(&self) -> &Plan {
-        &self.plan
-    }
-
-    /// Runs the model with error control from `opts.start_time` to `opts.stop_time`.
-    pub fn simulate(&self, opts: &SimOptions) -> Result<SimulationResult, SimError> {
-        let mut sim = Simulation::new(self, opts)?;
-        use std::io::IsTerminal;
-        if opts.progress && std::io::stderr().is_terminal() {
-            let bar = indicatif::ProgressBar::new(1000);
-            bar.set_style(
-                indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {msg}")
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-            );
-            sim.progress = Some(bar);
-        }
-        tracing::info!(
-            stop_time = opts.stop_time,
-            rtol = opts.rtol,
-            states = self.plan.nq + self.plan.nv,
-            "simulation started"
+/// `model.simulate(opts)`: a [`Simulation`] advanced to the stop time, with a progress bar on
+/// a terminal.
+pub(crate) fn run(model: &Model, opts: &SimOptions) -> Result<SimulationResult, SimError> {
+    let mut sim = Simulation::new(model, opts)?;
+    use std::io::IsTerminal;
+    if opts.progress && std::io::stderr().is_terminal() {
+        let bar = indicatif::ProgressBar::new(1000);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
-        let outcome = sim.advance_to(opts.stop_time);
-        if let Some(bar) = sim.progress.take() {
-            bar.finish_and_clear();
-        }
-        outcome?;
-        let s = &sim.result.stats;
-        tracing::info!(
-            steps = s.solver.steps,
-            events = s.events,
-            wall_time = s.wall_time,
-            "simulation finished"
-        );
-        Ok(sim.into_result())
+        sim.progress = Some(bar);
     }
-
-    /// A step-wise simulation of this model (see [`Simulation`]); the plan is shared, not
-    /// recompiled.
-    pub fn simulation(&self, opts: &SimOptions) -> Result<Simulation, SimError> {
-        Simulation::new(self, opts)
+    tracing::info!(
+        stop_time = opts.stop_time,
+        rtol = opts.rtol,
+        states = model.plan.nq + model.plan.nv,
+        "simulation started"
+    );
+    let outcome = sim.advance_to(opts.stop_time);
+    if let Some(bar) = sim.progress.take() {
+        bar.finish_and_clear();
     }
+    outcome?;
+    let s = &sim.result.stats;
+    tracing::info!(
+        steps = s.solver.steps,
+        events = s.events,
+        wall_time = s.wall_time,
+        "simulation finished"
+    );
+    Ok(sim.into_result())
 }
 
 /// A wrong use of inputs.
@@ -267,7 +238,7 @@ pub enum InputError {
 /// Output points are recorded at every multiple of the output interval, at every event and at
 /// every time passed to [`Simulation::advance_to`].
 pub struct Simulation {
-    plan: Arc<Plan>,
+    model: Model,
     opts: SimOptions,
     ida: Ida<MultibodyDae>,
     result: SimulationResult,
@@ -297,7 +268,7 @@ impl Simulation {
     pub fn new(model: &Model, opts: &SimOptions) -> Result<Self, SimError> {
         let started = Instant::now();
         let plan = model.plan.clone();
-        let mut result = SimulationResult::new(plan.clone());
+        let mut result = SimulationResult::new(model.clone());
         let fail = |kind: SimErrorKind, partial: SimulationResult| SimError {
             kind,
             partial: Box::new(partial),
@@ -309,7 +280,7 @@ impl Simulation {
             result.enable_contact_record();
         }
         let t0 = opts.start_time;
-        let mut dae = MultibodyDae::new(plan.clone());
+        let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
         let y0 = plan.y0();
         // The initial contact set (event mode), then consistent derivatives including contacts.
         if let Err(e) = dae.handle_event(t0, &y0) {
@@ -335,7 +306,7 @@ impl Simulation {
         };
         result.stats.root_functions = root_functions;
         let mut sim = Simulation {
-            plan,
+            model: model.clone(),
             opts: opts.clone(),
             ida,
             result,
@@ -504,18 +475,23 @@ impl Simulation {
 
     /// Names of the declared inputs.
     pub fn input_names(&self) -> Vec<&str> {
-        self.plan.inputs.iter().map(|i| i.name.as_str()).collect()
+        self.model
+            .plan
+            .inputs
+            .iter()
+            .map(|i| i.name.as_str())
+            .collect()
     }
 
     /// Sets input `name` to `values` (1 value for joint inputs, 6 for an object wrench: force
     /// [N] then torque [N·m], resolved in world). Takes effect from the current time on.
     pub fn set_input(&mut self, name: &str, values: &[f64]) -> Result<(), InputError> {
-        let Some(inp) = self.plan.inputs.iter().find(|i| i.name == name) else {
+        let Some(inp) = self.model.plan.inputs.iter().find(|i| i.name == name) else {
             return Err(InputError::Unknown {
                 name: name.into(),
                 hint: crate::scene::did_you_mean(
                     name,
-                    self.plan.inputs.iter().map(|i| i.name.as_str()),
+                    self.model.plan.inputs.iter().map(|i| i.name.as_str()),
                 ),
             });
         };
@@ -546,7 +522,7 @@ impl Simulation {
     pub fn output(&mut self, name: &str) -> Result<Vec<f64>, crate::results::ResultError> {
         let t = self.time();
         let y = self.ida.y().to_vec();
-        let mut now = SimulationResult::new(self.plan.clone());
+        let mut now = SimulationResult::new(self.model.clone());
         if self.opts.contact_results {
             now.enable_contact_record();
         }
@@ -563,9 +539,7 @@ impl Simulation {
     /// Back to the initial state and zero inputs, with the recorded results cleared; the plan
     /// is reused (no recompilation).
     pub fn reset(&mut self) -> Result<(), SimError> {
-        let model = Model {
-            plan: self.plan.clone(),
-        };
+        let model = self.model.clone();
         *self = Simulation::new(&model, &self.opts)?;
         Ok(())
     }

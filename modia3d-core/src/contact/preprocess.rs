@@ -5,9 +5,7 @@
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::ObjectPlan;
 use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape, ShapeKind};
-use crate::scene::{
-    missing_contact_pairs, CollisionFilter, ContactProfile, SceneError, ValidScene,
-};
+use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
 /// A collision shape of the plan.
 #[derive(Clone, Debug)]
@@ -93,7 +91,8 @@ impl ContactPlan {
     }
 
     /// Compiles the pipeline; `Ok(None)` when collision handling is off or there is no
-    /// candidate pair. Errors: missing contact-pair materials, shapes that cannot be smoothed.
+    /// candidate pair. Errors: shapes that cannot be smoothed (missing contact-pair materials
+    /// are validation errors).
     pub(crate) fn compile(
         scene: &ValidScene,
         objects: &[ObjectPlan],
@@ -135,10 +134,9 @@ impl ContactPlan {
                 c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
             });
         }
-        // Which solids can meet, and the pairs without a material: the scene's contact rules
-        // (`scene/contact_rules.rs`), shared with the `model!` macro's compile-time check.
+        // Which solids can meet: the scene's contact rules (`scene/contact_rules.rs`), which
+        // validation also uses to report pairs without a material.
         let filter = CollisionFilter::new(scene);
-        errors.extend(missing_contact_pairs(scene));
         let mut pairs = vec![];
         for a in 0..shapes.len() {
             for b in a + 1..shapes.len() {
@@ -147,7 +145,7 @@ impl ContactPlan {
                     continue;
                 }
                 let Some(m) = scene.contact_pair(&sa.contact_material, &sb.contact_material) else {
-                    continue; // reported by `missing_contact_pairs`
+                    continue; // a validation error (`missing_contact_pairs`)
                 };
                 // Keep a sphere first: μ_geo = r1 for sphere–other.
                 let (a, b) = if sb.shape.kind() == ShapeKind::Sphere

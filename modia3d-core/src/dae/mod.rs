@@ -4,16 +4,18 @@
 //! functions of the contact set (none without collision pairs). The residual is a short list of
 //! stage calls and allocates nothing.
 
-use crate::contact::{ContactError, ContactState, Mode};
+use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
 use crate::scene::ValidForce;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
-/// The multibody DAE of a plan, with its scratch workspace and contact set.
+/// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
 pub struct MultibodyDae {
     plan: Arc<Plan>,
+    /// The collision pipeline, `None` without candidate pairs.
+    contact_plan: Option<Arc<ContactPlan>>,
     ws: Workspace,
     contact: Option<ContactState>,
     /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
@@ -70,13 +72,16 @@ impl TreeBlocks {
 }
 
 impl MultibodyDae {
-    /// The DAE of `plan`.
-    pub fn new(plan: Arc<Plan>) -> Self {
+    /// The DAE of `plan` with the collision pipeline `contact` (`None` without candidate
+    /// pairs).
+    pub fn new(plan: Arc<Plan>, contact: Option<Arc<ContactPlan>>) -> Self {
         let ws = Workspace::new(&plan);
-        let contact = plan.contact.as_ref().map(ContactState::new);
+        let contact_plan = contact;
+        let contact = contact_plan.as_deref().map(ContactState::new);
         let blocks = TreeBlocks::new(&plan);
         MultibodyDae {
             plan,
+            contact_plan,
             ws,
             contact,
             root_error: None,
@@ -109,7 +114,7 @@ impl MultibodyDae {
     }
     /// Names (`"a|b"`) of the pairs that started and ended at the last event.
     pub fn event_pairs(&self) -> (Vec<String>, Vec<String>) {
-        let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.plan.contact.as_ref()) else {
+        let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) else {
             return (vec![], vec![]);
         };
         let names = |v: &[u32]| -> Vec<String> {
@@ -129,7 +134,7 @@ impl MultibodyDae {
     /// nothing without collision pairs.
     pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
         let plan = &*self.plan;
-        let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) else {
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
             return Ok(false);
         };
         let (q, v) = y.split_at(plan.nq);
@@ -142,7 +147,7 @@ impl MultibodyDae {
     /// (for output points). Does nothing without collision pairs.
     pub fn update_contacts(&mut self, t: f64, y: &[f64]) -> Result<(), ContactError> {
         let plan = &*self.plan;
-        let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) else {
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
             return Ok(());
         };
         let (q, v) = y.split_at(plan.nq);
@@ -158,6 +163,7 @@ impl MultibodyDae {
         let mut yp = vec![0.0; nq + nv];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
         let contact = &mut self.contact;
+        let contact_plan = self.contact_plan.as_deref();
         let mut failed = false;
         let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
             &self.plan,
@@ -166,7 +172,7 @@ impl MultibodyDae {
             q,
             v,
             &mut |plan, ws| {
-                if let (Some(cs), Some(cp)) = (contact.as_mut(), plan.contact.as_ref()) {
+                if let (Some(cs), Some(cp)) = (contact.as_mut(), contact_plan) {
                     failed |= cs.evaluate(plan, cp, ws, Mode::Continuous, t).is_err();
                 }
             },
@@ -198,7 +204,7 @@ impl DaeSystem for MultibodyDae {
         let (res_q, res_v) = res.split_at_mut(nq);
         kinematics::position_velocity(plan, &mut self.ws, q, v);
         forces::applied_forces(plan, &mut self.ws, t, q, v);
-        if let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) {
+        if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
             cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
                 .map_err(|e| ResidualError::Fatal(e.to_string()))?;
         }
@@ -226,7 +232,7 @@ impl DaeSystem for MultibodyDae {
 
     fn roots(&mut self, t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) {
         let plan = &*self.plan;
-        let (Some(cs), Some(cp)) = (self.contact.as_mut(), plan.contact.as_ref()) else {
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
             return;
         };
         let (q, v) = y.split_at(plan.nq);
@@ -249,7 +255,7 @@ impl DaeSystem for MultibodyDae {
         s.block_of.clone_from(&tb.fixed.block_of);
         s.n_blocks = tb.fixed.n_blocks;
         s.couplings.clone_from(&tb.fixed.couplings);
-        if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.plan.contact.as_ref()) {
+        if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) {
             for &p in &cs.active {
                 let pp = &cp.pairs[p as usize];
                 if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {

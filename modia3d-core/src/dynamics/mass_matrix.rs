@@ -125,8 +125,8 @@ pub fn consistent_accelerations(
     consistent_accelerations_with(plan, ws, t, q, v, &mut |_, _| {})
 }
 
-/// As [`consistent_accelerations`], with `extra` adding further external forces (contact
-/// forces) to `ws.f_ext` after the applied forces (the workspace then holds positions and
+/// As [`consistent_accelerations`], with `extra` adding further external forces (those of
+/// later stages) to `ws.f_ext` after the applied forces (the workspace then holds positions and
 /// velocities at `q`, `v`).
 pub fn consistent_accelerations_with(
     plan: &Plan,

@@ -1,11 +1,12 @@
-//! Plan stage: `ValidScene` → immutable `Plan`. Merges rigidly attached objects into bodies,
-//! builds the joint tree rooted at the world, lays out the state vector and combines mass
-//! properties. Objects fixed to the world carry no states. Touches only scene data.
+//! Plan stage: `ValidScene` → immutable `Plan`. Lays out the clusters and the spanning joint
+//! tree that validation computed (`scene/topology.rs`) as bodies and tree joints (axes of
+//! reversed joints negated), places the objects in their body frames, lays out the state
+//! vector and the inputs and combines mass properties. Objects fixed to the world carry no
+//! states. Touches only scene data.
 
 use super::spatial::{Inertia, Transform};
 use crate::scene::{SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene};
 use nalgebra::{Isometry3, Vector3};
-use std::collections::VecDeque;
 
 /// Coordinates of a joint in the tree.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -148,9 +149,6 @@ pub struct Plan {
     pub gravity: Vector3<f64>,
     /// The validated scene it was compiled from.
     pub scene: ValidScene,
-    /// The collision pipeline; `None` when the scene has no candidate pair (then no collision
-    /// code runs and there are no root functions).
-    pub contact: Option<crate::contact::ContactPlan>,
     /// Inputs, in declaration order.
     pub inputs: Vec<InputPlan>,
     /// Total number of input values.
@@ -173,233 +171,180 @@ fn inverse(t: &Transform) -> Transform {
     }
 }
 
-struct UnionFind(Vec<usize>);
-impl UnionFind {
-    fn find(&mut self, mut i: usize) -> usize {
-        while self.0[i] != i {
-            self.0[i] = self.0[self.0[i]];
-            i = self.0[i];
+/// The bodies and tree joints laid out from the spanning tree, with the state layout.
+struct TreeLayout {
+    bodies: Vec<BodyPlan>,
+    joints: Vec<JointPlan>,
+    /// Body of each cluster (`None` for the world's and for clusters not in the tree).
+    cluster_body: Vec<Option<usize>>,
+    q0: Vec<f64>,
+    v0: Vec<f64>,
+}
+
+/// Placement of every object in its cluster's reference frame: the world for the world's
+/// cluster, else the tree joint's child-side object.
+fn placements(scene: &ValidScene) -> Vec<Transform> {
+    let n = scene.objects.len();
+    let topo = &scene.topology;
+    let cluster = &topo.cluster;
+    // Rigid edges: (b, placement of b's frame in a's frame), for parent links and Fix joints.
+    let mut rigid: Vec<Vec<(usize, Transform)>> = vec![vec![]; n];
+    for (i, o) in scene.objects.iter().enumerate() {
+        if let Some(p) = o.parent {
+            let t = iso_to_transform(&o.pose);
+            rigid[p].push((i, t));
+            rigid[i].push((p, inverse(&t)));
         }
-        i
     }
-    /// false if already joined (a loop)
-    fn union(&mut self, a: usize, b: usize) -> bool {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra == rb {
-            return false;
+    for j in &scene.joints {
+        if j.kind == ValidJointKind::Fix {
+            rigid[j.obj1].push((j.obj2, Transform::default()));
+            rigid[j.obj2].push((j.obj1, Transform::default()));
         }
-        self.0[ra] = rb;
-        true
     }
+    let mut ref_obj: Vec<usize> = vec![usize::MAX; n];
+    ref_obj[topo.world_cluster] = scene.world;
+    for e in &topo.tree {
+        ref_obj[cluster[e.child_obj]] = e.child_obj;
+    }
+    let mut in_ref = vec![Transform::default(); n];
+    let mut placed = vec![false; n];
+    for start in 0..n {
+        if ref_obj[cluster[start]] != start {
+            continue;
+        }
+        placed[start] = true;
+        let mut stack = vec![start];
+        while let Some(a) = stack.pop() {
+            for &(b, t) in &rigid[a] {
+                if !placed[b] {
+                    placed[b] = true;
+                    in_ref[b] = in_ref[a].then(&t);
+                    stack.push(b);
+                }
+            }
+        }
+    }
+    in_ref
+}
+
+/// Bodies and joints in breadth-first (topological) order, with initial values; axes of
+/// joints traversed from obj2 to obj1 negated.
+fn tree_layout(scene: &ValidScene, in_ref: &[Transform]) -> TreeLayout {
+    let topo = &scene.topology;
+    let mut l = TreeLayout {
+        bodies: vec![],
+        joints: vec![],
+        cluster_body: vec![None; scene.objects.len()],
+        q0: vec![],
+        v0: vec![],
+    };
+    let (mut nq, mut nv) = (0, 0);
+    for e in &topo.tree {
+        let sj = &scene.joints[e.joint];
+        let body = l.bodies.len();
+        let coord = match &sj.kind {
+            ValidJointKind::Revolute { axis, phi, w } => {
+                l.q0.push(*phi);
+                l.v0.push(*w);
+                JointCoord::Revolute {
+                    axis: if e.flipped { -axis } else { *axis },
+                }
+            }
+            ValidJointKind::Prismatic { axis, s, v } => {
+                l.q0.push(*s);
+                l.v0.push(*v);
+                JointCoord::Prismatic {
+                    axis: if e.flipped { -axis } else { *axis },
+                }
+            }
+            // Never flipped: validation rejects a reversed FreeMotion.
+            ValidJointKind::FreeMotion { r, rot, v, w } => {
+                l.q0.extend_from_slice(r.as_slice());
+                l.q0.extend_from_slice(&[rot.w, rot.i, rot.j, rot.k]);
+                l.v0.extend_from_slice(w.as_slice());
+                l.v0.extend_from_slice((rot.inverse() * v).as_slice());
+                JointCoord::Free
+            }
+            ValidJointKind::Fix => unreachable!("fix joints are merged"),
+        };
+        let parent_body = l.cluster_body[e.parent_cluster];
+        l.cluster_body[topo.cluster[e.child_obj]] = Some(body);
+        l.joints.push(JointPlan {
+            name: sj.name.clone(),
+            scene_joint: e.joint,
+            coord,
+            body,
+            tree: in_ref[e.parent_obj],
+            q_offset: nq,
+            v_offset: nv,
+            flipped: e.flipped,
+        });
+        nq += coord.nq();
+        nv += coord.nv();
+        l.bodies.push(BodyPlan {
+            parent: parent_body,
+            joint: l.joints.len() - 1,
+            inertia: Inertia::zero(),
+            objects: vec![],
+        });
+    }
+    l
+}
+
+/// Inputs with plan indices and offsets into the input vector, and for each velocity
+/// coordinate the input offset of its prescribed acceleration.
+fn input_layout(
+    scene: &ValidScene,
+    joints: &[JointPlan],
+    tree_joint_of: &[Option<usize>],
+    nv: usize,
+) -> (Vec<InputPlan>, usize, Vec<Option<usize>>) {
+    let mut inputs = vec![];
+    let mut n_inputs = 0;
+    let mut prescribed = vec![None; nv];
+    for inp in &scene.inputs {
+        let (target, len) = match inp.kind {
+            ValidInputKind::JointForce(sj) => match tree_joint_of[sj] {
+                Some(joint) => (InputTarget::JointForce { joint }, 1),
+                None => continue, // validated: scalar joints are in the tree
+            },
+            ValidInputKind::JointAcceleration(sj) => match tree_joint_of[sj] {
+                Some(joint) => {
+                    prescribed[joints[joint].v_offset] = Some(n_inputs);
+                    (InputTarget::JointAcceleration { joint }, 1)
+                }
+                None => continue,
+            },
+            ValidInputKind::ObjectWrench(object) => (InputTarget::ObjectWrench { object }, 6),
+        };
+        inputs.push(InputPlan {
+            name: inp.name.clone(),
+            target,
+            offset: n_inputs,
+            len,
+        });
+        n_inputs += len;
+    }
+    (inputs, n_inputs, prescribed)
 }
 
 impl Plan {
-    /// Compiles a validated scene. Errors: kinematic loops, parts not connected to the world,
-    /// reversed free motions, bodies without inertia.
-    pub fn compile(scene: ValidScene) -> Result<Plan, SceneErrors> {
-        let n = scene.objects.len();
-        let mut errors = vec![];
-        let names = |ids: &[usize]| -> Vec<String> {
-            ids.iter().map(|&i| scene.objects[i].name.clone()).collect()
-        };
-
-        // Rigid edges: (a, b, placement of b's frame in a's frame).
-        let mut rigid: Vec<Vec<(usize, Transform)>> = vec![vec![]; n];
-        let mut uf = UnionFind((0..n).collect());
-        for (i, o) in scene.objects.iter().enumerate() {
-            if let Some(p) = o.parent {
-                let t = iso_to_transform(&o.pose);
-                rigid[p].push((i, t));
-                rigid[i].push((p, inverse(&t)));
-                uf.union(p, i);
-            }
-        }
-        for j in &scene.joints {
-            if j.kind == ValidJointKind::Fix {
-                if !uf.union(j.obj1, j.obj2) {
-                    errors.push(SceneError::KinematicLoop {
-                        objects: names(&[j.obj1, j.obj2]),
-                    });
-                }
-                rigid[j.obj1].push((j.obj2, Transform::default()));
-                rigid[j.obj2].push((j.obj1, Transform::default()));
-            }
-        }
-        let cluster: Vec<usize> = (0..n).map(|i| uf.find(i)).collect();
-        let world_cluster = cluster[scene.world];
-
-        // Breadth-first over clusters through moving joints, starting at the world.
-        let moving: Vec<usize> = (0..scene.joints.len())
-            .filter(|&j| scene.joints[j].kind != ValidJointKind::Fix)
-            .collect();
-        let mut visited = vec![false; n]; // indexed by cluster representative
-        visited[world_cluster] = true;
-        // For each cluster: (body index or None for world), reference object.
-        let mut cluster_body: Vec<Option<usize>> = vec![None; n];
-        let mut ref_obj: Vec<usize> = vec![usize::MAX; n];
-        ref_obj[world_cluster] = scene.world;
-        let mut used = vec![false; scene.joints.len()];
-        // Tree edge that reached each cluster: (parent cluster, scene joint).
-        let mut reached_by: Vec<Option<(usize, usize)>> = vec![None; n];
-        let mut queue = VecDeque::from([world_cluster]);
-        // (joint, parent cluster, child-side object, parent-side object, flipped)
-        let mut tree_edges = vec![];
-        while let Some(c) = queue.pop_front() {
-            for &j in &moving {
-                if used[j] {
-                    continue;
-                }
-                let sj = &scene.joints[j];
-                let (c1, c2) = (cluster[sj.obj1], cluster[sj.obj2]);
-                let (child_obj, parent_obj, flipped) = if c1 == c {
-                    (sj.obj2, sj.obj1, false)
-                } else if c2 == c {
-                    (sj.obj1, sj.obj2, true)
-                } else {
-                    continue;
-                };
-                used[j] = true;
-                let cc = cluster[child_obj];
-                if visited[cc] {
-                    // The loop: both ends' tree paths up to their common ancestor, closed by j.
-                    // (cluster, joint to its parent cluster) up to the world.
-                    let path = |mut k: usize| {
-                        let mut p = vec![];
-                        loop {
-                            let r = reached_by[k];
-                            p.push((k, r.map(|x: (usize, usize)| x.1)));
-                            match r {
-                                Some((up, _)) => k = up,
-                                None => return p,
-                            }
-                        }
-                    };
-                    let (p1, p2) = (path(c1), path(c2));
-                    let mut ids = vec![sj.obj1, sj.obj2];
-                    for p in [&p1, &p2] {
-                        for &(k, via) in p {
-                            if p1.iter().any(|x| x.0 == k) && p2.iter().any(|x| x.0 == k) {
-                                break; // common ancestor reached
-                            }
-                            if let Some(via) = via {
-                                let tj = &scene.joints[via];
-                                ids.extend([tj.obj1, tj.obj2]);
-                            }
-                        }
-                    }
-                    let mut seen = vec![];
-                    ids.retain(|i| {
-                        let new = !seen.contains(i);
-                        seen.push(*i);
-                        new
-                    });
-                    errors.push(SceneError::KinematicLoop {
-                        objects: names(&ids),
-                    });
-                    continue;
-                }
-                visited[cc] = true;
-                reached_by[cc] = Some((c, j));
-                ref_obj[cc] = child_obj;
-                tree_edges.push((j, c, child_obj, parent_obj, flipped));
-                queue.push_back(cc);
-            }
-        }
-        for i in 0..n {
-            if !visited[cluster[i]] {
-                errors.push(SceneError::NotConnected {
-                    object: scene.objects[i].name.clone(),
-                });
-                visited[cluster[i]] = true; // one message per unconnected part
-            }
-        }
-        if !errors.is_empty() {
-            return Err(SceneErrors(errors));
-        }
-
-        // Placement of every object in its cluster's reference frame.
-        let mut in_ref = vec![Transform::default(); n];
-        let mut placed = vec![false; n];
-        for start in 0..n {
-            let c = cluster[start];
-            if ref_obj[c] != start {
-                continue;
-            }
-            placed[start] = true;
-            let mut stack = vec![start];
-            while let Some(a) = stack.pop() {
-                for &(b, t) in &rigid[a] {
-                    if !placed[b] {
-                        placed[b] = true;
-                        in_ref[b] = in_ref[a].then(&t);
-                        stack.push(b);
-                    }
-                }
-            }
-        }
-
-        // Bodies and joints in breadth-first (topological) order.
-        let mut bodies = vec![];
-        let mut joints = vec![];
-        let (mut nq, mut nv) = (0, 0);
-        let (mut q0, mut v0) = (vec![], vec![]);
-        for &(j, parent_cluster, child_obj, parent_obj, flipped) in &tree_edges {
-            let sj = &scene.joints[j];
-            let body = bodies.len();
-            let coord = match &sj.kind {
-                ValidJointKind::Revolute { axis, phi, w } => {
-                    q0.push(*phi);
-                    v0.push(*w);
-                    JointCoord::Revolute {
-                        axis: if flipped { -axis } else { *axis },
-                    }
-                }
-                ValidJointKind::Prismatic { axis, s, v } => {
-                    q0.push(*s);
-                    v0.push(*v);
-                    JointCoord::Prismatic {
-                        axis: if flipped { -axis } else { *axis },
-                    }
-                }
-                ValidJointKind::FreeMotion { r, rot, v, w } => {
-                    if flipped {
-                        errors.push(SceneError::ReversedFreeMotion {
-                            joint: sj.name.clone(),
-                            obj1: scene.objects[sj.obj1].name.clone(),
-                            obj2: scene.objects[sj.obj2].name.clone(),
-                        });
-                    }
-                    q0.extend_from_slice(r.as_slice());
-                    q0.extend_from_slice(&[rot.w, rot.i, rot.j, rot.k]);
-                    v0.extend_from_slice(w.as_slice());
-                    v0.extend_from_slice((rot.inverse() * v).as_slice());
-                    JointCoord::Free
-                }
-                ValidJointKind::Fix => unreachable!("fix joints are merged"),
-            };
-            let parent_body = cluster_body[parent_cluster];
-            cluster_body[cluster[child_obj]] = Some(body);
-            joints.push(JointPlan {
-                name: sj.name.clone(),
-                scene_joint: j,
-                coord,
-                body,
-                tree: in_ref[parent_obj],
-                q_offset: nq,
-                v_offset: nv,
-                flipped,
-            });
-            nq += coord.nq();
-            nv += coord.nv();
-            bodies.push(BodyPlan {
-                parent: parent_body,
-                joint: joints.len() - 1,
-                inertia: Inertia::zero(),
-                objects: vec![],
-            });
-        }
-
-        let mut objects = Vec::with_capacity(n);
+    /// Lays out a validated scene, whose topology (clusters, spanning tree) validation has
+    /// already checked: bodies and joints in tree order, object placements, state layout,
+    /// combined mass properties, inputs. Layout only: it cannot fail. The mass-matrix
+    /// positivity check ([`Plan::check_inertia`]) needs the finished plan and runs after it.
+    pub fn compile(scene: ValidScene) -> Plan {
+        let in_ref = placements(&scene);
+        let TreeLayout {
+            mut bodies,
+            joints,
+            cluster_body,
+            q0,
+            v0,
+        } = tree_layout(&scene, &in_ref);
+        let cluster = &scene.topology.cluster;
+        let mut objects = Vec::with_capacity(scene.objects.len());
         for (i, o) in scene.objects.iter().enumerate() {
             let body = cluster_body[cluster[i]];
             if let Some(b) = body {
@@ -419,54 +364,16 @@ impl Plan {
                 in_body: in_ref[i],
             });
         }
-
         let mut tree_joint_of = vec![None; scene.joints.len()];
         for (tj, j) in joints.iter().enumerate() {
             tree_joint_of[j.scene_joint] = Some(tj);
         }
-
-        let contact = match crate::contact::ContactPlan::compile(&scene, &objects) {
-            Ok(c) => c,
-            Err(e) => {
-                errors.extend(e);
-                None
-            }
-        };
-        if !errors.is_empty() {
-            return Err(SceneErrors(errors));
-        }
-        let mut inputs = vec![];
-        let mut n_inputs = 0;
-        let mut prescribed = vec![None; nv];
-        let tree_joint = |sj: usize| tree_joint_of[sj];
-        for inp in &scene.inputs {
-            let (target, len) = match inp.kind {
-                ValidInputKind::JointForce(sj) => match tree_joint(sj) {
-                    Some(joint) => (InputTarget::JointForce { joint }, 1),
-                    None => continue, // validated: scalar joints are in the tree
-                },
-                ValidInputKind::JointAcceleration(sj) => match tree_joint(sj) {
-                    Some(joint) => {
-                        prescribed[joints[joint].v_offset] = Some(n_inputs);
-                        (InputTarget::JointAcceleration { joint }, 1)
-                    }
-                    None => continue,
-                },
-                ValidInputKind::ObjectWrench(object) => (InputTarget::ObjectWrench { object }, 6),
-            };
-            inputs.push(InputPlan {
-                name: inp.name.clone(),
-                target,
-                offset: n_inputs,
-                len,
-            });
-            n_inputs += len;
-        }
-        let plan = Plan {
+        let (nq, nv) = (q0.len(), v0.len());
+        let (inputs, n_inputs, prescribed) = input_layout(&scene, &joints, &tree_joint_of, nv);
+        Plan {
             inputs,
             n_inputs,
             prescribed,
-            contact,
             bodies,
             joints,
             objects,
@@ -477,14 +384,18 @@ impl Plan {
             v0,
             gravity: scene.options.gravity,
             scene,
-        };
-        plan.check_inertia()?;
-        Ok(plan)
+        }
     }
 
     /// The mass matrix of the coordinates that are not prescribed must be positive definite at
     /// the initial state; otherwise names the joint whose coordinate has no inertia.
-    fn check_inertia(&self) -> Result<(), SceneErrors> {
+    ///
+    /// This is the one scene check after validation: it needs the compiled plan and the
+    /// dynamics (an inverse-dynamics pass per coordinate). It runs only on a scene without
+    /// any other error, so its error never hides another one; and a body without mass is a
+    /// consequence of values validation has already accepted, so the user fixes it in one
+    /// further edit rather than seeing a new kind of error appear after each round.
+    pub(crate) fn check_inertia(&self) -> Result<(), SceneErrors> {
         let mut ws = super::Workspace::new(self);
         let singular = super::mass_matrix::tree_mass_matrices(self, &mut ws, &self.q0)
             .into_iter()
@@ -527,7 +438,7 @@ impl Plan {
     /// The independent joint trees: for each body the index of its tree (one per root body,
     /// i.e. per body whose parent is the world), and the number of trees. `M(q)` is block
     /// diagonal over the trees, and the rows of one tree depend on another's state only through
-    /// forces between them (contacts, spring-dampers).
+    /// forces between them (spring-dampers, forces of other stages).
     pub fn trees(&self) -> (Vec<usize>, usize) {
         let mut tree = vec![0; self.bodies.len()];
         let mut n = 0;

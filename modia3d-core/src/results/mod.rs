@@ -9,9 +9,9 @@ mod plot;
 mod threejs;
 
 use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
+use crate::model::Model;
 use crate::solver::IdaStats;
 use std::io::Write;
-use std::sync::Arc;
 
 /// Counters of a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -125,7 +125,7 @@ pub enum ResultError {
 /// and events. Signals are derived on demand.
 #[derive(Clone, Debug)]
 pub struct SimulationResult {
-    plan: Arc<Plan>,
+    model: Model,
     time: Vec<f64>,
     states: Vec<f64>,
     /// Counters of the run.
@@ -144,9 +144,9 @@ enum Quantity {
 }
 
 impl SimulationResult {
-    pub(crate) fn new(plan: Arc<Plan>) -> Self {
+    pub(crate) fn new(model: Model) -> Self {
         SimulationResult {
-            plan,
+            model,
             time: vec![],
             states: vec![],
             stats: SimStats::default(),
@@ -156,7 +156,7 @@ impl SimulationResult {
     }
 
     pub(crate) fn enable_contact_record(&mut self) {
-        if self.plan.contact.is_some() {
+        if self.model.contact.is_some() {
             self.contacts = Some(ContactRecord::default());
         }
     }
@@ -181,9 +181,9 @@ impl SimulationResult {
 
     /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
     pub fn contact_pairs(&self) -> Vec<String> {
-        match &self.plan.contact {
+        match &self.model.contact {
             Some(cp) => (0..cp.pairs.len())
-                .map(|p| cp.pair_name(&self.plan.scene, p))
+                .map(|p| cp.pair_name(&self.model.plan.scene, p))
                 .collect(),
             None => vec![],
         }
@@ -202,7 +202,7 @@ impl SimulationResult {
             "normal" => (12, 3, "1"),
             _ => return None,
         };
-        let np = self.plan.contact.as_ref()?.pairs.len();
+        let np = self.model.contact.as_ref()?.pairs.len();
         let stride = np * PAIR_VALUES;
         let base = p * PAIR_VALUES + off;
         let data = (0..self.time.len())
@@ -228,7 +228,7 @@ impl SimulationResult {
 
     /// Number of unknowns per time point (`nq + nv`).
     pub fn state_len(&self) -> usize {
-        self.plan.nq + self.plan.nv
+        self.model.plan.nq + self.model.plan.nv
     }
 
     /// State `y = [q; v]` at time point `k`.
@@ -244,12 +244,12 @@ impl SimulationResult {
 
     /// The plan the run was made with.
     pub fn plan(&self) -> &Plan {
-        &self.plan
+        &self.model.plan
     }
 
     /// `joint.coordinate` names of every tree joint's states.
     fn joint_signal_names(&self) -> impl Iterator<Item = String> + '_ {
-        self.plan.joints.iter().flat_map(|j| {
+        self.model.plan.joints.iter().flat_map(|j| {
             let sfx: &'static [&'static str] = match j.coord {
                 JointCoord::Revolute { .. } => &["phi", "w"],
                 JointCoord::Prismatic { .. } => &["s", "v"],
@@ -265,7 +265,7 @@ impl SimulationResult {
     pub fn signal_names(&self) -> Vec<String> {
         let mut names = vec![];
         names.extend(self.joint_signal_names());
-        for o in &self.plan.objects {
+        for o in &self.model.plan.objects {
             for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
                 names.push(format!("{}.{s}", o.name));
             }
@@ -344,7 +344,7 @@ impl SimulationResult {
     }
 
     fn full_signal(&self, owner: &str, field: &str) -> Option<Signal> {
-        let plan = &*self.plan;
+        let plan = &*self.model.plan;
         let nq = plan.nq;
         let nt = self.time.len();
         let make = |unit, dim, data| Signal {
@@ -425,7 +425,7 @@ impl SimulationResult {
         };
         let mut names: Vec<String> = vec![];
         names.extend(self.joint_signal_names());
-        for o in &self.plan.objects {
+        for o in &self.model.plan.objects {
             if o.body.is_some() {
                 names.push(format!("{}.r_abs", o.name));
             }

@@ -22,30 +22,8 @@ pub struct CollisionFilter {
 impl CollisionFilter {
     /// The filter of a validated scene.
     pub fn new(scene: &ValidScene) -> Self {
-        let n = scene.objects.len();
-        let mut up: Vec<usize> = (0..n).collect();
-        fn find(up: &mut [usize], mut i: usize) -> usize {
-            while up[i] != i {
-                up[i] = up[up[i]];
-                i = up[i];
-            }
-            i
-        }
-        let join = |up: &mut Vec<usize>, a: usize, b: usize| {
-            let (ra, rb) = (find(up, a), find(up, b));
-            up[ra] = rb;
-        };
-        for (i, o) in scene.objects.iter().enumerate() {
-            if let Some(p) = o.parent {
-                join(&mut up, i, p);
-            }
-        }
-        for j in &scene.joints {
-            if j.kind == ValidJointKind::Fix {
-                join(&mut up, j.obj1, j.obj2);
-            }
-        }
-        let body: Vec<usize> = (0..n).map(|i| find(&mut up, i)).collect();
+        // Rigid bodies = the topology's clusters (parent links and Fix joints merged).
+        let body = scene.topology.cluster.clone();
         let excluded = scene
             .joints
             .iter()
@@ -133,14 +111,14 @@ pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
 }
 
 impl SceneDesc {
-    /// Every error [`SceneDesc::validate`] finds, or — for a valid scene — the contact pairs
-    /// it lacks ([`missing_contact_pairs`]); empty if the scene passes both. This is the check
-    /// the `model!` macro runs on the literal part of a block at compile time; `build()` runs
-    /// the same rules (validation, then the contact preprocessing) plus the plan's own checks.
+    /// Every error [`SceneDesc::validate`] finds (missing contact pairs
+    /// ([`missing_contact_pairs`]) and the topology included); empty for a valid scene. This is
+    /// the check the `model!` macro runs on the literal part of a block at compile time;
+    /// `build()` runs the same validation plus the plan's own checks.
     pub fn scene_errors(&self) -> Vec<SceneError> {
         match self.validate() {
             Err(e) => e.0,
-            Ok(valid) => missing_contact_pairs(&valid),
+            Ok(_) => vec![],
         }
     }
 }

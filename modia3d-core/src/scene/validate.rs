@@ -1,6 +1,7 @@
-//! Validation stage: `SceneDesc` → `ValidScene`. Resolves names to indices, checks values and
-//! the topology (one scene at the root, no parent cycles, no kinematic loops, every part
-//! connected to the world) and collects *all* errors, each naming its culprit.
+//! Validation stage: `SceneDesc` → `ValidScene`. Resolves names to indices, checks values,
+//! the topology (one scene at the root; in `topology.rs`: no parent cycles, no kinematic loops,
+//! every part connected to the world, the spanning joint tree) and the contact-pair materials
+//! (`contact_rules.rs`), and collects *all* errors in one round, each naming its culprit.
 //! Touches only the scene description; the dynamics plan is compiled from the result.
 
 use super::desc::{
@@ -354,6 +355,8 @@ pub struct ValidScene {
     pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
     /// Inputs with resolved joint/object indices.
     pub inputs: Vec<ValidInput>,
+    /// Rigid clusters and the spanning joint tree (`scene/topology.rs`).
+    pub topology: super::topology::Topology,
 }
 
 /// A resolved input.
@@ -523,11 +526,15 @@ impl SceneDesc {
 
         // --- objects
         let mut objects = Vec::with_capacity(self.objects.len());
+        // Objects whose links were dropped because of an error already reported.
+        let mut suspect = Vec::with_capacity(self.objects.len());
         for o in &self.objects {
             let parent = o
                 .parent
                 .as_ref()
                 .and_then(|p| resolve(&mut c, format!("object `{}`'s parent", o.name), p));
+            // An unknown parent: the object may now look unconnected.
+            suspect.push(o.parent.is_some() && parent.is_none());
             c.finite(
                 || format!("object `{}`: translation [m]", o.name),
                 o.translation.as_slice(),
@@ -633,45 +640,17 @@ impl SceneDesc {
             });
         }
 
-        // --- parent cycles
-        let n = objects.len();
-        let mut state = vec![0u8; n]; // 0 new, 1 on current chain, 2 done
-        for start in 0..n {
-            let mut chain = vec![];
-            let mut i = start;
-            while state[i] == 0 {
-                state[i] = 1;
-                chain.push(i);
-                match objects[i].parent {
-                    Some(p) => i = p,
-                    None => break,
-                }
-            }
-            if state[i] == 1 && objects[i].parent.is_some() && chain.contains(&i) {
-                let pos = chain.iter().position(|&k| k == i).unwrap_or(0);
-                c.errors.push(SceneError::ParentCycle {
-                    objects: chain[pos..]
-                        .iter()
-                        .map(|&k| objects[k].name.clone())
-                        .collect(),
-                });
-                // Cut the cycle so later passes terminate.
-                let k = chain[chain.len() - 1];
-                objects[k].parent = None;
-            }
-            for k in chain {
-                state[k] = 2;
-            }
-        }
-
         // --- joints
         let mut joints = Vec::with_capacity(self.joints.len());
-        let mut movers: HashMap<usize, Vec<String>> = HashMap::new();
         for j in &self.joints {
             let o1 = resolve(&mut c, format!("joint `{}`'s obj1", j.name), &j.obj1);
             let o2 = resolve(&mut c, format!("joint `{}`'s obj2", j.name), &j.obj2);
             let kind = check_joint_kind(&mut c, &j.name, &j.kind);
             let (Some(o1), Some(o2), Some(kind)) = (o1, o2, kind) else {
+                // Dropped: its resolved ends may now look unconnected.
+                for o in [o1, o2].into_iter().flatten() {
+                    suspect[o] = true;
+                }
                 continue;
             };
             if o1 == o2 {
@@ -679,9 +658,9 @@ impl SceneDesc {
                     joint: j.name.clone(),
                     object: j.obj1.clone(),
                 });
+                suspect[o1] = true;
                 continue;
             }
-            movers.entry(o2).or_default().push(j.name.clone());
             joints.push(ValidJoint {
                 name: j.name.clone(),
                 obj1: o1,
@@ -690,14 +669,15 @@ impl SceneDesc {
                 can_collide: j.can_collide,
             });
         }
-        let mut two: Vec<_> = movers.into_iter().filter(|(_, v)| v.len() > 1).collect();
-        two.sort();
-        for (o, js) in two {
-            c.errors.push(SceneError::TwoParents {
-                object: objects[o].name.clone(),
-                joints: js,
-            });
-        }
+
+        // --- topology: cycles, two parents, clusters, the joint tree, loops, connectivity
+        let topology = super::topology::check_topology(
+            &mut objects,
+            &joints,
+            world,
+            &mut suspect,
+            &mut c.errors,
+        );
 
         // --- force elements
         let mut forces = vec![];
@@ -855,18 +835,24 @@ impl SceneDesc {
             }
         }
 
-        if !c.errors.is_empty() {
-            return Err(SceneErrors(c.errors));
-        }
-        Ok(ValidScene {
+        let valid = ValidScene {
             contact_pairs: self.contact_pairs.clone(),
             inputs,
             objects,
             joints,
             forces,
-            world: world.expect("checked above"),
+            world: world.unwrap_or(0),
             options,
-        })
+            topology,
+        };
+        // --- contact pairs that can meet but have no material (the same rule as the contact
+        // preprocessing's candidate pairs)
+        c.errors
+            .extend(super::contact_rules::missing_contact_pairs(&valid));
+        if !c.errors.is_empty() {
+            return Err(SceneErrors(c.errors));
+        }
+        Ok(valid)
     }
 }
 

@@ -228,6 +228,19 @@ impl<'a> Mapper<'a> {
                 }
                 self.kinematic_loop(objects, errors)
             }
+            E::ReversedFreeMotion { joint, obj1, obj2 } => {
+                if is_stand_in(obj1) || is_stand_in(obj2) {
+                    return None;
+                }
+                let (o1, _) = self.joint(joint)?;
+                Some((
+                    errors.slot(),
+                    new(
+                        o1.span,
+                        format!("FreeMotion `{joint}`: obj1 `{obj1}` must lie on the world side of obj2 `{obj2}` (hint: swap obj1 and obj2)"),
+                    ),
+                ))
+            }
             E::NotConnected { object } => {
                 if self.assembly
                     || self.probe.has_assemblies
@@ -252,6 +265,7 @@ impl<'a> Mapper<'a> {
                 object2,
             } => {
                 if self.assembly
+                    || self.macro_errors
                     || self.probe.has_assemblies
                     || self.probe.pairs_unsure
                     || [material1, material2, object1, object2]

@@ -17,7 +17,7 @@ use crate::names::NameRef;
 use crate::vocab::Kind;
 use modia3d_core::scene::{
     ContactPairMaterial, Feature, ForceElement, ForceFn, Input, Joint, JointKind, MassSpec,
-    Object3D, SceneDesc, SceneError, SceneOptions, Solid, SolidMaterial, Wrench,
+    Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial, Wrench,
 };
 use modia3d_core::{Axis, Shape};
 use nalgebra::{Matrix3, Point3, Vector3};
@@ -48,72 +48,7 @@ pub fn check(def: &ModelDef, ir: &Ir, errors: &mut Errors) {
         used: vec![false; p.nums.len()],
         consumed: HashMap::new(),
     };
-    let found = p.desc.scene_errors();
-    let core_sees_loops = found
-        .iter()
-        .any(|e| matches!(e, SceneError::KinematicLoop { .. }));
-    m.map_all(found, errors);
-    if !core_sees_loops {
-        loops_until_core_topology(ir, errors);
-    }
-}
-
-/// Kinematic loops, until the core's validation reports them (today the plan stage does, which
-/// needs the solver): a joint whose two ends are already connected by parent links and earlier
-/// joints. Silent as soon as `scene_errors` reports loops itself; then delete it.
-fn loops_until_core_topology(ir: &Ir, errors: &mut Errors) {
-    let mut group: HashMap<String, String> = HashMap::new();
-    fn find(g: &mut HashMap<String, String>, x: &str) -> String {
-        match g.get(x).cloned() {
-            Some(p) if p != x => {
-                let r = find(g, &p);
-                g.insert(x.to_string(), r.clone());
-                r
-            }
-            _ => x.to_string(),
-        }
-    }
-    for it in &ir.items {
-        if let Item::Object {
-            name,
-            parent: Parent::Ref(p),
-            ..
-        } = it
-        {
-            let (a, b) = (
-                find(&mut group, &name.to_string()),
-                find(&mut group, &p.path),
-            );
-            if a != b {
-                group.insert(a, b);
-            }
-        }
-    }
-    let mut moved = HashSet::new();
-    for it in &ir.items {
-        let Item::Joint {
-            name, obj1, obj2, ..
-        } = it
-        else {
-            continue;
-        };
-        // Identical ends and second movers are errors of their own (the core's).
-        if obj1.path == obj2.path || !moved.insert(obj2.path.clone()) {
-            continue;
-        }
-        let (a, b) = (find(&mut group, &obj1.path), find(&mut group, &obj2.path));
-        if a == b {
-            errors.push(syn::Error::new(
-                obj2.span,
-                format!(
-                    "kinematic loop: joint `{name}` joins `{}` and `{}`, which are already connected (hint: closed chains are not supported; remove this joint or a `parent` of the loop)",
-                    obj1.path, obj2.path
-                ),
-            ));
-            continue;
-        }
-        group.insert(a, b);
-    }
+    m.map_all(p.desc.scene_errors(), errors);
 }
 
 /// The scene description of the literal part, and where its literal numbers came from.
