@@ -68,7 +68,22 @@ impl<'a> Mapper<'a> {
     }
 
     pub(super) fn map_all(mut self, found: Vec<SceneError>, errors: &mut Errors) {
+        let (unconnected, found): (Vec<_>, Vec<_>) = found
+            .into_iter()
+            .partition(|e| matches!(e, SceneError::NotConnected { .. }));
         for e in found {
+            if let Some((slot, err)) = self.map(&e, errors) {
+                errors.push_at(slot, err);
+            }
+        }
+        // A part not connected to the world is reported only for a block the macro sees
+        // whole (no values known only at run time) and that has no other error: so it never
+        // hides rustc's type errors, nor adds to a block's real mistakes; `build()` reports
+        // the rest.
+        if errors.any() || self.probe.run_time_values {
+            return;
+        }
+        for e in unconnected {
             if let Some((slot, err)) = self.map(&e, errors) {
                 errors.push_at(slot, err);
             }

@@ -61,6 +61,8 @@ pub(crate) struct Probe<'a> {
     pub(crate) pairs_unsure: bool,
     /// The block has sub-assemblies (they may add anything).
     pub(crate) has_assemblies: bool,
+    /// Some value of the block is known only at run time (a stand-in stands for it).
+    pub(crate) run_time_values: bool,
 }
 
 impl<'a> Probe<'a> {
@@ -70,12 +72,16 @@ impl<'a> Probe<'a> {
                 self.nums.push((owner.to_string(), n.key, l));
                 l.value
             }
-            _ => STAND_IN,
+            _ => {
+                self.run_time_values = true;
+                STAND_IN
+            }
         }
     }
 
     fn vec3(&mut self, owner: &str, n: &'a Num) -> Vector3<f64> {
         let mut v = Vector3::repeat(STAND_IN);
+        self.run_time_values |= n.parts.len() != 3 || n.parts.iter().any(|p| p.is_none());
         if n.parts.len() == 3 {
             for (i, part) in n.parts.iter().enumerate() {
                 if let Some(l) = part {
@@ -90,7 +96,10 @@ impl<'a> Probe<'a> {
     fn material(&mut self, m: &MaterialName) -> String {
         match m {
             MaterialName::Local(n) | MaterialName::Named(n, _) => n.clone(),
-            MaterialName::Expr(_) => STAND_IN_MATERIAL.to_string(),
+            MaterialName::Expr(_) => {
+                self.run_time_values = true;
+                STAND_IN_MATERIAL.to_string()
+            }
         }
     }
 
@@ -276,7 +285,10 @@ impl<'a> Probe<'a> {
 
     fn feature(&mut self, owner: &str, f: &'a FeatureIr) -> Feature {
         match f {
-            FeatureIr::Expr(_) => Feature::None,
+            FeatureIr::Expr(_) => {
+                self.run_time_values = true;
+                Feature::None
+            }
             FeatureIr::Scene(s) => Feature::Scene(self.scene(owner, s)),
             FeatureIr::Visual(s) => Feature::Visual(self.shape(owner, s)),
             FeatureIr::Solid(s) => Feature::Solid(self.solid(owner, s)),
@@ -313,7 +325,10 @@ impl<'a> Probe<'a> {
 
     fn shape(&mut self, owner: &str, s: &'a ShapeIr) -> Shape {
         match s {
-            ShapeIr::Expr(_) => Shape::Sphere { diameter: STAND_IN },
+            ShapeIr::Expr(_) => {
+                self.run_time_values = true;
+                Shape::Sphere { diameter: STAND_IN }
+            }
             ShapeIr::Sphere(d) => Shape::Sphere {
                 diameter: self.scalar(owner, d),
             },
