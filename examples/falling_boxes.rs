@@ -3,9 +3,10 @@
 //! phase). One contact point per pair suffices because the force of a face contact acts at a
 //! continuous centre of pressure (`geometry::contact_point`), not at an arbitrary corner.
 //!
-//! `k_red = 1e-3` (default) gives a static penetration of about 1e-6 m, a hundred times the
-//! hysteresis ε = 1e-8 m; at `k_red = 1` the wood-on-wood linear law leaves about 1e-9 m, below
-//! ε, and resting contacts flicker (tests/contact_resting.rs has the measurements).
+//! `k_red = 1e-3` (default) gives a static penetration of about 1e-6 m; at `k_red = 1` the
+//! wood-on-wood linear law leaves about 1e-9 m. Resting contacts do not flicker at either (the
+//! hysteresis lies on the separated side, docs/contact-hysteresis.md), but the stiff contact at
+//! `k_red = 1` takes far more IDA steps.
 //!
 //!     cargo run --release --example falling_boxes [-- k_red]
 

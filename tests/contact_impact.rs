@@ -1,7 +1,8 @@
 //! Impacts without gravity against the Hertz closed forms (reference/analytic.md) and the
-//! effective restitution of the damped law. Contact start is located at δ = 2ε (hysteresis
-//! ε = 1e-8 m) and the end at δ = 0, which shortens the measured duration by 2ε/v0 ≈ 2e-8 s,
-//! i.e. 3e-4 of t_c: well inside the 1 % tolerance.
+//! effective restitution of the damped law. Contact start is located at touch (δ = 0) and the
+//! end at a separation of 2ε (hysteresis ε = 1e-8 m, docs/contact-hysteresis.md), which
+//! lengthens the measured duration by 2ε/v0 ≈ 2e-8 s, i.e. 3e-4 of t_c: well inside the 1 %
+//! tolerance.
 
 use modia3d::demo::{self, sphere_mass};
 use modia3d::prelude::*;

@@ -1,5 +1,6 @@
 //! Pendulum, point mass on a massless rod: period against the elliptic-integral closed form
-//! and energy conservation (../shared/reference/analytic.md).
+//! `T = 4·sqrt(l/g)·K(sin(φ₀/2))` (K the complete elliptic integral of the first kind) and
+//! energy conservation.
 
 use modia3d::prelude::*;
 use std::f64::consts::PI;

@@ -4,7 +4,8 @@
 //! compile — [`scene`] (description, materials, validation) and [`geometry`] — so the `model!`
 //! macro can run the same scene checks at compile time without building SUNDIALS.
 #![warn(missing_docs)]
-// Only the solver stage's FFI module (solver/ida.rs) may use `unsafe`; it opts back in explicitly.
+// Only the solver stage's FFI module `solver::ida` (solver/ida.rs with its children ida/callbacks.rs
+// and ida/linear.rs) may use `unsafe`; `mod ida` opts back in explicitly.
 #![deny(unsafe_code)]
 
 #[cfg(feature = "solver")]

@@ -11,6 +11,21 @@ use crate::results::{SimStats, SimulationResult};
 use crate::solver::{Atol, Ida, IdaError, IdaOptions, SolveStatus};
 use std::time::Instant;
 
+mod diagnosis;
+pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
+
+/// Default [`SimOptions::max_steps`]: IDA steps per run, all restarts included.
+pub const DEFAULT_MAX_STEPS: u64 = 1_000_000;
+/// Largest number of output-grid points of a run (`(stop − start)/interval`).
+pub const MAX_OUTPUT_POINTS: f64 = 1e7;
+/// Chattering guard: this many consecutive events within
+/// [`CHATTER_SPAN`]` · (stop − start)` end the run with [`SimErrorKind::Chattering`].
+pub const CHATTER_EVENTS: usize = 100;
+/// Chattering guard: relative time span (see [`CHATTER_EVENTS`]).
+pub const CHATTER_SPAN: f64 = 1e-6;
+/// IDA steps per `IDASolve` call between two checks of the budgets.
+const STEP_CHUNK: u64 = 2_000;
+
 /// Options of a simulation run. Build with [`SimOptions::new`] and the setters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimOptions {
@@ -37,6 +52,13 @@ pub struct SimOptions {
     /// a few residual evaluations per Jacobian instead of one per state. False = IDA's dense
     /// difference quotients (for comparison; the results agree to the tolerance).
     pub structured_jacobian: bool,
+    /// Work budget: IDA steps over the whole run, every restart included (default
+    /// [`DEFAULT_MAX_STEPS`]; `None` = unlimited). Reaching it ends the run with
+    /// [`SimErrorKind::WorkBudget`], whose diagnosis names the limiting cause.
+    pub max_steps: Option<u64>,
+    /// Work budget: wall time [s] of the run (default `None` = unlimited); checked every
+    /// few thousand steps and at every output point and event.
+    pub max_wall_time: Option<f64>,
 }
 
 impl SimOptions {
@@ -52,7 +74,19 @@ impl SimOptions {
             contact_results: false,
             progress: true,
             structured_jacobian: true,
+            max_steps: Some(DEFAULT_MAX_STEPS),
+            max_wall_time: None,
         }
+    }
+    /// Sets the step budget of the run (`None` = unlimited; see [`SimOptions::max_steps`]).
+    pub fn max_steps(mut self, n: Option<u64>) -> Self {
+        self.max_steps = n;
+        self
+    }
+    /// Sets the wall-time budget [s] of the run (see [`SimOptions::max_wall_time`]).
+    pub fn max_wall_time(mut self, seconds: f64) -> Self {
+        self.max_wall_time = Some(seconds);
+        self
     }
     /// Uses (true, the default) or not the coloured Jacobian (see
     /// [`SimOptions::structured_jacobian`]).
@@ -86,7 +120,8 @@ impl SimOptions {
         self.interval = Some(dt);
         self
     }
-    /// Sets the largest step [s].
+    /// Sets the largest step [s] (at least `(stop − start)/max_steps`, so that the run fits
+    /// its step budget).
     pub fn max_step(mut self, h: f64) -> Self {
         self.max_step = Some(h);
         self
@@ -97,31 +132,74 @@ impl SimOptions {
         self
     }
 
+    /// Checks every option against its documented range (see `docs/options.md`):
+    /// - start and stop time finite, `stop − start ≥ 1e-12 s` and `≥ 1e-10·max(|start|, |stop|)`
+    ///   (IDA must be able to tell the two apart by more than its rounding of `t`);
+    /// - `rtol ∈ [1e-14, 1)` (below, the error test asks for less than double rounding);
+    /// - `atol ∈ [1e-16, 1e6]`, finite;
+    /// - output interval > 0 and at most [`MAX_OUTPUT_POINTS`] grid points;
+    /// - `max_steps ≥ 1`; `max_step > 0` and, with a step budget, `≥ (stop − start)/max_steps`
+    ///   (else the run could not end within it);
+    /// - `max_wall_time > 0`, finite.
     fn check(&self) -> Result<(), String> {
         let finite = |x: f64| x.is_finite();
-        if !finite(self.start_time) || !finite(self.stop_time) || self.stop_time <= self.start_time
-        {
+        let (t0, t1) = (self.start_time, self.stop_time);
+        if !finite(t0) || !finite(t1) || t1 <= t0 {
             return Err(format!(
-                "stop time {} s must be finite and after the start time {} s",
-                self.stop_time, self.start_time
+                "stop time {t1} s must be finite and after the start time {t0} s"
             ));
         }
-        if !(self.rtol > 0.0 && self.rtol < 1.0) {
-            return Err(format!("tolerance {} must be in (0, 1)", self.rtol));
+        let span = t1 - t0;
+        let min_span = 1e-12f64.max(1e-10 * t0.abs().max(t1.abs()));
+        if span < min_span {
+            return Err(format!(
+                "the run from {t0:?} s to {t1:?} s is shorter than {min_span:e} s: the stop time must be at least 1e-12 s (and 1e-10 of the time values) after the start time"
+            ));
+        }
+        if !(self.rtol >= 1e-14 && self.rtol < 1.0) {
+            return Err(format!(
+                "tolerance {:?} must be in [1e-14, 1): below 1e-14 the error test asks for less than the rounding of f64",
+                self.rtol
+            ));
         }
         if let Some(a) = self.atol {
-            if !(a > 0.0 && finite(a)) {
-                return Err(format!("absolute tolerance {a} must be finite and > 0"));
+            if !(1e-16..=1e6).contains(&a) {
+                return Err(format!(
+                    "absolute tolerance {a:?} must be in [1e-16, 1e6] (units of the states: m, rad, m/s, rad/s)"
+                ));
             }
         }
         if let Some(dt) = self.interval {
             if !(dt > 0.0 && finite(dt)) {
                 return Err(format!("output interval {dt} s must be finite and > 0"));
             }
+            let points = span / dt;
+            if points > MAX_OUTPUT_POINTS {
+                return Err(format!(
+                    "output interval {dt:?} s gives {points:.3e} output points over {span:?} s, more than the limit of {MAX_OUTPUT_POINTS:e}: choose an interval of at least {:e} s",
+                    span / MAX_OUTPUT_POINTS
+                ));
+            }
+        }
+        if self.max_steps == Some(0) {
+            return Err("max_steps must be >= 1 (or None for no step budget)".into());
         }
         if let Some(h) = self.max_step {
             if h.is_nan() || h <= 0.0 {
                 return Err(format!("max step {h} s must be > 0"));
+            }
+            if let Some(n) = self.max_steps {
+                let h_min = span / n as f64;
+                if h < h_min {
+                    return Err(format!(
+                        "max step {h:?} s needs more than max_steps = {n} steps for the run of {span:?} s: use a max step of at least {h_min:e} s or raise max_steps"
+                    ));
+                }
+            }
+        }
+        if let Some(w) = self.max_wall_time {
+            if !(w > 0.0 && finite(w)) {
+                return Err(format!("max wall time {w} s must be finite and > 0"));
             }
         }
         Ok(())
@@ -146,6 +224,22 @@ pub enum SimErrorKind {
     /// The collision stage failed.
     #[error(transparent)]
     Contact(#[from] ContactError),
+    /// The run reached its work budget; the diagnosis names what limited the steps.
+    #[error("{0}")]
+    WorkBudget(Box<WorkDiagnosis>),
+    /// Many contact events within a tiny time span (the chattering guard: [`CHATTER_EVENTS`]
+    /// events within [`CHATTER_SPAN`] of the run's duration).
+    #[error("contact `{pair}` chatters: {events} events within {span:.3e} s up to t = {t} s; check the pair's initial overlap and materials, or lower k_red")]
+    Chattering {
+        /// The pair `"a|b"` with the most of those events.
+        pair: String,
+        /// Number of events in the span.
+        events: usize,
+        /// Their time span [s].
+        span: f64,
+        /// Time [s].
+        t: f64,
+    },
     /// Events follow each other without progress in time (a chattering contact).
     #[error("{count} events at t = {t} s without the contact set changing or time advancing: a contact chatters; raise the hysteresis or loosen the tolerance")]
     EventLoop {
@@ -249,6 +343,8 @@ pub struct Simulation {
     stalled: u32,
     last_event_t: f64,
     wall: f64,
+    /// When the current `advance_to` call started (for the wall-time budget).
+    call_started: Instant,
     /// Progress bar of a one-shot run on a terminal.
     progress: Option<indicatif::ProgressBar>,
 }
@@ -281,7 +377,9 @@ impl Simulation {
         }
         let t0 = opts.start_time;
         let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
-        let y0 = plan.y0();
+        let mut y0 = plan.y0();
+        // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
+        y0.resize(crate::solver::DaeSystem::len(&dae), 0.0);
         // The initial contact set (event mode), then consistent derivatives including contacts.
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
@@ -315,6 +413,7 @@ impl Simulation {
             stalled: 0,
             last_event_t: f64::NEG_INFINITY,
             wall: 0.0,
+            call_started: started,
             progress: None,
         };
         sim.wall = started.elapsed().as_secs_f64();
@@ -327,9 +426,9 @@ impl Simulation {
         self.ida.t()
     }
 
-    /// Current state `y = [q; v]`.
+    /// Current state `y = [q; v]` (empty for a scene without unknowns).
     pub fn state(&self) -> &[f64] {
-        self.ida.y()
+        &self.ida.y()[..self.model.plan.nq + self.model.plan.nv]
     }
 
     /// The results recorded so far.
@@ -347,6 +446,7 @@ impl Simulation {
     /// simulation can then only be [`reset`](Self::reset).
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
         let started = Instant::now();
+        self.call_started = started;
         let outcome = self.advance(t);
         self.wall += started.elapsed().as_secs_f64();
         self.update_stats();
@@ -398,10 +498,17 @@ impl Simulation {
             let grid = t0 + self.k_grid as f64 * dt;
             let on_grid = grid < target - eps;
             let t_out = if on_grid { grid } else { target };
-            let status = self.ida.solve(t_out, false)?;
+            self.check_budget()?;
+            let solved = self.ida.solve(t_out, false);
             if let Some(e) = self.ida.system_mut().take_root_error() {
                 return Err(e.into());
             }
+            let status = match solved {
+                Ok(status) => status,
+                // The chunk of steps is used up (see `check_budget`): continue from there.
+                Err(e) if e.is_too_much_work() => continue,
+                Err(e) => return Err(e.into()),
+            };
             match status {
                 SolveStatus::Reached { t } | SolveStatus::StopTime { t } => {
                     let y = self.ida.y().to_vec();
@@ -420,6 +527,92 @@ impl Simulation {
                 SolveStatus::Root { t } => self.event(t)?,
             }
         }
+    }
+
+    /// Ends the run if a budget is reached, else lets the next `IDASolve` take at most the
+    /// steps left (in chunks of [`STEP_CHUNK`], so that the wall time is checked in between).
+    fn check_budget(&mut self) -> Result<(), SimErrorKind> {
+        let steps = self.ida.stats().steps;
+        let wall = self.wall + self.call_started.elapsed().as_secs_f64();
+        let reached = match (self.opts.max_steps, self.opts.max_wall_time) {
+            (Some(n), _) if steps >= n => Some(Budget::Steps(n)),
+            (_, Some(w)) if wall >= w => Some(Budget::WallTime(w)),
+            _ => None,
+        };
+        if let Some(budget) = reached {
+            return Err(self.diagnose(budget, steps));
+        }
+        let chunk = self
+            .opts
+            .max_steps
+            .map_or(STEP_CHUNK, |n| (n - steps).min(STEP_CHUNK));
+        self.ida.set_max_num_steps(chunk as usize)?;
+        Ok(())
+    }
+
+    /// The diagnosis of a run that reached `budget` after `steps` steps (see
+    /// [`WorkDiagnosis`]): a chattering pair if one had an event at least every 10 mean
+    /// steps among the last 200 events, else the stiffest element; and the limiting state.
+    fn diagnose(&mut self, budget: Budget, steps: u64) -> SimErrorKind {
+        let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
+        let t = self.time();
+        let h_budget = (t1 - t0) / self.opts.max_steps.unwrap_or(DEFAULT_MAX_STEPS) as f64;
+        let mean_step = (t - t0) / steps.max(1) as f64;
+        let events = &self.result.events;
+        let cause = match diagnosis::busiest_pair(events, 200) {
+            Some((pair, n, span)) if n >= 20 && span <= 10.0 * mean_step * n as f64 => {
+                SlowCause::Chattering {
+                    pair,
+                    events: n,
+                    span,
+                }
+            }
+            _ => {
+                let dae = self.ida.system();
+                diagnosis::stiffest(
+                    &self.model.plan,
+                    dae.contact_plan(),
+                    dae.contact(),
+                    h_budget,
+                )
+            }
+        };
+        let limiting_state = self
+            .ida
+            .limiting_component()
+            .and_then(|(i, _)| diagnosis::state_name(&self.model.plan, i));
+        SimErrorKind::WorkBudget(Box::new(WorkDiagnosis {
+            budget,
+            t,
+            steps,
+            events: events.len(),
+            last_step: self.ida.stats().last_step,
+            cause,
+            limiting_state,
+        }))
+    }
+
+    /// Chattering guard: [`CHATTER_EVENTS`] events within [`CHATTER_SPAN`] of the run's
+    /// duration end the run, naming the pair with the most of them.
+    fn check_chattering(&self, t: f64) -> Result<(), SimErrorKind> {
+        let events = &self.result.events;
+        let n = events.len();
+        if n < CHATTER_EVENTS {
+            return Ok(());
+        }
+        let span = t - events[n - CHATTER_EVENTS].t;
+        if span > CHATTER_SPAN * (self.opts.stop_time - self.opts.start_time) {
+            return Ok(());
+        }
+        let pair = diagnosis::busiest_pair(events, CHATTER_EVENTS)
+            .map(|p| p.0)
+            .unwrap_or_default();
+        Err(SimErrorKind::Chattering {
+            pair,
+            events: CHATTER_EVENTS,
+            span,
+            t,
+        })
     }
 
     /// Event at `t`: rebuild the contact set, log it, restart with consistent derivatives.
@@ -460,6 +653,7 @@ impl Simulation {
         });
         let contacts = self.opts.contact_results;
         record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
+        self.check_chattering(t)?;
         self.restart(t)
     }
 
@@ -553,7 +747,9 @@ fn record(
     y: &[f64],
     contacts: bool,
 ) {
-    result.push(t, y);
+    // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
+    let n = dae.plan().nq + dae.plan().nv;
+    result.push(t, &y[..n]);
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.
         let _ = dae.update_contacts(t, y);

@@ -1,4 +1,4 @@
-//! Contact stage (spec `contact-model.md` §2–§4): the collision pairs compiled once from the
+//! Contact stage (`docs/contact-model.md` §2–§4): the collision pairs compiled once from the
 //! scene ([`ContactPlan`], immutable, in `preprocess.rs`), the contact set and per-pair state
 //! ([`ContactState`], mutable, in `contact_set.rs`), the regularisations (`regularise.rs`) and
 //! the elastic response (`response.rs`). Reads the dynamics workspace (poses, velocities) and

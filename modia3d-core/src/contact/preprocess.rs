@@ -1,4 +1,4 @@
-//! Contact stage, preprocessing (spec §2.1): once, when the plan is compiled, the collision
+//! Contact stage, preprocessing (docs/contact-model.md §2.1): once, when the plan is compiled, the collision
 //! shapes, the candidate pairs (not rigidly attached, not joined by a joint with
 //! `can_collide = false`) and each pair's material and geometry constants. Immutable.
 
@@ -75,7 +75,7 @@ pub struct ContactPlan {
     pub pair_of: std::collections::HashMap<(u32, u32), u32>,
     /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
-    /// continuous (spec §2 growth target: far fewer than n² box tests).
+    /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
     pub margin: f64,
 }
 
@@ -222,7 +222,7 @@ fn user_shape<'a>(scene: &'a ValidScene, s: &ShapePlan) -> &'a Shape {
         .expect("collision shapes come from solids with a shape")
 }
 
-/// `(μ_geo, c_geo, n_geo)` of a pair (spec §3 table; later profile: Hertz for every pair).
+/// `(μ_geo, c_geo, n_geo)` of a pair (docs/contact-model.md §3 table; later profile: Hertz for every pair).
 fn geometry_coefficients(
     profile: ContactProfile,
     scene: &ValidScene,

@@ -1,4 +1,4 @@
-//! Contact stage: the regularisations of spec §3 (pure functions, no state).
+//! Contact stage: the regularisations of docs/contact-model.md §3 (pure functions, no state).
 
 use crate::scene::ContactProfile;
 

@@ -1,4 +1,4 @@
-//! Contact stage: the elastic response of one pair in contact (spec §3). Pure function of the
+//! Contact stage: the elastic response of one pair in contact (docs/contact-model.md §3). Pure function of the
 //! pair's constants, its contact geometry and the two bodies' velocities; no allocation.
 
 use super::preprocess::{ContactPlan, PairPlan};
@@ -27,7 +27,7 @@ pub struct PairResponse {
     pub normal: Vector3<f64>,
 }
 
-/// The response law of spec §3 for pair `pp` with damping factor `d` [s/m] (fixed at contact
+/// The response law of docs/contact-model.md §3 for pair `pp` with damping factor `d` [s/m] (fixed at contact
 /// start), contact geometry `sd` (normal a → b), the contact point `point` [m] and the
 /// velocities of the two bodies' material points there and their angular velocities (all
 /// world, [m/s], [rad/s]).

@@ -104,6 +104,10 @@ impl MultibodyDae {
     pub fn inputs_mut(&mut self) -> &mut [f64] {
         &mut self.ws.inputs
     }
+    /// The compiled contact pipeline, if the scene has collision pairs.
+    pub fn contact_plan(&self) -> Option<&ContactPlan> {
+        self.contact_plan.as_deref()
+    }
     /// The contact set, if the scene has collision pairs.
     pub fn contact(&self) -> Option<&ContactState> {
         self.contact.as_ref()
@@ -129,7 +133,7 @@ impl MultibodyDae {
         self.root_error.take()
     }
 
-    /// Event mode (spec §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
+    /// Event mode (docs/contact-model.md §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
     /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
     /// nothing without collision pairs.
     pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
@@ -159,6 +163,9 @@ impl MultibodyDae {
     /// included; `None` if the mass matrix is singular there (or the narrow phase fails).
     pub fn consistent_derivative(&mut self, t: f64, y: &[f64]) -> Option<Vec<f64>> {
         let (nq, nv) = (self.plan.nq, self.plan.nv);
+        if nq + nv == 0 {
+            return Some(vec![0.0; self.len()]);
+        }
         let (q, v) = y.split_at(nq);
         let mut yp = vec![0.0; nq + nv];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
@@ -186,8 +193,10 @@ impl MultibodyDae {
 }
 
 impl DaeSystem for MultibodyDae {
+    /// `nq + nv`, or 1 for a scene without unknowns (every body fixed): IDA needs n ≥ 1, so
+    /// such a scene integrates one dummy state with `ẏ = 0` and its signals stay constant.
     fn len(&self) -> usize {
-        self.plan.nq + self.plan.nv
+        (self.plan.nq + self.plan.nv).max(1)
     }
 
     fn residual(
@@ -199,6 +208,10 @@ impl DaeSystem for MultibodyDae {
     ) -> Result<(), ResidualError> {
         let plan = &*self.plan;
         let nq = plan.nq;
+        if nq + plan.nv == 0 {
+            res[0] = yp[0];
+            return Ok(());
+        }
         let (q, v) = y.split_at(nq);
         let (qd, vd) = yp.split_at(nq);
         let (res_q, res_v) = res.split_at_mut(nq);

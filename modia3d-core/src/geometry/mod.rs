@@ -1,7 +1,7 @@
 //! Geometry stage: shapes, mass properties, support maps, smoothing, bounding boxes, broad and
 //! narrow phase. Touches nothing outside itself.
 //!
-//! Pipeline (spec: contact-model.md §2), one file per step:
+//! Pipeline (`docs/contact-model.md` §2), one file per step:
 //! - [`shapes`]: the user's [`Shape`] and its exact mass properties;
 //! - [`collision_shape`]: [`CollisionShape`] = core ⊕ ball(margin), built once per solid, with
 //!   [`smoothing`] (rounded edges of boxes, cylinders, cones, hulls) and [`support`] (closed-form

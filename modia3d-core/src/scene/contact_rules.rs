@@ -7,7 +7,7 @@
 use super::desc::SceneDesc;
 use super::validate::{SceneError, ValidJointKind, ValidScene};
 
-/// Which objects can collide with which (spec §2.1, as in Modia3D): two solids meet unless they
+/// Which objects can collide with which (docs/contact-model.md §2.1, as in Modia3D): two solids meet unless they
 /// are on one rigid body (parent links and `Fix` joints merge objects; everything attached to
 /// the world is one body) or on the two bodies of a Revolute or Prismatic joint with
 /// `can_collide = false`. A FreeMotion is no mechanical connection: it never excludes a pair.

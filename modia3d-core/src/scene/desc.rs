@@ -48,7 +48,7 @@ pub fn cardan_to_matrix(a: [f64; 3]) -> Matrix3<f64> {
     (rx * ry * rz).into_inner()
 }
 
-/// Which variant of the contact law (spec §3) is used.
+/// Which variant of the contact law (docs/contact-model.md §3) is used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ContactProfile {
     /// Neumayr & Otter, EOOLT 2019 (default): `cor_reg` by the exponential blend towards
@@ -63,7 +63,7 @@ pub enum ContactProfile {
 }
 
 /// Options of a scene; every field has the default of the contact specification
-/// (`contact-model.md`). Write `SceneOptions { gravity, ..Default::default() }`.
+/// (`docs/contact-model.md`). Write `SceneOptions { gravity, ..Default::default() }`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneOptions {
     /// Gravity acceleration, resolved in world [m/s²]. Default `(0, 0, -9.81)`.

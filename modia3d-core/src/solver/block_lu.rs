@@ -1,7 +1,7 @@
 //! Block-diagonal LU for the iteration matrix of a DAE with a [`super::BlockStructure`]: the
 //! matrix is block diagonal over the connected components of the block graph, so only those
 //! blocks are stored and each is factored on its own (partial pivoting) — memory and time
-//! O(Σ m_k²) and O(Σ m_k³) instead of O(n²) and O(n³). Safe code; `ida.rs` wraps it as a
+//! O(Σ m_k²) and O(Σ m_k³) instead of O(n²) and O(n³). Safe code; `ida/linear.rs` wraps it as a
 //! SUNDIALS matrix and linear solver. Buffers are reused, so a warm layout and factorisation
 //! allocate nothing.
 

@@ -65,6 +65,14 @@ pub enum IdaError {
     BadArgument(String),
 }
 
+impl IdaError {
+    /// IDA reached its step limit of one call (`IDA_TOO_MUCH_WORK`); the integration can
+    /// continue from the last step with another call.
+    pub fn is_too_much_work(&self) -> bool {
+        matches!(self, IdaError::Flag { flag, .. } if *flag == sys::IDA_TOO_MUCH_WORK)
+    }
+}
+
 fn sundials_suffix(message: &str) -> String {
     if message.is_empty() {
         String::new()

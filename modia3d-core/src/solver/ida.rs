@@ -1,6 +1,8 @@
 //! Solver stage: the only FFI module of the crate — the safe wrapper over SUNDIALS IDA.
 //!
-//! This is the one file of `modia3d-core` that contains `unsafe`. It may touch the `sundials-sys`
+//! This module (this file and its children `ida/callbacks.rs` — residual and root callbacks,
+//! error handler — and `ida/linear.rs` — linear solver, Jacobian callback, matrix handle) is the
+//! only part of `modia3d-core` that contains `unsafe`. It may touch the `sundials-sys`
 //! bindings, the standard library and the plain-data types of the sibling modules
 //! ([`super::IdaOptions`], [`super::IdaStats`], [`super::IdaError`]); nothing else in the crate
 //! calls C.
@@ -30,6 +32,10 @@ use super::block_lu::BlockLu;
 use super::colouring::Colouring;
 use super::error::flag_hint;
 use super::{Atol, DaeSystem, IdaError, IdaOptions, IdaStats, ResidualError, SolveStatus};
+
+mod callbacks;
+mod linear;
+use callbacks::*;
 
 /// Longest SUNDIALS message text kept per call (bytes); later messages are dropped.
 const MAX_SINK_LEN: usize = 4096;
@@ -63,25 +69,6 @@ impl<S> CallbackState<S> {
         self.panic = None;
         self.fatal = None;
         self.non_finite = None;
-    }
-}
-
-/// Keeps in `slot` the earliest (component, time, value text) of a non-finite residual.
-fn record_non_finite(
-    slot: &mut Option<(usize, f64, &'static str)>,
-    index: usize,
-    t: f64,
-    value: f64,
-) {
-    if slot.is_none_or(|(_, t_prev, _)| t < t_prev) {
-        let text = if value.is_nan() {
-            "NaN"
-        } else if value > 0.0 {
-            "inf"
-        } else {
-            "-inf"
-        };
-        *slot = Some((index, t, text));
     }
 }
 
@@ -242,384 +229,6 @@ fn validate(
     Ok(())
 }
 
-fn panic_message(payload: &(dyn Any + Send)) -> String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "panic with a non-string payload".to_string()
-    }
-}
-
-/// Reads a C string returned by an `IDAGet*ReturnFlagName` function and frees it.
-///
-/// # Safety
-/// `p` must be null or a NUL-terminated string allocated with C `malloc`.
-unsafe fn take_c_string(p: *mut c_char, flag: c_int) -> String {
-    if p.is_null() {
-        return format!("IDA flag {flag}");
-    }
-    // SAFETY: per the contract, p is a valid NUL-terminated malloc'ed string that we own.
-    let s = unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned();
-    // SAFETY: allocated by SUNDIALS with malloc, freed once here.
-    unsafe { sys::free(p.cast()) };
-    s
-}
-
-fn flag_name(flag: c_int) -> String {
-    // SAFETY: IDAGetReturnFlagName accepts any flag and returns a fresh malloc'ed string.
-    unsafe { take_c_string(sys::IDAGetReturnFlagName(flag as c_long), flag) }
-}
-
-fn lin_flag_name(flag: c_int) -> String {
-    // SAFETY: as for IDAGetReturnFlagName.
-    unsafe { take_c_string(sys::IDAGetLinReturnFlagName(flag as c_long), flag) }
-}
-
-/// SUNDIALS error handler: appends the message to the `ErrorSink` passed as user data.
-unsafe extern "C" fn error_handler(
-    _line: c_int,
-    func: *const c_char,
-    _file: *const c_char,
-    msg: *const c_char,
-    err_code: sys::SUNErrCode,
-    err_user_data: *mut c_void,
-    _sunctx: sys::SUNContext,
-) {
-    let _ = catch_unwind(AssertUnwindSafe(|| {
-        if err_user_data.is_null() {
-            return;
-        }
-        // SAFETY: err_user_data is the ErrorSink pushed with this handler; it outlives the
-        // context and no Rust reference to it is live while SUNDIALS runs.
-        let sink = unsafe { &mut *err_user_data.cast::<ErrorSink>() };
-        if sink.text.len() >= MAX_SINK_LEN {
-            return;
-        }
-        let text = |p: *const c_char| {
-            if p.is_null() {
-                None
-            } else {
-                // SAFETY: SUNDIALS passes NUL-terminated strings or null.
-                Some(
-                    unsafe { CStr::from_ptr(p) }
-                        .to_string_lossy()
-                        .trim()
-                        .to_string(),
-                )
-            }
-        };
-        let msg = text(msg).unwrap_or_else(|| format!("error code {err_code}"));
-        if !sink.text.is_empty() {
-            sink.text.push_str("; ");
-        }
-        match text(func) {
-            Some(f) => sink.text.push_str(&format!("{f}: {msg}")),
-            None => sink.text.push_str(&msg),
-        }
-    }));
-}
-
-/// The status code of a callback whose body ran under `catch_unwind`: the body's own code, or
-/// -1 after recording the first panic (its message prefixed by `context`) in the state.
-///
-/// # Safety
-/// `state` must be the valid CallbackState of the running Ida, with no live reference to it.
-unsafe fn settle<S>(
-    state: *mut CallbackState<S>,
-    t: f64,
-    outcome: std::thread::Result<c_int>,
-    context: &str,
-) -> c_int {
-    match outcome {
-        Ok(code) => code,
-        Err(payload) => {
-            let message = panic_message(payload.as_ref());
-            // SAFETY: per the contract.
-            let st = unsafe { &mut *state };
-            st.panic
-                .get_or_insert_with(|| (format!("{context}{message}"), t));
-            -1
-        }
-    }
-}
-
-/// IDA residual callback: F(t, y, y') into `rr`. Returns 0 on success, 1 for a recoverable
-/// failure (including a non-finite residual), -1 for a fatal one or a caught panic.
-unsafe extern "C" fn residual_callback<S: DaeSystem>(
-    t: f64,
-    yy: sys::N_Vector,
-    yp: sys::N_Vector,
-    rr: sys::N_Vector,
-    user_data: *mut c_void,
-) -> c_int {
-    let state = user_data.cast::<CallbackState<S>>();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: user_data is the CallbackState of the Ida that is running this call; no other
-        // reference to it is live (see the module invariants). yy, yp, rr are distinct serial
-        // vectors of length n owned by IDA for the duration of the call.
-        let st = unsafe { &mut *state };
-        let n = st.n;
-        let (y, ypv, res) = unsafe {
-            (
-                slice::from_raw_parts(sys::N_VGetArrayPointer(yy), n),
-                slice::from_raw_parts(sys::N_VGetArrayPointer(yp), n),
-                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(rr), n),
-            )
-        };
-        match st.system.residual(t, y, ypv, res) {
-            Ok(()) => match res.iter().position(|v| !v.is_finite()) {
-                None => 0,
-                Some(i) => {
-                    record_non_finite(&mut st.non_finite, i, t, res[i]);
-                    1
-                }
-            },
-            Err(ResidualError::Recoverable) => 1,
-            Err(ResidualError::Fatal(msg)) => {
-                if st.fatal.is_none() {
-                    st.fatal = Some((msg, t));
-                }
-                -1
-            }
-        }
-    }));
-    // SAFETY: the closure's borrow of the state has ended.
-    unsafe { settle(state, t, outcome, "") }
-}
-
-/// IDA root callback: g(t, y, y') into `gout` (length num_roots). Returns 0, or -1 after a
-/// caught panic.
-unsafe extern "C" fn root_callback<S: DaeSystem>(
-    t: f64,
-    yy: sys::N_Vector,
-    yp: sys::N_Vector,
-    gout: *mut f64,
-    user_data: *mut c_void,
-) -> c_int {
-    let state = user_data.cast::<CallbackState<S>>();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: as in residual_callback; gout has num_roots entries (IDARootInit was called
-        // with that number).
-        let st = unsafe { &mut *state };
-        let (n, m) = (st.n, st.n_roots);
-        let (y, ypv, g) = unsafe {
-            (
-                slice::from_raw_parts(sys::N_VGetArrayPointer(yy), n),
-                slice::from_raw_parts(sys::N_VGetArrayPointer(yp), n),
-                slice::from_raw_parts_mut(gout, m),
-            )
-        };
-        st.system.roots(t, y, ypv, g);
-    }));
-    // SAFETY: the closure's borrow of the state has ended.
-    unsafe { settle(state, t, outcome.map(|()| 0), "in roots(): ") }
-}
-
-/// IDA Jacobian callback for systems with a [`super::BlockStructure`]: the iteration matrix
-/// `∂F/∂y + c_j ∂F/∂y'` by difference quotients, perturbing the unknowns of all blocks of one
-/// colour together (increments exactly as IDA's dense difference quotients), written into the
-/// zeroed diagonal blocks of the `BlockLu` (the SUNMatrix IDA passes is a handle without
-/// storage, see `attach_linear_solver`). Entries outside the structure stay zero. Returns 0, 1 for a
-/// recoverable residual failure (or a non-finite quotient), -1 for a fatal one, an invalid
-/// structure or a caught panic.
-#[allow(clippy::too_many_arguments)] // the C signature
-unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
-    t: f64,
-    c_j: f64,
-    yy: sys::N_Vector,
-    yp: sys::N_Vector,
-    rr: sys::N_Vector,
-    _jac: sys::SUNMatrix,
-    user_data: *mut c_void,
-    tmp1: sys::N_Vector,
-    tmp2: sys::N_Vector,
-    _tmp3: sys::N_Vector,
-) -> c_int {
-    let state = user_data.cast::<CallbackState<S>>();
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: as in residual_callback. yy and yp are IDA's current iterate, which IDA's own
-        // difference quotients also perturb in place and restore; rr, tmp1, tmp2 are distinct
-        // vectors of length n; jac is the n × n dense matrix attached in attach_linear_solver
-        // (column-major, leading dimension n); mem is the running IDA memory.
-        let st = unsafe { &mut *state };
-        let n = st.n;
-        let mut hh = 0.0;
-        let (y, ypv, r, rp, ewt) = unsafe {
-            sys::IDAGetErrWeights(st.mem, tmp2);
-            sys::IDAGetCurrentStep(st.mem, &mut hh);
-            (
-                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yy), n),
-                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yp), n),
-                slice::from_raw_parts(sys::N_VGetArrayPointer(rr), n),
-                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(tmp1), n),
-                slice::from_raw_parts(sys::N_VGetArrayPointer(tmp2), n),
-            )
-        };
-        let Some(col) = st.colouring.as_mut() else {
-            return -1;
-        };
-        if !st.system.jacobian_structure(&mut col.structure) {
-            // The structure is gone for now: one block, i.e. plain dense difference quotients.
-            col.structure.block_of.clear();
-            col.structure.block_of.resize(n, 0);
-            col.structure.n_blocks = 1;
-            col.structure.couplings.clear();
-        }
-        if let Err(msg) = col.update(n) {
-            st.fatal.get_or_insert((msg, t));
-            return -1;
-        }
-        st.block_lu.layout(col, n);
-        let saved = &mut st.jac_saved;
-        saved.resize(n, (0.0, 0.0, 0.0));
-        let srur = f64::EPSILON.sqrt();
-        for c in 0..col.n_colours() {
-            for k in 0..col.width(c) {
-                for &b in col.blocks_of_colour(c) {
-                    if let Some(&j) = col.members(b).get(k) {
-                        let (yj, ypj) = (y[j], ypv[j]);
-                        let mut inc = (srur * yj.abs().max((hh * ypj).abs())).max(1.0 / ewt[j]);
-                        if hh * ypj < 0.0 {
-                            inc = -inc;
-                        }
-                        inc = (yj + inc) - yj;
-                        saved[j] = (yj, ypj, inc);
-                        y[j] += inc;
-                        ypv[j] += c_j * inc;
-                    }
-                }
-                st.jac_residuals += 1;
-                let outcome = st.system.residual(t, y, ypv, rp);
-                for &b in col.blocks_of_colour(c) {
-                    if let Some(&j) = col.members(b).get(k) {
-                        (y[j], ypv[j], _) = saved[j];
-                    }
-                }
-                match outcome {
-                    Ok(()) => {}
-                    Err(ResidualError::Recoverable) => return 1,
-                    Err(ResidualError::Fatal(msg)) => {
-                        st.fatal.get_or_insert((msg, t));
-                        return -1;
-                    }
-                }
-                for &b in col.blocks_of_colour(c) {
-                    let Some(&j) = col.members(b).get(k) else {
-                        continue;
-                    };
-                    let inv = 1.0 / saved[j].2;
-                    for blk in std::iter::once(b).chain(col.neighbours(b).iter().copied()) {
-                        for &i in col.members(blk) {
-                            let d = (rp[i] - r[i]) * inv;
-                            if !d.is_finite() {
-                                record_non_finite(&mut st.non_finite, i, t, d);
-                                return 1;
-                            }
-                            st.block_lu.set(i, j, d);
-                        }
-                    }
-                }
-            }
-        }
-        0
-    }));
-    // SAFETY: the closure's borrow of the state has ended.
-    unsafe { settle(state, t, outcome, "in the Jacobian: ") }
-}
-
-/// Matrix id of the storage-less handle: a custom one.
-unsafe extern "C" fn block_mat_id(_a: sys::SUNMatrix) -> sys::SUNMatrix_ID {
-    sys::SUNMatrix_ID_SUNMATRIX_CUSTOM
-}
-
-/// `SUNMatZero` on the handle: nothing to do (the Jacobian callback lays out zeroed blocks).
-unsafe extern "C" fn block_mat_zero(_a: sys::SUNMatrix) -> sys::SUNErrCode {
-    0
-}
-
-/// Frees the handle; it owns no storage.
-unsafe extern "C" fn block_mat_destroy(a: sys::SUNMatrix) {
-    if !a.is_null() {
-        // SAFETY: a was created by SUNMatNewEmpty with a null content.
-        unsafe {
-            (*a).content = ptr::null_mut();
-            sys::SUNMatFreeEmpty(a);
-        }
-    }
-}
-
-/// Linear solver type: direct (matrix-based), like SUNDIALS' dense solver.
-unsafe extern "C" fn block_ls_type(_ls: sys::SUNLinearSolver) -> sys::SUNLinearSolver_Type {
-    sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
-}
-
-/// Linear solver id: a custom one.
-unsafe extern "C" fn block_ls_id(_ls: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
-    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
-}
-
-/// Factors the diagonal blocks (connected components of the last Jacobian's structure) that
-/// the Jacobian callback filled. Returns 0, `SUNLS_LUFACT_FAIL` (recoverable: IDA retries with a
-/// smaller step) for a singular block, -1 after a caught panic.
-unsafe extern "C" fn block_ls_setup<S: DaeSystem>(
-    ls: sys::SUNLinearSolver,
-    _a: sys::SUNMatrix,
-) -> c_int {
-    // SAFETY: the content of this solver is the CallbackState of the Ida that created it
-    // (set in attach_linear_solver); IDA calls setup only from inside an IDA call, while no
-    // Rust reference to the state is live, and never concurrently with another callback.
-    let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: see above.
-        let st = unsafe { &mut *state };
-        match st.block_lu.factor() {
-            Ok(()) => 0,
-            Err(_) => sys::SUNLS_LUFACT_FAIL as c_int,
-        }
-    }));
-    outcome.unwrap_or(-1)
-}
-
-/// Solves with the factors of `block_ls_setup`: `x = A⁻¹ b`.
-unsafe extern "C" fn block_ls_solve<S: DaeSystem>(
-    ls: sys::SUNLinearSolver,
-    _a: sys::SUNMatrix,
-    x: sys::N_Vector,
-    b: sys::N_Vector,
-    _tol: f64,
-) -> c_int {
-    // SAFETY: as in block_ls_setup; x and b are serial vectors of length n (possibly the same).
-    let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
-    let outcome = catch_unwind(AssertUnwindSafe(|| {
-        let st = unsafe { &mut *state };
-        let n = st.n;
-        let (xp, bp) = unsafe { (sys::N_VGetArrayPointer(x), sys::N_VGetArrayPointer(b)) };
-        if xp != bp {
-            // SAFETY: distinct serial arrays of length n.
-            unsafe { ptr::copy_nonoverlapping(bp, xp, n) };
-        }
-        let xs = unsafe { slice::from_raw_parts_mut(xp, n) };
-        st.block_lu.solve(xs);
-        0
-    }));
-    outcome.unwrap_or(-1)
-}
-
-/// Frees the solver object; its content (the CallbackState) belongs to the Ida.
-unsafe extern "C" fn block_ls_free(ls: sys::SUNLinearSolver) -> sys::SUNErrCode {
-    if !ls.is_null() {
-        // SAFETY: ls was created by SUNLinSolNewEmpty; clearing the content keeps
-        // SUNLinSolFreeEmpty from freeing memory it does not own.
-        unsafe {
-            (*ls).content = ptr::null_mut();
-            sys::SUNLinSolFreeEmpty(ls);
-        }
-    }
-    0
-}
-
 impl<S: DaeSystem> Ida<S> {
     /// Creates the integrator for `system` starting at time `t0` \[s\] with y(t0) = `y0` and
     /// y'(t0) = `yp0` (both of length `system.len()`).
@@ -775,79 +384,6 @@ impl<S: DaeSystem> Ida<S> {
                 self.check(
                     sys::IDASetNoInactiveRootWarn(mem),
                     "IDASetNoInactiveRootWarn",
-                )?;
-            }
-        }
-        Ok(())
-    }
-
-    /// Creates (once) the dense matrix and dense direct linear solver and attaches them to IDA.
-    ///
-    /// This is the single place to change for another linear solver (banded, sparse KLU,
-    /// iterative) or to add a user Jacobian (`IDASetJacFn` must follow `IDASetLinearSolver`).
-    /// It is called again after `IDAReInit`, which gives fresh linear-solver counters.
-    fn attach_linear_solver(&mut self) -> Result<(), IdaError> {
-        let n = self.n as sys::sunindextype;
-        // SAFETY: ctx, y and mem are valid (created in setup); mat/ls are null or valid.
-        unsafe {
-            let structured = (*self.state).colouring.is_some();
-            if self.mat.is_null() && structured {
-                // A handle without storage: the Jacobian goes straight into the diagonal
-                // blocks of the BlockLu, so no n × n matrix is allocated or zeroed.
-                let a = sys::SUNMatNewEmpty(self.ctx);
-                if a.is_null() {
-                    return Err(self.creation_error("SUNMatNewEmpty", 0));
-                }
-                let ops = &mut *(*a).ops;
-                ops.getid = Some(block_mat_id);
-                ops.zero = Some(block_mat_zero);
-                ops.destroy = Some(block_mat_destroy);
-                self.mat = a;
-            }
-            if self.mat.is_null() {
-                self.mat = sys::SUNDenseMatrix(n, n, self.ctx);
-                if self.mat.is_null() {
-                    return Err(self.creation_error("SUNDenseMatrix", 0));
-                }
-            }
-            if self.ls.is_null() && structured {
-                // Block-diagonal LU over the connected components of the Jacobian structure.
-                let ls = sys::SUNLinSolNewEmpty(self.ctx);
-                if ls.is_null() {
-                    return Err(self.creation_error("SUNLinSolNewEmpty", 0));
-                }
-                (*ls).content = self.state.cast();
-                let ops = &mut *(*ls).ops;
-                ops.gettype = Some(block_ls_type);
-                ops.getid = Some(block_ls_id);
-                ops.setup = Some(block_ls_setup::<S>);
-                ops.solve = Some(block_ls_solve::<S>);
-                ops.free = Some(block_ls_free);
-                self.ls = ls;
-            }
-            if self.ls.is_null() {
-                self.ls = sys::SUNLinSol_Dense(self.y, self.mat, self.ctx);
-                if self.ls.is_null() {
-                    return Err(self.creation_error("SUNLinSol_Dense", 0));
-                }
-            }
-            let rc = sys::IDASetLinearSolver(self.mem, self.ls, self.mat);
-            if rc != 0 {
-                let message = self.take_sink();
-                return Err(IdaError::Flag {
-                    flag: rc,
-                    name: lin_flag_name(rc),
-                    t: self.t,
-                    hint: "attaching the dense linear solver failed; this is a bug in the \
-                           wrapper, please report it"
-                        .to_string(),
-                    message,
-                });
-            }
-            if (*self.state).colouring.is_some() {
-                self.check(
-                    sys::IDASetJacFn(self.mem, Some(jacobian_callback::<S>)),
-                    "IDASetJacFn",
                 )?;
             }
         }
@@ -1078,6 +614,65 @@ impl<S: DaeSystem> Ida<S> {
         // IDAReInit resets the integrator counters but the linear solver's only at the next
         // solve; re-attaching resets them now, so stats() never counts a segment twice.
         self.attach_linear_solver()
+    }
+
+    /// Sets the largest number of internal steps of the next `solve` calls
+    /// (`IDASetMaxNumSteps`, ≥ 1). A call that reaches it returns `IDA_TOO_MUCH_WORK` with the
+    /// solution at the last step taken; calling `solve` again continues from there.
+    pub fn set_max_num_steps(&mut self, n: usize) -> Result<(), IdaError> {
+        let Ok(n) = c_long::try_from(n.max(1)) else {
+            return Err(bad(format!("max_num_steps = {n} must fit a C long")));
+        };
+        self.begin_call();
+        // SAFETY: mem is valid.
+        let rc = unsafe { sys::IDASetMaxNumSteps(self.mem, n) };
+        self.check(rc, "IDASetMaxNumSteps")
+    }
+
+    /// The component of y whose estimated local error, weighted as in IDA's error test
+    /// (`IDAGetEstLocalErrors` × `IDAGetErrWeights`), was largest at the last step, with that
+    /// weighted error (≈ 1 at the limit of the error test); `None` before the first step.
+    /// Allocates (two vectors): for diagnoses, not for the hot path.
+    pub fn limiting_component(&mut self) -> Option<(usize, f64)> {
+        if self.mem.is_null() || self.n == 0 {
+            return None;
+        }
+        self.begin_call();
+        // SAFETY: y is a valid serial vector of this context; clones are freed below.
+        let (ele, ewt) = unsafe { (sys::N_VClone(self.y), sys::N_VClone(self.y)) };
+        let mut best = None;
+        if !ele.is_null() && !ewt.is_null() {
+            // SAFETY: mem is valid; ele/ewt are vectors of length n owned here.
+            let ok = unsafe {
+                sys::IDAGetEstLocalErrors(self.mem, ele) >= 0
+                    && sys::IDAGetErrWeights(self.mem, ewt) >= 0
+            };
+            if ok {
+                // SAFETY: both are serial vectors of length n.
+                let (e, w) = unsafe {
+                    (
+                        slice::from_raw_parts(sys::N_VGetArrayPointer(ele), self.n),
+                        slice::from_raw_parts(sys::N_VGetArrayPointer(ewt), self.n),
+                    )
+                };
+                for (i, (a, b)) in e.iter().zip(w).enumerate() {
+                    let x = (a * b).abs();
+                    if x.is_finite() && best.is_none_or(|(_, y)| x > y) {
+                        best = Some((i, x));
+                    }
+                }
+            }
+        }
+        // SAFETY: each is null or a vector created above, destroyed once.
+        unsafe {
+            if !ele.is_null() {
+                sys::N_VDestroy(ele);
+            }
+            if !ewt.is_null() {
+                sys::N_VDestroy(ewt);
+            }
+        }
+        best
     }
 
     /// Time \[s\] of the current [`Ida::y`] and [`Ida::yp`].

@@ -1,7 +1,8 @@
 //! Solver stage: the safe interface to the SUNDIALS IDA DAE integrator.
 //!
-//! This module may touch only the standard library, `thiserror` and (in `ida.rs`, the only file
-//! of the crate that contains `unsafe`) the `sundials-sys` FFI bindings. It knows nothing about
+//! This module may touch only the standard library, `thiserror` and (in the FFI module `ida` —
+//! `ida.rs`, `ida/callbacks.rs`, `ida/linear.rs`, the only files of the crate that contain
+//! `unsafe`) the `sundials-sys` FFI bindings. It knows nothing about
 //! scenes, bodies or contacts: the multibody stages describe their equations through the
 //! [`DaeSystem`] trait and drive the integration with [`Ida`].
 //!
@@ -33,7 +34,8 @@
 mod block_lu;
 mod colouring;
 mod error;
-#[allow(unsafe_code)] // the one FFI module of the crate
+#[allow(unsafe_code)]
+// the one FFI module of the crate (with its children ida/callbacks.rs, ida/linear.rs)
 mod ida;
 mod options;
 mod stats;

@@ -1,0 +1,73 @@
+//! A stack of `n` steel cubes (0.1 m) standing on a steel table, each touching the one below,
+//! simulated for `t_end` s at rtol 1e-6: prints events, IDA steps, CPU time and the bottom
+//! support force against the weight. The bench row "resting stack" in BENCHMARKS.md.
+//!
+//!     cargo run --release --example resting_stack [-- n t_end k_red]
+
+use modia3d::demo::{fixed_box, world};
+use modia3d::prelude::*;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let arg = |i: usize, d: f64| {
+        std::env::args()
+            .nth(i)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(d)
+    };
+    let (n, t_end, k_red) = (arg(1, 10.0) as usize, arg(2, 10.0), arg(3, 1e-3));
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions {
+        k_red,
+        ..Default::default()
+    }))
+    .add(fixed_box(
+        "table",
+        [1.0, 1.0, 0.1],
+        [0.0, 0.0, -0.05],
+        "Steel",
+    ));
+    for i in 0..n {
+        let name = format!("b{i}");
+        s.add(
+            Object3D::new(&name).solid(
+                Solid::new(Shape::Box {
+                    lengths: Vector3::new(0.1, 0.1, 0.1),
+                })
+                .material("Steel")
+                .collision(true),
+            ),
+        )
+        .add_joint(Joint::new(
+            &format!("{name}.free"),
+            "world",
+            &name,
+            JointKind::FreeMotion {
+                r: Vector3::new(0.0, 0.0, 0.05 + 0.1 * i as f64),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
+    }
+    let model = s.build()?;
+    let opts = SimOptions::new(t_end).contact_results(true);
+    let (res, failure) = match model.simulate(&opts) {
+        Ok(r) => (r, None),
+        Err(e) => (*e.partial, Some(e.kind)),
+    };
+    let st = res.stats;
+    let f = res.signal("table|b0.f_n")?.last()[0];
+    let weight = n as f64 * 8000.0 * 1e-3 * 9.81;
+    println!(
+        "n = {n}, k_red = {k_red}: reached t = {:.4} s; {} events, {} steps, wall {:.2} s; \
+         bottom support force {f:.3} N (weight {weight:.3} N)",
+        res.time().last().copied().unwrap_or(0.0),
+        st.events,
+        st.solver.steps,
+        st.wall_time
+    );
+    if let Some(e) = failure {
+        println!("stopped: {e}");
+    }
+    Ok(())
+}

@@ -1,0 +1,191 @@
+//! Validation errors: [`SceneError`] (one thing wrong, naming its culprit and what to do),
+//! [`SceneErrors`] (all of them, from one round) and the did-you-mean hint.
+
+use std::fmt;
+
+/// One thing wrong with a scene. Every message names the culprit and says what to do.
+#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+pub enum SceneError {
+    /// Two objects or two joints share a name.
+    #[error("duplicate {kind} name `{name}`: names must be unique; rename one of them")]
+    DuplicateName {
+        /// "object", "joint" or "material".
+        kind: &'static str,
+        /// The repeated name.
+        name: String,
+    },
+    /// No object has the `Scene` feature.
+    #[error("the scene has no `Scene` object: add exactly one root object with feature `Scene` (the world)")]
+    NoScene,
+    /// More than one object has the `Scene` feature.
+    #[error("several `Scene` objects ({}): keep exactly one", list(.objects))]
+    SeveralScenes {
+        /// Their names.
+        objects: Vec<String>,
+    },
+    /// The `Scene` object has a parent.
+    #[error("the `Scene` object `{object}` has a parent: the scene is the world frame and must be the root; remove its parent")]
+    SceneNotRoot {
+        /// Its name.
+        object: String,
+    },
+    /// A reference to an object or joint that does not exist.
+    #[error("{referrer} names unknown {kind} `{name}`{}", hint_text(.hint))]
+    Unknown {
+        /// Who refers, e.g. "object `arm`'s parent" or "joint `rev`'s obj1".
+        referrer: String,
+        /// "object", "joint" or "material".
+        kind: &'static str,
+        /// The unknown name.
+        name: String,
+        /// A close existing name, if any.
+        hint: Option<String>,
+    },
+    /// Objects whose parents form a cycle.
+    #[error("parent cycle through {}: a parent chain must end at a root; break the cycle", list(.objects))]
+    ParentCycle {
+        /// The objects on the cycle.
+        objects: Vec<String>,
+    },
+    /// An object moved by more than one joint.
+    #[error("object `{object}` has two parents: it is obj2 of joints {}; an object can be moved by one joint only", list(.joints))]
+    TwoParents {
+        /// The object.
+        object: String,
+        /// The joints that move it.
+        joints: Vec<String>,
+    },
+    /// A joint that joins an object to itself.
+    #[error("joint `{joint}` joins `{object}` to itself: obj1 and obj2 must differ")]
+    IdenticalJointEnds {
+        /// The joint.
+        joint: String,
+        /// The object named twice.
+        object: String,
+    },
+    /// A closed kinematic chain.
+    #[error("kinematic loop through {}: closed chains are not supported yet; remove a joint or parent link of the loop", list(.objects))]
+    KinematicLoop {
+        /// The objects (or joints) on the loop.
+        objects: Vec<String>,
+    },
+    /// Objects that are neither attached nor jointed to the world.
+    #[error("object `{object}` is not connected to the world: give it a parent or connect it with a joint (a FreeMotion for a free body)")]
+    NotConnected {
+        /// An object of the unconnected part.
+        object: String,
+    },
+    /// A number that is NaN, infinite or out of its range.
+    #[error("{what} is {value}, but it must be {expected}")]
+    InvalidValue {
+        /// Which value, e.g. "object `ball`: Sphere diameter".
+        what: String,
+        /// The value given.
+        value: f64,
+        /// The admissible range in words.
+        expected: &'static str,
+    },
+    /// A solid whose mass cannot be determined.
+    #[error("solid `{object}` has no mass: {reason}")]
+    NoMassSource {
+        /// The object.
+        object: String,
+        /// What is missing and how to fix it.
+        reason: &'static str,
+    },
+    /// A body that can move but has no mass or a singular inertia.
+    #[error("the body moved by joint `{joint}` (objects {}) {problem}: give it a solid with mass and inertia, or fix it rigidly", list(.objects))]
+    SingularMass {
+        /// The joint whose coordinate has no inertia.
+        joint: String,
+        /// The objects of that body.
+        objects: Vec<String>,
+        /// What is singular.
+        problem: &'static str,
+    },
+    /// A FreeMotion whose obj1 lies on the far side of the world.
+    #[error("FreeMotion `{joint}`: obj1 `{obj1}` must lie on the world side of obj2 `{obj2}`; swap obj1 and obj2")]
+    ReversedFreeMotion {
+        /// The joint.
+        joint: String,
+        /// Its obj1.
+        obj1: String,
+        /// Its obj2.
+        obj2: String,
+    },
+    /// A collision-enabled solid without a shape.
+    #[error("solid `{object}` takes part in collisions but has no shape: give it a shape or set `collision` to false")]
+    CollisionWithoutShape {
+        /// The object.
+        object: String,
+    },
+    /// A collision-enabled solid without a material giving Young's modulus and Poisson's ratio.
+    #[error("solid `{object}` takes part in collisions but has no material: set `material` (its name is then the contact material) or a `contact_material` that names a solid material")]
+    CollisionWithoutMaterial {
+        /// The object.
+        object: String,
+    },
+    /// Two contact materials that can meet have no contact-pair material.
+    #[error("no contact-pair material for `{material1}` and `{material2}` (objects `{object1}` and `{object2}` can collide): add one with `SceneDesc::add_contact_pair(\"{material1}\", \"{material2}\", ContactPairMaterial::new(cor, mu_k, mu_r))` or in a material file")]
+    MissingContactPair {
+        /// Contact material of the first object.
+        material1: String,
+        /// Contact material of the second object.
+        material2: String,
+        /// The first object of a pair that needs it.
+        object1: String,
+        /// The second object.
+        object2: String,
+    },
+    /// A joint spring-damper on a joint without a scalar coordinate.
+    #[error("joint spring-damper on `{joint}`: a {kind} joint has no scalar coordinate; use a Revolute or Prismatic joint")]
+    NoScalarCoordinate {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: &'static str,
+    },
+}
+
+fn list(names: &[String]) -> String {
+    names
+        .iter()
+        .map(|n| format!("`{n}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn hint_text(h: &Option<String>) -> String {
+    match h {
+        Some(s) => format!(" (hint: did you mean `{s}`?)"),
+        None => String::new(),
+    }
+}
+
+/// All errors found in a scene, in one pass.
+#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+pub struct SceneErrors(pub Vec<SceneError>);
+
+impl fmt::Display for SceneErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0.len() {
+            1 => write!(f, "invalid scene: {}", self.0[0]),
+            n => {
+                write!(f, "invalid scene ({n} errors):")?;
+                for e in &self.0 {
+                    write!(f, "\n  - {e}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// The closest name among `candidates`, if one is close enough to be a likely typo.
+pub fn did_you_mean<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -> Option<String> {
+    candidates
+        .map(|c| (strsim::damerau_levenshtein(name, c), c))
+        .filter(|(d, c)| *d <= 2.max(name.len().min(c.len()) / 3))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c.to_string())
+}

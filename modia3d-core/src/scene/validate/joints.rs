@@ -1,0 +1,116 @@
+//! Validation of joints: ends resolved and distinct, kinds with unit axes, finite initial
+//! values and unit quaternions. Topology (loops, two parents, connectivity) is `topology.rs`.
+
+use super::{Checker, Names, SceneError, ValidJoint, ValidJointKind};
+use crate::scene::desc::{FreeRotation, JointKind, SceneDesc};
+use nalgebra::{Rotation3, UnitQuaternion, Vector3};
+
+/// Every joint resolved and checked, in declaration order; a joint with an error is left out
+/// and its resolved ends marked in `suspect` (they may now look unconnected).
+pub(super) fn joints(
+    c: &mut Checker,
+    desc: &SceneDesc,
+    names: &Names,
+    suspect: &mut [bool],
+) -> Vec<ValidJoint> {
+    let mut joints = Vec::with_capacity(desc.joints.len());
+    for j in &desc.joints {
+        let o1 = names.resolve(c, format!("joint `{}`'s obj1", j.name), &j.obj1);
+        let o2 = names.resolve(c, format!("joint `{}`'s obj2", j.name), &j.obj2);
+        let kind = check_joint_kind(c, &j.name, &j.kind);
+        let (Some(o1), Some(o2), Some(kind)) = (o1, o2, kind) else {
+            // Dropped: its resolved ends may now look unconnected.
+            for o in [o1, o2].into_iter().flatten() {
+                suspect[o] = true;
+            }
+            continue;
+        };
+        if o1 == o2 {
+            c.errors.push(SceneError::IdenticalJointEnds {
+                joint: j.name.clone(),
+                object: j.obj1.clone(),
+            });
+            suspect[o1] = true;
+            continue;
+        }
+        joints.push(ValidJoint {
+            name: j.name.clone(),
+            obj1: o1,
+            obj2: o2,
+            kind,
+            can_collide: j.can_collide,
+        });
+    }
+
+    joints
+}
+
+fn check_joint_kind(c: &mut Checker, joint: &str, k: &JointKind) -> Option<ValidJointKind> {
+    let before = c.errors.len();
+    let axis_of = |c: &mut Checker, axis: &Vector3<f64>| {
+        let n = axis.norm();
+        c.value(
+            || format!("joint `{joint}`: axis length"),
+            n,
+            n > 0.0,
+            "non-zero (an axis ±1, ±2, ±3 or a direction vector)",
+        );
+        axis / n
+    };
+    let kind = match k {
+        JointKind::Fix => ValidJointKind::Fix,
+        JointKind::Revolute { axis, phi, w } => {
+            c.finite(
+                || format!("joint `{joint}`: initial phi [rad], w [rad/s]"),
+                &[*phi, *w],
+            );
+            ValidJointKind::Revolute {
+                axis: axis_of(c, axis),
+                phi: *phi,
+                w: *w,
+            }
+        }
+        JointKind::Prismatic { axis, s, v } => {
+            c.finite(
+                || format!("joint `{joint}`: initial s [m], v [m/s]"),
+                &[*s, *v],
+            );
+            ValidJointKind::Prismatic {
+                axis: axis_of(c, axis),
+                s: *s,
+                v: *v,
+            }
+        }
+        JointKind::FreeMotion { r, rot, v, w } => {
+            c.finite(
+                || format!("joint `{joint}`: initial r [m], v [m/s], w [rad/s]"),
+                &[r.as_slice(), v.as_slice(), w.as_slice()].concat(),
+            );
+            let q = match rot {
+                FreeRotation::Cardan(a) => {
+                    c.finite(
+                        || format!("joint `{joint}`: initial Cardan angles [rad]"),
+                        a,
+                    );
+                    UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(
+                        crate::scene::desc::cardan_to_matrix(*a),
+                    ))
+                }
+                FreeRotation::Quaternion(q) => {
+                    c.finite(
+                        || format!("joint `{joint}`: initial quaternion"),
+                        q.coords.as_slice(),
+                    );
+                    *q
+                }
+            };
+            ValidJointKind::FreeMotion {
+                r: *r,
+                rot: q,
+                v: *v,
+                w: *w,
+            }
+        }
+    };
+    (c.errors.len() == before).then_some(kind)
+}

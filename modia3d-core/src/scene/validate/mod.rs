@@ -1,0 +1,340 @@
+//! Validation stage: `SceneDesc` → `ValidScene`. Resolves names to indices, checks values,
+//! the topology (one scene at the root; in `topology.rs`: no parent cycles, no kinematic loops,
+//! every part connected to the world, the spanning joint tree) and the contact-pair materials
+//! (`contact_rules.rs`), and collects *all* errors in one round, each naming its culprit.
+//! Touches only the scene description; the dynamics plan is compiled from the result.
+//!
+//! One file per component: `objects.rs` (the world and its options, materials, objects,
+//! solids), `joints.rs`, `forces.rs` (force elements and inputs), `options.rs` (option and
+//! contact-pair material ranges), `error.rs`; the topology is `../topology.rs`.
+
+mod error;
+mod forces;
+mod joints;
+mod objects;
+mod options;
+
+pub use error::{did_you_mean, SceneError, SceneErrors};
+
+use super::desc::SceneDesc;
+use super::materials::{builtin_contact_pair, ContactPairMaterial, SolidMaterial};
+use crate::geometry::Shape;
+use crate::scene::desc::SceneOptions;
+use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
+use std::collections::HashMap;
+
+/// Mass properties of a solid, resolved in its object's frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MassProps {
+    /// Mass [kg].
+    pub mass: f64,
+    /// Centre of mass, resolved in the object frame [m].
+    pub com: Vector3<f64>,
+    /// Inertia about the centre of mass, resolved in the object frame [kg·m²].
+    pub inertia: Matrix3<f64>,
+}
+
+/// A resolved solid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidSolid {
+    /// Geometry, if any.
+    pub shape: Option<Shape>,
+    /// Name of the solid material, if named.
+    pub material_name: Option<String>,
+    /// The solid material, if any.
+    pub material: Option<SolidMaterial>,
+    /// Mass properties in the object frame.
+    pub mass: MassProps,
+    /// Takes part in collision handling.
+    pub collision: bool,
+    /// Contact material name.
+    pub contact_material: Option<String>,
+    /// Smoothing radius [m], if set.
+    pub smoothing_radius: Option<f64>,
+    /// Material whose Young's modulus and Poisson's ratio the contact law uses (collision
+    /// solids only): the solid material, else the solid material named by the contact material.
+    pub contact_elasticity: Option<SolidMaterial>,
+}
+
+/// A resolved object.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidObject {
+    /// Name.
+    pub name: String,
+    /// Index of the parent object.
+    pub parent: Option<usize>,
+    /// Pose relative to the parent (or to world for a root) [m].
+    pub pose: Isometry3<f64>,
+    /// Solid data, if a solid.
+    pub solid: Option<ValidSolid>,
+    /// Visual-only shape.
+    pub visual: Option<Shape>,
+}
+
+/// A resolved joint kind with unit axes and a unit quaternion.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ValidJointKind {
+    /// Rigid.
+    Fix,
+    /// Revolute about a unit axis resolved in obj1; initial angle [rad] and rate [rad/s].
+    Revolute {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Initial angle [rad].
+        phi: f64,
+        /// Initial angular velocity [rad/s].
+        w: f64,
+    },
+    /// Prismatic along a unit axis resolved in obj1; initial position [m] and velocity [m/s].
+    Prismatic {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Initial position [m].
+        s: f64,
+        /// Initial velocity [m/s].
+        v: f64,
+    },
+    /// Free motion.
+    FreeMotion {
+        /// Initial position, resolved in obj1 [m].
+        r: Vector3<f64>,
+        /// Initial orientation relative to obj1.
+        rot: UnitQuaternion<f64>,
+        /// Initial `der(r)`, resolved in obj1 [m/s].
+        v: Vector3<f64>,
+        /// Initial angular velocity, resolved in obj2 [rad/s].
+        w: Vector3<f64>,
+    },
+}
+
+/// A resolved joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidJoint {
+    /// Name.
+    pub name: String,
+    /// Index of obj1.
+    pub obj1: usize,
+    /// Index of obj2.
+    pub obj2: usize,
+    /// Kind.
+    pub kind: ValidJointKind,
+    /// Whether the joined bodies may collide.
+    pub can_collide: bool,
+}
+
+/// A resolved force element.
+#[derive(Clone, Debug)]
+pub enum ValidForce {
+    /// Spring-damper between two object origins.
+    SpringDamper {
+        /// Object indices.
+        obj1: usize,
+        /// Object indices.
+        obj2: usize,
+        /// [N/m]
+        stiffness: f64,
+        /// [N·s/m]
+        damping: f64,
+        /// [m]
+        length0: f64,
+    },
+    /// Spring-damper on a joint coordinate.
+    JointSpringDamper {
+        /// Joint index.
+        joint: usize,
+        /// Stiffness.
+        stiffness: f64,
+        /// Damping.
+        damping: f64,
+        /// Offset.
+        offset: f64,
+    },
+    /// User force law on an object.
+    ObjectForce {
+        /// Object index.
+        object: usize,
+        /// The law.
+        law: crate::scene::desc::ForceFn,
+    },
+}
+
+/// A checked scene: names resolved, values in range, topology a tree rooted at the world.
+#[derive(Clone, Debug)]
+pub struct ValidScene {
+    /// Objects, in declaration order.
+    pub objects: Vec<ValidObject>,
+    /// Joints, in declaration order (Fix joints included).
+    pub joints: Vec<ValidJoint>,
+    /// Force elements.
+    pub forces: Vec<ValidForce>,
+    /// Index of the `Scene` object (the world).
+    pub world: usize,
+    /// Scene options.
+    pub options: SceneOptions,
+    /// User-defined contact-pair materials, checked (override the built-in ones).
+    pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
+    /// Inputs with resolved joint/object indices.
+    pub inputs: Vec<ValidInput>,
+    /// Rigid clusters and the spanning joint tree (`scene/topology.rs`).
+    pub topology: super::topology::Topology,
+}
+
+/// A resolved input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValidInput {
+    /// Name.
+    pub name: String,
+    /// What it drives, with indices into `ValidScene::joints` / `objects`.
+    pub kind: ValidInputKind,
+}
+
+/// What a resolved input drives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ValidInputKind {
+    /// Generalised force on a scalar joint (index into `ValidScene::joints`).
+    JointForce(usize),
+    /// Prescribed acceleration of a scalar joint (index into `ValidScene::joints`).
+    JointAcceleration(usize),
+    /// World force and torque on an object (index into `ValidScene::objects`).
+    ObjectWrench(usize),
+}
+
+impl ValidScene {
+    /// The contact-pair material of contact materials `a` and `b` (either order): the last
+    /// user definition, else the built-in palette.
+    pub fn contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
+        self.contact_pairs
+            .iter()
+            .rev()
+            .find(|(x, y, _)| (x == a && y == b) || (x == b && y == a))
+            .map(|(_, _, m)| *m)
+            .or_else(|| builtin_contact_pair(a, b))
+    }
+}
+
+/// Collects the errors of one validation round.
+pub(super) struct Checker {
+    /// Every error found so far, in the order found.
+    pub(super) errors: Vec<SceneError>,
+}
+
+impl Checker {
+    pub(super) fn value(
+        &mut self,
+        what: impl FnOnce() -> String,
+        v: f64,
+        ok: bool,
+        expected: &'static str,
+    ) {
+        if !ok || !v.is_finite() {
+            self.errors.push(SceneError::InvalidValue {
+                what: what(),
+                value: v,
+                expected,
+            });
+        }
+    }
+    pub(super) fn finite(&mut self, what: impl Fn() -> String, vals: &[f64]) {
+        for &v in vals {
+            self.value(&what, v, true, "finite");
+        }
+    }
+    pub(super) fn positive(&mut self, what: impl FnOnce() -> String, v: f64) {
+        self.value(what, v, v > 0.0, "finite and > 0");
+    }
+    pub(super) fn non_negative(&mut self, what: impl FnOnce() -> String, v: f64) {
+        self.value(what, v, v >= 0.0, "finite and ≥ 0");
+    }
+}
+
+/// Object and joint names of the description, for resolving references.
+pub(super) struct Names<'a> {
+    desc: &'a SceneDesc,
+    obj_index: HashMap<&'a str, usize>,
+    /// Index of each joint name in `SceneDesc::joints`.
+    pub(super) joint_index: HashMap<&'a str, usize>,
+}
+
+impl<'a> Names<'a> {
+    /// The name indices; duplicate object and joint names are errors.
+    fn new(c: &mut Checker, desc: &'a SceneDesc) -> Self {
+        let mut obj_index: HashMap<&str, usize> = HashMap::new();
+        for (i, o) in desc.objects.iter().enumerate() {
+            if obj_index.insert(o.name.as_str(), i).is_some() {
+                c.errors.push(SceneError::DuplicateName {
+                    kind: "object",
+                    name: o.name.clone(),
+                });
+            }
+        }
+        let mut joint_index: HashMap<&str, usize> = HashMap::new();
+        for (i, j) in desc.joints.iter().enumerate() {
+            if joint_index.insert(j.name.as_str(), i).is_some() {
+                c.errors.push(SceneError::DuplicateName {
+                    kind: "joint",
+                    name: j.name.clone(),
+                });
+            }
+        }
+        Names {
+            desc,
+            obj_index,
+            joint_index,
+        }
+    }
+
+    /// The object called `name`; else an error naming `referrer`, with a hint.
+    pub(super) fn resolve(&self, c: &mut Checker, referrer: String, name: &str) -> Option<usize> {
+        let r = self.obj_index.get(name).copied();
+        if r.is_none() {
+            c.errors.push(SceneError::Unknown {
+                referrer,
+                kind: "object",
+                name: name.to_string(),
+                hint: did_you_mean(name, self.desc.objects.iter().map(|o| o.name.as_str())),
+            });
+        }
+        r
+    }
+}
+
+impl SceneDesc {
+    /// Checks the scene and resolves names; returns every error found, in one round.
+    pub fn validate(&self) -> Result<ValidScene, SceneErrors> {
+        let c = &mut Checker { errors: vec![] };
+        let names = Names::new(c, self);
+        let materials = objects::solid_materials(c, self);
+        let (world, options) = objects::world(c, self);
+        let (mut objects, mut suspect) = objects::objects(c, self, &names, &materials);
+        let joints = joints::joints(c, self, &names, &mut suspect);
+        // Cycles, two parents, clusters, the joint tree, loops, connectivity.
+        let topology = super::topology::check_topology(
+            &mut objects,
+            &joints,
+            world,
+            &mut suspect,
+            &mut c.errors,
+        );
+        let forces = forces::forces(c, self, &names, &joints);
+        let inputs = forces::inputs(c, self, &names, &joints);
+        options::contact_pair_materials(c, self);
+        let valid = ValidScene {
+            contact_pairs: self.contact_pairs.clone(),
+            inputs,
+            objects,
+            joints,
+            forces,
+            world: world.unwrap_or(0),
+            options,
+            topology,
+        };
+        // Contact pairs that can meet but have no material (the same rule as the contact
+        // preprocessing's candidate pairs).
+        c.errors
+            .extend(super::contact_rules::missing_contact_pairs(&valid));
+        if !c.errors.is_empty() {
+            return Err(SceneErrors(std::mem::take(&mut c.errors)));
+        }
+        Ok(valid)
+    }
+}

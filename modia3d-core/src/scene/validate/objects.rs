@@ -1,0 +1,333 @@
+//! Validation of objects: the `Scene` object and its options, solid materials, poses,
+//! shapes, solids (materials, mass properties, collision data) and visuals.
+
+use super::{did_you_mean, Checker, MassProps, Names, SceneError, ValidObject, ValidSolid};
+use crate::geometry::Shape;
+use crate::scene::desc::{Feature, MassSpec, MaterialRef, SceneDesc, SceneOptions};
+use crate::scene::materials::{builtin_solid_material, SolidMaterial};
+use nalgebra::{Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3};
+use std::collections::HashMap;
+
+/// The scene's solid materials, checked (the built-in palette is looked up on demand).
+pub(super) fn solid_materials<'a>(
+    c: &mut Checker,
+    desc: &'a SceneDesc,
+) -> HashMap<&'a str, SolidMaterial> {
+    let mut materials: HashMap<&str, SolidMaterial> = HashMap::new();
+    for (name, m) in &desc.solid_materials {
+        let what = |f: &str| format!("solid material `{name}`: {f}");
+        c.positive(|| what("density [kg/m³]"), m.density);
+        c.positive(|| what("Young's modulus [N/m²]"), m.young_modulus);
+        c.value(
+            || what("Poisson's ratio"),
+            m.poisson_ratio,
+            m.poisson_ratio > 0.0 && m.poisson_ratio < 1.0,
+            "in (0, 1)",
+        );
+        materials.insert(name.as_str(), *m);
+    }
+    materials
+}
+
+/// The `Scene` object (the world) and its options: exactly one, at the root, values in range.
+pub(super) fn world(c: &mut Checker, desc: &SceneDesc) -> (Option<usize>, SceneOptions) {
+    let scenes: Vec<usize> = desc
+        .objects
+        .iter()
+        .enumerate()
+        .filter(|(_, o)| matches!(o.feature, Feature::Scene(_)))
+        .map(|(i, _)| i)
+        .collect();
+    let world = match scenes.len() {
+        0 => {
+            c.errors.push(SceneError::NoScene);
+            None
+        }
+        1 => Some(scenes[0]),
+        _ => {
+            c.errors.push(SceneError::SeveralScenes {
+                objects: scenes
+                    .iter()
+                    .map(|&i| desc.objects[i].name.clone())
+                    .collect(),
+            });
+            None
+        }
+    };
+    let mut options = SceneOptions::default();
+    if let Some(w) = world {
+        let o = &desc.objects[w];
+        if o.parent.is_some() {
+            c.errors.push(SceneError::SceneNotRoot {
+                object: o.name.clone(),
+            });
+        }
+        if let Feature::Scene(opts) = &o.feature {
+            c.finite(
+                || format!("scene `{}`: gravity [m/s²]", o.name),
+                opts.gravity.as_slice(),
+            );
+            super::options::check_options(c, &o.name, opts);
+            options = opts.clone();
+        }
+    }
+
+    (world, options)
+}
+
+/// Every object resolved and checked, in declaration order, and which of them lost their
+/// parent link to an error (an unknown parent).
+pub(super) fn objects(
+    c: &mut Checker,
+    desc: &SceneDesc,
+    names: &Names,
+    materials: &HashMap<&str, SolidMaterial>,
+) -> (Vec<ValidObject>, Vec<bool>) {
+    let lookup_material = |name: &str| {
+        materials
+            .get(name)
+            .copied()
+            .or_else(|| builtin_solid_material(name))
+    };
+    let mut objects = Vec::with_capacity(desc.objects.len());
+    // Objects whose links were dropped because of an error already reported.
+    let mut suspect = Vec::with_capacity(desc.objects.len());
+    for o in &desc.objects {
+        let parent = o
+            .parent
+            .as_ref()
+            .and_then(|p| names.resolve(c, format!("object `{}`'s parent", o.name), p));
+        // An unknown parent: the object may now look unconnected.
+        suspect.push(o.parent.is_some() && parent.is_none());
+        c.finite(
+            || format!("object `{}`: translation [m]", o.name),
+            o.translation.as_slice(),
+        );
+        let rv = o.rotation.values();
+        c.finite(|| format!("object `{}`: rotation", o.name), &rv);
+        let rm = o.rotation.to_matrix();
+        if rv.iter().all(|v| v.is_finite()) && !rotation_is_proper(&rm) {
+            c.errors.push(SceneError::InvalidValue {
+                what: format!("object `{}`: rotation matrix determinant", o.name),
+                value: rm.determinant(),
+                expected: "1 with orthonormal columns (a proper rotation)",
+            });
+        }
+        let pose = Isometry3::from_parts(
+            Translation3::from(o.translation),
+            UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(rm)),
+        );
+        let mut solid = None;
+        let mut visual = None;
+        match &o.feature {
+            Feature::Solid(s) => {
+                if let Some(shape) = &s.shape {
+                    check_shape(c, &o.name, shape);
+                }
+                let (material_name, material) = match &s.material {
+                    None => (None, None),
+                    Some(MaterialRef::Name(n)) => match lookup_material(n) {
+                        Some(m) => (Some(n.clone()), Some(m)),
+                        None => {
+                            c.errors.push(SceneError::Unknown {
+                                referrer: format!("solid `{}`", o.name),
+                                kind: "solid material",
+                                name: n.clone(),
+                                hint: did_you_mean(
+                                    n,
+                                    materials.keys().copied().chain(
+                                        crate::scene::materials::SOLID_MATERIALS
+                                            .iter()
+                                            .map(|(n, _)| *n),
+                                    ),
+                                ),
+                            });
+                            (Some(n.clone()), None)
+                        }
+                    },
+                    Some(MaterialRef::Value(m)) => {
+                        let what = |f: &str| format!("solid `{}`: material {f}", o.name);
+                        c.positive(|| what("density [kg/m³]"), m.density);
+                        c.positive(|| what("Young's modulus [N/m²]"), m.young_modulus);
+                        c.value(
+                            || what("Poisson's ratio"),
+                            m.poisson_ratio,
+                            m.poisson_ratio > 0.0 && m.poisson_ratio < 1.0,
+                            "in (0, 1)",
+                        );
+                        (None, Some(*m))
+                    }
+                };
+                if let Some(r) = s.smoothing_radius {
+                    c.non_negative(|| format!("solid `{}`: smoothing radius [m]", o.name), r);
+                }
+                let mass = solid_mass(c, &o.name, s, material.as_ref());
+                let contact_material = s.contact_material.clone().or(material_name.clone());
+                let mut contact_elasticity = None;
+                if s.collision {
+                    if s.shape.is_none() {
+                        c.errors.push(SceneError::CollisionWithoutShape {
+                            object: o.name.clone(),
+                        });
+                    }
+                    contact_elasticity = material
+                        .or_else(|| s.contact_material.as_deref().and_then(lookup_material));
+                    if contact_elasticity.is_none() || contact_material.is_none() {
+                        c.errors.push(SceneError::CollisionWithoutMaterial {
+                            object: o.name.clone(),
+                        });
+                    }
+                }
+                solid = Some(ValidSolid {
+                    shape: s.shape.clone(),
+                    material_name,
+                    material,
+                    mass,
+                    collision: s.collision,
+                    contact_material,
+                    smoothing_radius: s.smoothing_radius,
+                    contact_elasticity,
+                });
+            }
+            Feature::Visual(shape) => {
+                check_shape(c, &o.name, shape);
+                visual = Some(shape.clone());
+            }
+            Feature::None | Feature::Scene(_) => {}
+        }
+        objects.push(ValidObject {
+            name: o.name.clone(),
+            parent,
+            pose,
+            solid,
+            visual,
+        });
+    }
+
+    (objects, suspect)
+}
+
+fn rotation_is_proper(m: &Matrix3<f64>) -> bool {
+    (m.transpose() * m - Matrix3::identity()).norm() < 1e-9 && (m.determinant() - 1.0).abs() < 1e-9
+}
+
+fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {
+    let kind = shape.kind();
+    for (name, v) in shape.dimensions() {
+        c.positive(|| format!("object `{object}`: {kind:?} {name} [m]"), v);
+    }
+    if let Shape::Cone { top_diameter, .. } = shape {
+        c.non_negative(
+            || format!("object `{object}`: Cone top_diameter [m]"),
+            *top_diameter,
+        );
+    }
+    if let Shape::ConvexHull { points } = shape {
+        let flat: Vec<f64> = points
+            .iter()
+            .flat_map(|p| p.coords.iter().copied())
+            .collect();
+        c.finite(
+            || format!("object `{object}`: ConvexHull points [m]"),
+            &flat,
+        );
+        if flat.iter().all(|v| v.is_finite()) && shape.unit_mass_properties().is_none() {
+            c.errors.push(SceneError::InvalidValue {
+                what: format!("object `{object}`: ConvexHull volume [m³]"),
+                value: 0.0,
+                expected: "> 0 (at least 4 points not in one plane)",
+            });
+        }
+    }
+}
+
+fn solid_mass(
+    c: &mut Checker,
+    object: &str,
+    s: &crate::scene::desc::Solid,
+    material: Option<&SolidMaterial>,
+) -> MassProps {
+    let zero = MassProps {
+        mass: 0.0,
+        com: Vector3::zeros(),
+        inertia: Matrix3::zeros(),
+    };
+    let unit = || s.shape.as_ref().and_then(|sh| sh.unit_mass_properties());
+    match &s.mass_properties {
+        MassSpec::FromShapeAndDensity => {
+            let Some(m) = material else {
+                c.errors.push(SceneError::NoMassSource {
+                    object: object.into(),
+                    reason:
+                        "mass from density needs a solid material; set `material` or give a mass",
+                });
+                return zero;
+            };
+            if s.shape.is_none() {
+                c.errors.push(SceneError::NoMassSource {
+                    object: object.into(),
+                    reason: "mass from density needs a shape; set `shape` or give explicit mass properties",
+                });
+                return zero;
+            }
+            match unit() {
+                Some(u) => MassProps {
+                    mass: m.density * u.volume,
+                    com: u.com,
+                    inertia: u.inertia * m.density,
+                },
+                None => zero, // degenerate hull: reported by check_shape
+            }
+        }
+        MassSpec::FromShapeAndMass(mass) => {
+            c.positive(|| format!("solid `{object}`: mass [kg]"), *mass);
+            if s.shape.is_none() {
+                c.errors.push(SceneError::NoMassSource {
+                    object: object.into(),
+                    reason: "inertia from mass needs a shape; set `shape` or give explicit mass properties",
+                });
+                return zero;
+            }
+            match unit() {
+                Some(u) if u.volume > 0.0 && u.volume.is_finite() => MassProps {
+                    mass: *mass,
+                    com: u.com,
+                    inertia: u.inertia * (*mass / u.volume),
+                },
+                _ => zero,
+            }
+        }
+        MassSpec::Explicit { mass, com, inertia } => {
+            c.positive(|| format!("solid `{object}`: mass [kg]"), *mass);
+            c.finite(
+                || format!("solid `{object}`: centre of mass [m]"),
+                com.as_slice(),
+            );
+            c.finite(
+                || format!("solid `{object}`: inertia [kg·m²]"),
+                inertia.as_slice(),
+            );
+            if inertia.iter().all(|v| v.is_finite()) {
+                let sym = (inertia - inertia.transpose()).norm() <= 1e-12 * inertia.norm();
+                let ev = inertia.symmetric_eigenvalues();
+                let (a, b, cc) = (ev[0], ev[1], ev[2]);
+                let tol = 1e-12 * ev.abs().max();
+                let triangle = a + b >= cc - tol && a + cc >= b - tol && b + cc >= a - tol;
+                if !sym || ev.min() < -tol || !triangle {
+                    c.errors.push(SceneError::InvalidValue {
+                        what: format!(
+                            "solid `{object}`: smallest principal inertia [kg·m²]"
+                        ),
+                        value: ev.min(),
+                        expected: "a symmetric, positive semi-definite tensor whose principal moments satisfy the triangle inequality",
+                    });
+                }
+            }
+            MassProps {
+                mass: *mass,
+                com: *com,
+                inertia: *inertia,
+            }
+        }
+    }
+}

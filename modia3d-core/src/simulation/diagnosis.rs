@@ -1,0 +1,280 @@
+//! Driver: why a run was slow. When a run reaches its work budget ([`SimOptions::max_steps`]
+//! or [`SimOptions::max_wall_time`]) or its events chatter, the driver ends it with a typed
+//! error whose [`WorkDiagnosis`] names the limiting cause, measured on the run itself:
+//!
+//! - **a chattering pair**: the pair with the most contact events among the last events, with
+//!   their number and time span (events per time);
+//! - **the stiffest element**: of the contacts in the contact set and the springs, the one with
+//!   the shortest natural period `T = 2π·sqrt(m/k)` (`k` the contact's tangent stiffness at its
+//!   current penetration, `m` the reduced mass of the two bodies), with a suggested `k_red`
+//!   for contacts (below);
+//! - **the limiting state**: the component of `y` with the largest weighted local error at the
+//!   last step (IDA's own error test), named by its joint and body.
+//!
+//! The suggested `k_red` scales the contact stiffness so that its period becomes
+//! `T* = 50·h_b`, with `h_b = (stop − start)/max_steps` the mean step the budget allows (IDA
+//! resolves an oscillation with some tens of steps per period): `k_red · (T/T*)²`.
+//! Only read at the end of a failed run: allocates freely.
+
+use crate::contact::{ContactPlan, ContactState};
+use crate::dynamics::{JointCoord, Plan};
+use crate::results::Event;
+use crate::scene::ValidForce;
+
+/// Which budget a run reached.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Budget {
+    /// [`SimOptions::max_steps`](super::SimOptions::max_steps) IDA steps, counted over the
+    /// whole run (all restarts).
+    Steps(u64),
+    /// [`SimOptions::max_wall_time`](super::SimOptions::max_wall_time) seconds of wall time.
+    WallTime(f64),
+}
+
+/// What limited the step size of a run that reached its budget.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SlowCause {
+    /// A contact starts and ends again and again.
+    Chattering {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Its events among the last events of the run.
+        events: usize,
+        /// Time span of those events [s].
+        span: f64,
+    },
+    /// A contact in the contact set is the stiffest element.
+    StiffContact {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Its natural period at the current penetration [s].
+        period: f64,
+        /// A `k_red` that would make the period fit the budget (see the module docs).
+        suggested_k_red: f64,
+    },
+    /// A spring (joint spring-damper or spring-damper) is the stiffest element.
+    StiffSpring {
+        /// The element: `"joint spring of `name`"` or `"spring-damper a–b"`.
+        element: String,
+        /// Its natural period [s].
+        period: f64,
+    },
+    /// None of the above was found.
+    Unknown,
+}
+
+/// The diagnosis carried by [`SimErrorKind::WorkBudget`](super::SimErrorKind::WorkBudget).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkDiagnosis {
+    /// The budget that was reached.
+    pub budget: Budget,
+    /// Time reached [s].
+    pub t: f64,
+    /// IDA steps of the run so far.
+    pub steps: u64,
+    /// Contact events of the run so far.
+    pub events: usize,
+    /// Size of the last step [s].
+    pub last_step: f64,
+    /// What limited the steps.
+    pub cause: SlowCause,
+    /// The state with the largest weighted local error at the last step, e.g.
+    /// ``"velocity 5 of joint `ball.free` (object `ball`)"``.
+    pub limiting_state: Option<String>,
+}
+
+impl std::fmt::Display for WorkDiagnosis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match &self.budget {
+            Budget::Steps(n) => write!(f, "the run reached its budget of {n} IDA steps")?,
+            Budget::WallTime(w) => write!(f, "the run reached its wall-time budget of {w} s")?,
+        }
+        write!(
+            f,
+            " at t = {} s ({} steps, {} events, last step {:.3e} s): ",
+            self.t, self.steps, self.events, self.last_step
+        )?;
+        match &self.cause {
+            SlowCause::Chattering { pair, events, span } => write!(
+                f,
+                "contact `{pair}` chatters ({events} events in {span:.3e} s); check its initial \
+                 overlap, loosen mpr_tolerance no further than the default, or lower k_red"
+            )?,
+            SlowCause::StiffContact {
+                pair,
+                period,
+                suggested_k_red,
+            } => write!(
+                f,
+                "contact `{pair}` is the stiffest element (period {period:.3e} s); \
+                 k_red = {suggested_k_red:.1e} would fit the budget (or raise max_steps)"
+            )?,
+            SlowCause::StiffSpring { element, period } => write!(
+                f,
+                "the {element} is the stiffest element (period {period:.3e} s); soften it or \
+                 raise max_steps"
+            )?,
+            SlowCause::Unknown => write!(
+                f,
+                "no chattering contact or stiff element found; raise max_steps or loosen the \
+                 tolerance"
+            )?,
+        }
+        if let Some(s) = &self.limiting_state {
+            write!(f, "; the step is limited by {s}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Events of one pair among the last `window` events: the pair with the most, their number and
+/// time span [s].
+pub(crate) fn busiest_pair(events: &[Event], window: usize) -> Option<(String, usize, f64)> {
+    let recent = &events[events.len().saturating_sub(window)..];
+    let mut counts: Vec<(&str, usize, f64, f64)> = vec![];
+    for e in recent {
+        for p in e.started.iter().chain(&e.ended) {
+            match counts.iter_mut().find(|c| c.0 == p) {
+                Some(c) => {
+                    c.1 += 1;
+                    c.3 = e.t;
+                }
+                None => counts.push((p, 1, e.t, e.t)),
+            }
+        }
+    }
+    counts
+        .into_iter()
+        .max_by_key(|c| c.1)
+        .map(|(p, n, t0, t1)| (p.to_string(), n, t1 - t0))
+}
+
+/// Mass [kg] of body `b` (`None` = the world: infinite).
+fn mass(plan: &Plan, b: Option<usize>) -> f64 {
+    b.map_or(f64::INFINITY, |b| plan.bodies[b].inertia.mass)
+}
+
+fn reduced(m1: f64, m2: f64) -> f64 {
+    if m1.is_infinite() {
+        m2
+    } else if m2.is_infinite() {
+        m1
+    } else {
+        m1 * m2 / (m1 + m2)
+    }
+}
+
+fn period(m: f64, k: f64) -> f64 {
+    2.0 * std::f64::consts::PI * (m / k).sqrt()
+}
+
+/// The stiffest element: contacts in the set (with the suggested `k_red` for a budget step
+/// `h_budget` [s]) and springs.
+pub(crate) fn stiffest(
+    plan: &Plan,
+    cp: Option<&ContactPlan>,
+    cs: Option<&ContactState>,
+    h_budget: f64,
+) -> SlowCause {
+    let mut best = SlowCause::Unknown;
+    let mut best_t = f64::INFINITY;
+    if let (Some(cs), Some(cp)) = (cs, cp) {
+        for &p in &cs.active {
+            let (pp, ps) = (&cp.pairs[p as usize], &cs.pairs[p as usize]);
+            let delta = ps.response.penetration;
+            let k = cp.k_red * pp.c_res * pp.c_geo * pp.n_geo * delta.powf(pp.n_geo - 1.0);
+            let m = reduced(
+                mass(plan, cp.shapes[pp.a].body),
+                mass(plan, cp.shapes[pp.b].body),
+            );
+            let t = period(m, k);
+            if k > 0.0 && t.is_finite() && t < best_t {
+                best_t = t;
+                let target = 50.0 * h_budget;
+                best = SlowCause::StiffContact {
+                    pair: cp.pair_name(&plan.scene, p as usize),
+                    period: t,
+                    suggested_k_red: cp.k_red * (t / target).powi(2).min(1.0),
+                };
+            }
+        }
+    }
+    for f in &plan.scene.forces {
+        let (element, m, k) = match f {
+            ValidForce::JointSpringDamper {
+                joint, stiffness, ..
+            } => {
+                let Some(j) = plan.joints.iter().find(|j| j.scene_joint == *joint) else {
+                    continue;
+                };
+                let b = &plan.bodies[j.body];
+                let m = match j.coord {
+                    JointCoord::Revolute { axis } => {
+                        // About the joint axis through the body frame origin (parallel axes).
+                        let i = &b.inertia;
+                        let c = i.com;
+                        (axis.dot(&(i.inertia_com * axis))
+                            + i.mass * (c.norm_squared() - axis.dot(&c).powi(2)))
+                        .max(0.0)
+                    }
+                    _ => b.inertia.mass,
+                };
+                (format!("joint spring of `{}`", j.name), m, *stiffness)
+            }
+            ValidForce::SpringDamper {
+                obj1,
+                obj2,
+                stiffness,
+                ..
+            } => {
+                let m = reduced(
+                    mass(plan, plan.objects[*obj1].body),
+                    mass(plan, plan.objects[*obj2].body),
+                );
+                (
+                    format!(
+                        "spring-damper `{}`–`{}`",
+                        plan.objects[*obj1].name, plan.objects[*obj2].name
+                    ),
+                    m,
+                    *stiffness,
+                )
+            }
+            ValidForce::ObjectForce { .. } => continue,
+        };
+        let t = period(m, k);
+        if k > 0.0 && t.is_finite() && t < best_t {
+            best_t = t;
+            best = SlowCause::StiffSpring { element, period: t };
+        }
+    }
+    best
+}
+
+/// Name of component `i` of `y = [q; v]`: its joint coordinate and the body's first object.
+pub(crate) fn state_name(plan: &Plan, i: usize) -> Option<String> {
+    let (kind, k) = if i < plan.nq {
+        ("position", i)
+    } else {
+        ("velocity", i - plan.nq)
+    };
+    let j = plan.joints.iter().find(|j| {
+        let (off, n) = if i < plan.nq {
+            (j.q_offset, j.coord.nq())
+        } else {
+            (j.v_offset, j.coord.nv())
+        };
+        (off..off + n).contains(&k)
+    })?;
+    let off = if i < plan.nq { j.q_offset } else { j.v_offset };
+    let object = plan.bodies[j.body]
+        .objects
+        .first()
+        .map(|&o| plan.objects[o].name.clone())
+        .unwrap_or_default();
+    Some(format!(
+        "{kind} {} of joint `{}` (object `{object}`)",
+        k - off,
+        j.name
+    ))
+}

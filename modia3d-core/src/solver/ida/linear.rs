@@ -1,0 +1,287 @@
+//! Solver stage, FFI: the linear algebra attached to IDA — SUNDIALS' dense matrix and LU, or,
+//! for systems with a block structure, the coloured difference-quotient Jacobian callback, a
+//! storage-less custom `SUNMatrix` handle and a custom `SUNLinearSolver` over the safe
+//! block-diagonal LU (`block_lu.rs`). Part of the `ida` FFI module (`unsafe` allowed here, see
+//! `ida.rs` for the invariants).
+
+use super::*;
+
+/// IDA Jacobian callback for systems with a [`super::BlockStructure`]: the iteration matrix
+/// `∂F/∂y + c_j ∂F/∂y'` by difference quotients, perturbing the unknowns of all blocks of one
+/// colour together (increments exactly as IDA's dense difference quotients), written into the
+/// zeroed diagonal blocks of the `BlockLu` (the SUNMatrix IDA passes is a handle without
+/// storage, see `attach_linear_solver`). Entries outside the structure stay zero. Returns 0, 1 for a
+/// recoverable residual failure (or a non-finite quotient), -1 for a fatal one, an invalid
+/// structure or a caught panic.
+#[allow(clippy::too_many_arguments)] // the C signature
+pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
+    t: f64,
+    c_j: f64,
+    yy: sys::N_Vector,
+    yp: sys::N_Vector,
+    rr: sys::N_Vector,
+    _jac: sys::SUNMatrix,
+    user_data: *mut c_void,
+    tmp1: sys::N_Vector,
+    tmp2: sys::N_Vector,
+    _tmp3: sys::N_Vector,
+) -> c_int {
+    let state = user_data.cast::<CallbackState<S>>();
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: as in residual_callback. yy and yp are IDA's current iterate, which IDA's own
+        // difference quotients also perturb in place and restore; rr, tmp1, tmp2 are distinct
+        // vectors of length n; jac is the n × n dense matrix attached in attach_linear_solver
+        // (column-major, leading dimension n); mem is the running IDA memory.
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let mut hh = 0.0;
+        let (y, ypv, r, rp, ewt) = unsafe {
+            sys::IDAGetErrWeights(st.mem, tmp2);
+            sys::IDAGetCurrentStep(st.mem, &mut hh);
+            (
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yy), n),
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yp), n),
+                slice::from_raw_parts(sys::N_VGetArrayPointer(rr), n),
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(tmp1), n),
+                slice::from_raw_parts(sys::N_VGetArrayPointer(tmp2), n),
+            )
+        };
+        let Some(col) = st.colouring.as_mut() else {
+            return -1;
+        };
+        if !st.system.jacobian_structure(&mut col.structure) {
+            // The structure is gone for now: one block, i.e. plain dense difference quotients.
+            col.structure.block_of.clear();
+            col.structure.block_of.resize(n, 0);
+            col.structure.n_blocks = 1;
+            col.structure.couplings.clear();
+        }
+        if let Err(msg) = col.update(n) {
+            st.fatal.get_or_insert((msg, t));
+            return -1;
+        }
+        st.block_lu.layout(col, n);
+        let saved = &mut st.jac_saved;
+        saved.resize(n, (0.0, 0.0, 0.0));
+        let srur = f64::EPSILON.sqrt();
+        for c in 0..col.n_colours() {
+            for k in 0..col.width(c) {
+                for &b in col.blocks_of_colour(c) {
+                    if let Some(&j) = col.members(b).get(k) {
+                        let (yj, ypj) = (y[j], ypv[j]);
+                        let mut inc = (srur * yj.abs().max((hh * ypj).abs())).max(1.0 / ewt[j]);
+                        if hh * ypj < 0.0 {
+                            inc = -inc;
+                        }
+                        inc = (yj + inc) - yj;
+                        saved[j] = (yj, ypj, inc);
+                        y[j] += inc;
+                        ypv[j] += c_j * inc;
+                    }
+                }
+                st.jac_residuals += 1;
+                let outcome = st.system.residual(t, y, ypv, rp);
+                for &b in col.blocks_of_colour(c) {
+                    if let Some(&j) = col.members(b).get(k) {
+                        (y[j], ypv[j], _) = saved[j];
+                    }
+                }
+                match outcome {
+                    Ok(()) => {}
+                    Err(ResidualError::Recoverable) => return 1,
+                    Err(ResidualError::Fatal(msg)) => {
+                        st.fatal.get_or_insert((msg, t));
+                        return -1;
+                    }
+                }
+                for &b in col.blocks_of_colour(c) {
+                    let Some(&j) = col.members(b).get(k) else {
+                        continue;
+                    };
+                    let inv = 1.0 / saved[j].2;
+                    for blk in std::iter::once(b).chain(col.neighbours(b).iter().copied()) {
+                        for &i in col.members(blk) {
+                            let d = (rp[i] - r[i]) * inv;
+                            if !d.is_finite() {
+                                record_non_finite(&mut st.non_finite, i, t, d);
+                                return 1;
+                            }
+                            st.block_lu.set(i, j, d);
+                        }
+                    }
+                }
+            }
+        }
+        0
+    }));
+    // SAFETY: the closure's borrow of the state has ended.
+    unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// Matrix id of the storage-less handle: a custom one.
+pub(super) unsafe extern "C" fn block_mat_id(_a: sys::SUNMatrix) -> sys::SUNMatrix_ID {
+    sys::SUNMatrix_ID_SUNMATRIX_CUSTOM
+}
+
+/// `SUNMatZero` on the handle: nothing to do (the Jacobian callback lays out zeroed blocks).
+pub(super) unsafe extern "C" fn block_mat_zero(_a: sys::SUNMatrix) -> sys::SUNErrCode {
+    0
+}
+
+/// Frees the handle; it owns no storage.
+pub(super) unsafe extern "C" fn block_mat_destroy(a: sys::SUNMatrix) {
+    if !a.is_null() {
+        // SAFETY: a was created by SUNMatNewEmpty with a null content.
+        unsafe {
+            (*a).content = ptr::null_mut();
+            sys::SUNMatFreeEmpty(a);
+        }
+    }
+}
+
+/// Linear solver type: direct (matrix-based), like SUNDIALS' dense solver.
+pub(super) unsafe extern "C" fn block_ls_type(
+    _ls: sys::SUNLinearSolver,
+) -> sys::SUNLinearSolver_Type {
+    sys::SUNLinearSolver_Type_SUNLINEARSOLVER_DIRECT
+}
+
+/// Linear solver id: a custom one.
+pub(super) unsafe extern "C" fn block_ls_id(_ls: sys::SUNLinearSolver) -> sys::SUNLinearSolver_ID {
+    sys::SUNLinearSolver_ID_SUNLINEARSOLVER_CUSTOM
+}
+
+/// Factors the diagonal blocks (connected components of the last Jacobian's structure) that
+/// the Jacobian callback filled. Returns 0, `SUNLS_LUFACT_FAIL` (recoverable: IDA retries with a
+/// smaller step) for a singular block, -1 after a caught panic.
+pub(super) unsafe extern "C" fn block_ls_setup<S: DaeSystem>(
+    ls: sys::SUNLinearSolver,
+    _a: sys::SUNMatrix,
+) -> c_int {
+    // SAFETY: the content of this solver is the CallbackState of the Ida that created it
+    // (set in attach_linear_solver); IDA calls setup only from inside an IDA call, while no
+    // Rust reference to the state is live, and never concurrently with another callback.
+    let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: see above.
+        let st = unsafe { &mut *state };
+        match st.block_lu.factor() {
+            Ok(()) => 0,
+            Err(_) => sys::SUNLS_LUFACT_FAIL as c_int,
+        }
+    }));
+    outcome.unwrap_or(-1)
+}
+
+/// Solves with the factors of `block_ls_setup`: `x = A⁻¹ b`.
+pub(super) unsafe extern "C" fn block_ls_solve<S: DaeSystem>(
+    ls: sys::SUNLinearSolver,
+    _a: sys::SUNMatrix,
+    x: sys::N_Vector,
+    b: sys::N_Vector,
+    _tol: f64,
+) -> c_int {
+    // SAFETY: as in block_ls_setup; x and b are serial vectors of length n (possibly the same).
+    let state = unsafe { (*ls).content.cast::<CallbackState<S>>() };
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let (xp, bp) = unsafe { (sys::N_VGetArrayPointer(x), sys::N_VGetArrayPointer(b)) };
+        if xp != bp {
+            // SAFETY: distinct serial arrays of length n.
+            unsafe { ptr::copy_nonoverlapping(bp, xp, n) };
+        }
+        let xs = unsafe { slice::from_raw_parts_mut(xp, n) };
+        st.block_lu.solve(xs);
+        0
+    }));
+    outcome.unwrap_or(-1)
+}
+
+/// Frees the solver object; its content (the CallbackState) belongs to the Ida.
+pub(super) unsafe extern "C" fn block_ls_free(ls: sys::SUNLinearSolver) -> sys::SUNErrCode {
+    if !ls.is_null() {
+        // SAFETY: ls was created by SUNLinSolNewEmpty; clearing the content keeps
+        // SUNLinSolFreeEmpty from freeing memory it does not own.
+        unsafe {
+            (*ls).content = ptr::null_mut();
+            sys::SUNLinSolFreeEmpty(ls);
+        }
+    }
+    0
+}
+
+impl<S: DaeSystem> Ida<S> {
+    /// Creates (once) the dense matrix and dense direct linear solver and attaches them to IDA.
+    ///
+    /// This is the single place to change for another linear solver (banded, sparse KLU,
+    /// iterative) or to add a user Jacobian (`IDASetJacFn` must follow `IDASetLinearSolver`).
+    /// It is called again after `IDAReInit`, which gives fresh linear-solver counters.
+    pub(super) fn attach_linear_solver(&mut self) -> Result<(), IdaError> {
+        let n = self.n as sys::sunindextype;
+        // SAFETY: ctx, y and mem are valid (created in setup); mat/ls are null or valid.
+        unsafe {
+            let structured = (*self.state).colouring.is_some();
+            if self.mat.is_null() && structured {
+                // A handle without storage: the Jacobian goes straight into the diagonal
+                // blocks of the BlockLu, so no n × n matrix is allocated or zeroed.
+                let a = sys::SUNMatNewEmpty(self.ctx);
+                if a.is_null() {
+                    return Err(self.creation_error("SUNMatNewEmpty", 0));
+                }
+                let ops = &mut *(*a).ops;
+                ops.getid = Some(block_mat_id);
+                ops.zero = Some(block_mat_zero);
+                ops.destroy = Some(block_mat_destroy);
+                self.mat = a;
+            }
+            if self.mat.is_null() {
+                self.mat = sys::SUNDenseMatrix(n, n, self.ctx);
+                if self.mat.is_null() {
+                    return Err(self.creation_error("SUNDenseMatrix", 0));
+                }
+            }
+            if self.ls.is_null() && structured {
+                // Block-diagonal LU over the connected components of the Jacobian structure.
+                let ls = sys::SUNLinSolNewEmpty(self.ctx);
+                if ls.is_null() {
+                    return Err(self.creation_error("SUNLinSolNewEmpty", 0));
+                }
+                (*ls).content = self.state.cast();
+                let ops = &mut *(*ls).ops;
+                ops.gettype = Some(block_ls_type);
+                ops.getid = Some(block_ls_id);
+                ops.setup = Some(block_ls_setup::<S>);
+                ops.solve = Some(block_ls_solve::<S>);
+                ops.free = Some(block_ls_free);
+                self.ls = ls;
+            }
+            if self.ls.is_null() {
+                self.ls = sys::SUNLinSol_Dense(self.y, self.mat, self.ctx);
+                if self.ls.is_null() {
+                    return Err(self.creation_error("SUNLinSol_Dense", 0));
+                }
+            }
+            let rc = sys::IDASetLinearSolver(self.mem, self.ls, self.mat);
+            if rc != 0 {
+                let message = self.take_sink();
+                return Err(IdaError::Flag {
+                    flag: rc,
+                    name: lin_flag_name(rc),
+                    t: self.t,
+                    hint: "attaching the dense linear solver failed; this is a bug in the \
+                           wrapper, please report it"
+                        .to_string(),
+                    message,
+                });
+            }
+            if (*self.state).colouring.is_some() {
+                self.check(
+                    sys::IDASetJacFn(self.mem, Some(jacobian_callback::<S>)),
+                    "IDASetJacFn",
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
