@@ -48,7 +48,6 @@ pub use modia3d_macros::model;
 /// Support items for the code `model!` generates; not part of the API.
 #[doc(hidden)]
 pub mod __private {
-    pub use modia3d_macros::{__contact_pair_names, __solid_material_names};
     pub use nalgebra;
     /// The type of a hidden item that names an object of a `model!` type.
     pub struct ObjectPath;

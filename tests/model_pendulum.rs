@@ -74,23 +74,3 @@ fn same_trajectory_as_builder() {
     // It moved.
     assert!(rm.signal("rev.phi").unwrap().last()[0] != 0.5);
 }
-
-#[test]
-fn builtin_material_names_match_the_core_palette() {
-    let macro_names: &[&str] = modia3d::__private::__solid_material_names!();
-    let core_names: Vec<&str> = modia3d::core::scene::SOLID_MATERIALS
-        .iter()
-        .map(|(n, _)| *n)
-        .collect();
-    assert_eq!(macro_names, core_names.as_slice());
-}
-
-#[test]
-fn builtin_contact_pairs_match_the_core_palette() {
-    let macro_pairs: &[(&str, &str)] = modia3d::__private::__contact_pair_names!();
-    let core_pairs: Vec<(&str, &str)> = modia3d::core::scene::CONTACT_PAIR_MATERIALS
-        .iter()
-        .map(|(a, b, _)| (*a, *b))
-        .collect();
-    assert_eq!(macro_pairs, core_pairs.as_slice());
-}

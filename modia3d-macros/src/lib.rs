@@ -2,14 +2,22 @@
 //! source, checked at compile time and expanded into the core builder API
 //! (`modia3d::core::SceneDesc`). Use it through the facade: `use modia3d::prelude::*;`.
 //!
-//! Stages: `ast.rs` (parse) → `check.rs` (names, structure, literal values) → `expand.rs`
-//! (builder calls). The entry points below only chain them.
+//! Stages: `ast.rs` (parse) → `check/` (names, keys, references; lowers to the IR of
+//! `ir.rs`, with `vocab.rs` and `names.rs`) → `rules.rs` (the core's scene rules on the
+//! literal part: `modia3d_core::SceneDesc::scene_errors`, the code `build()` runs) →
+//! `expand/` (builder calls). The entry point below only chains them.
 #![warn(missing_docs)]
 #![forbid(unsafe_code)]
 
 mod ast;
 mod check;
 mod expand;
+mod ir;
+mod names;
+mod rules;
+#[cfg(test)]
+mod verdict_tests;
+mod vocab;
 
 use proc_macro::TokenStream;
 
@@ -114,24 +122,28 @@ use proc_macro::TokenStream;
 ///
 /// ## Compile-time checks
 ///
-/// All errors of a block are reported in one pass, each on the offending token: unknown or
-/// duplicate component names, unknown constructors and keys (with did-you-mean hints),
-/// missing and duplicate keys, parent cycles, a missing/duplicate/misplaced `Scene`, an
-/// object moved by two joints, a joint with identical ends, kinematic loops, literal values out
-/// of range (lengths, masses, densities ≤ 0; negative damping; axes outside ±1..3; Poisson's
-/// ratio outside (0, 1); scene options and contact pairs outside the ranges `SceneDesc::build`
-/// checks), `can_collide` outside joints, `collision = true` without a material,
-/// unknown literal material names, inputs on unknown, wrong-kind or non-Revolute/Prismatic
-/// joints (or a joint driven twice), two literal contact materials that can meet without a
-/// pair entry (built in or a `ContactPair` of the block; only in a model without
-/// sub-assemblies, with contact detection on and literal pair names; solids on one rigid body
-/// or on the two bodies of a Revolute/Prismatic without `can_collide` never meet), and (via rustc) unknown parts of sub-assemblies, unknown
-/// sub-assembly parameters and type mismatches of values. Everything else (e.g. values that are
-/// only known at run time) is checked by `SceneDesc::build`.
+/// All errors of a block are reported in one pass, each on the offending token. The macro
+/// itself checks what needs the tokens: unknown or duplicate component names, unknown
+/// constructors and keys (with did-you-mean hints), missing and duplicate keys, references of
+/// the wrong kind, a missing/duplicate/misplaced `Scene`, `can_collide` outside joints, shape
+/// and joint axes outside 1..3 / ±1..3. The rules of a valid scene are the core's: the macro
+/// builds the block's literal part as a `SceneDesc` (neutral stand-ins for values known only at
+/// run time and for the parts of sub-assemblies) and runs `SceneDesc::scene_errors` on it — the
+/// same code `SceneDesc::build` runs — so it reports, on the literal's token: values out of
+/// range (dimensions, masses, material data, damping, scene options, contact pairs), unknown
+/// solid materials, solids without a mass or with `collision = true` but no material, parent
+/// cycles, objects moved by two joints, joints with identical ends, kinematic loops, inputs and
+/// joint spring-dampers on joints without a scalar coordinate, a joint driven twice, and two
+/// contact materials that can meet without a pair entry (only in a model without
+/// sub-assemblies, with literal contact detection and literal pair names; solids on one rigid
+/// body or on the two bodies of a Revolute/Prismatic without `can_collide` never meet). Errors
+/// that concern stand-ins are left to `build()`; so is "not connected to the world" while
+/// other errors are reported. Via rustc: unknown parts of sub-assemblies, unknown sub-assembly
+/// parameters and type mismatches of values.
 #[proc_macro]
 pub fn model(input: TokenStream) -> TokenStream {
     let def = syn::parse_macro_input!(input as ast::ModelDef);
-    match check::check(&def) {
+    match check_block(&def) {
         Ok(ir) => expand::expand(&def, &ir).into(),
         Err(e) => {
             let mut out = e.to_compile_error();
@@ -141,20 +153,13 @@ pub fn model(input: TokenStream) -> TokenStream {
     }
 }
 
-/// The names of the built-in solid materials the macro accepts, as `&[&str]` (a test keeps them
-/// equal to the core's palette).
-#[doc(hidden)]
-#[proc_macro]
-pub fn __solid_material_names(_input: TokenStream) -> TokenStream {
-    let names = check::BUILTIN_SOLID_MATERIALS;
-    quote::quote!(&[#(#names),*]).into()
-}
-
-/// The built-in contact-pair materials the macro knows, as `&[(&str, &str)]` (a test keeps them
-/// equal to the core's `CONTACT_PAIR_MATERIALS`).
-#[doc(hidden)]
-#[proc_macro]
-pub fn __contact_pair_names(_input: TokenStream) -> TokenStream {
-    let (a, b): (Vec<&str>, Vec<&str>) = check::BUILTIN_CONTACT_PAIRS.iter().copied().unzip();
-    quote::quote!(&[#((#a, #b)),*]).into()
+/// The macro's verdict on a parsed block: its own checks, then the core's scene rules on the
+/// literal part; all errors combined.
+fn check_block(def: &ast::ModelDef) -> Result<ir::Ir, syn::Error> {
+    let (ir, mut errors) = check::check(def);
+    rules::check(def, &ir, &mut errors);
+    match errors.combined() {
+        None => Ok(ir),
+        Some(e) => Err(e),
+    }
 }

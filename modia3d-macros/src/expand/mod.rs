@@ -1,13 +1,18 @@
-//! Expand stage: the checked model → a struct with public parameter fields, `Default`,
+//! Expand stage: the checked model (IR) → a struct with public parameter fields, `Default`,
 //! `add_to` / `scene` / `build`, and a hidden module with one item per component path (what
 //! references into this type from other `model!`s are checked against). Emits only calls of the
 //! core builder API, with absolute paths (`::modia3d::core::…`); the macro's own locals use
-//! mixed-site hygiene so user names cannot clash with them.
+//! mixed-site hygiene so user names cannot clash with them. Every `quote!` of the crate lives
+//! in this module.
+
+mod items;
 
 use crate::ast::ModelDef;
-use crate::check::{Ir, Item, Kind, Parent};
+use crate::ir::{Ir, Item};
+use crate::names::paths_module;
+use crate::vocab::Kind;
 use proc_macro2::{Ident, Span, TokenStream};
-use quote::{format_ident, quote, quote_spanned};
+use quote::{format_ident, quote};
 
 /// A local of the generated code: mixed-site hygiene hides it from user expressions, and the
 /// `__modia3d_` prefix keeps user constants (which patterns would match) from clashing with it.
@@ -16,44 +21,25 @@ fn local(name: &str) -> Ident {
 }
 
 /// The path prefix of this assembly's objects (`""` at the top, `"arm1."` inside).
-pub fn prefix() -> Ident {
+fn prefix() -> Ident {
     local("prefix")
 }
 
 /// `&format!("{prefix}<path>")`: the full name of a component path.
-pub fn scoped(path: &str) -> TokenStream {
+fn scoped(path: &str) -> TokenStream {
     let p = prefix();
     quote!(&::std::format!("{}{}", #p, #path))
 }
 
-/// The hidden paths module of a generated type, given the type's path as written:
-/// `a::Arm` → `a::__modia3d_Arm`. With `from_module`, relative paths are made to work from
-/// inside another hidden module (one level deeper).
-pub fn paths_module(ty: &syn::Path, from_module: bool) -> TokenStream {
-    let mut p = ty.clone();
-    let last = p.segments.last_mut().expect("non-empty path");
-    last.ident = Ident::new(&format!("__modia3d_{}", last.ident), last.ident.span());
-    last.arguments = syn::PathArguments::None;
-    if from_module && p.leading_colon.is_none() {
-        let first = p.segments[0].ident.to_string();
-        if first == "self" {
-            p.segments[0].ident = Ident::new("super", p.segments[0].ident.span());
-        } else if first != "crate" {
-            return quote!(super::#p);
-        }
-    }
-    quote!(#p)
-}
-
 /// [`paths_module`] with every token at `span` (a reference's first path segment), so that
 /// rustc's errors about the path point at the user's reference.
-pub fn paths_module_at(ty: &syn::Path, span: Span) -> TokenStream {
+fn paths_module_at(ty: &syn::Path, span: Span) -> TokenStream {
     let mut p = ty.clone();
     for seg in p.segments.iter_mut() {
         seg.ident.set_span(span);
     }
     let module = paths_module(&p, false);
-    module
+    quote!(#module)
         .into_iter()
         .map(|mut t| {
             t.set_span(span);
@@ -90,101 +76,10 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
     let scene = local("scene");
     let prefix = prefix();
     let attach = local("parent");
-    let obj = local("object");
-    let p = local("p");
     let core = quote!(::modia3d::core);
 
-    let mut stmts = vec![];
-    for it in &ir.items {
-        stmts.push(match it {
-            Item::Material { name, value } => {
-                let n = scoped(&name.to_string());
-                quote!(#scene.add_solid_material(#n, #value);)
-            }
-            Item::Object {
-                name,
-                parent,
-                calls,
-                ..
-            } => {
-                let n = scoped(&name.to_string());
-                let base = quote!(#core::Object3D::new(#n) #(#calls)*);
-                match parent {
-                    Parent::None => quote!(#scene.add(#base);),
-                    Parent::Ref(r) => {
-                        let p = scoped(&r.path);
-                        quote!(#scene.add(#base.parent(#p));)
-                    }
-                    Parent::Attach => quote! {
-                        let #obj = #base;
-                        #scene.add(match #attach {
-                            ::core::option::Option::Some(#p) => #obj.parent(#p),
-                            ::core::option::Option::None => #obj,
-                        });
-                    },
-                }
-            }
-            Item::Input { value } => quote!(#scene.add_input(#value);),
-            Item::ContactPair {
-                material1,
-                material2,
-                value,
-            } => quote!(#scene.add_contact_pair(#material1, #material2, #value);),
-            Item::Joint {
-                name,
-                obj1,
-                obj2,
-                kind,
-                calls,
-                ..
-            } => {
-                let (n, o1, o2) = (
-                    scoped(&name.to_string()),
-                    scoped(&obj1.path),
-                    scoped(&obj2.path),
-                );
-                quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #(#calls)*);)
-            }
-            Item::Force { value } => quote!(#scene.add_force(#value);),
-            Item::Assembly {
-                name,
-                ty,
-                parent,
-                fields,
-            } => {
-                let tyname = ty.segments.last().expect("path").ident.to_string();
-                let msg = format!(
-                    "`{tyname}` has a `Scene` object, so it is a model and cannot be a sub-assembly \
-                     (hint: declare it as `assembly {tyname}` without a `Scene`)"
-                );
-                let span = ty.segments.last().expect("path").ident.span();
-                let assert = quote_spanned! {span=>
-                    const _: () = ::core::assert!(<#ty>::__MODIA3D_IS_ASSEMBLY, #msg);
-                };
-                let n = format!("{name}.");
-                let p = quote!(&::std::format!("{}{}", #prefix, #n));
-                let parent = match parent {
-                    Parent::Ref(r) => {
-                        let s = scoped(&r.path);
-                        quote!(::core::option::Option::Some(::core::convert::AsRef::<str>::as_ref(#s)))
-                    }
-                    Parent::Attach => quote!(#attach),
-                    Parent::None => quote!(::core::option::Option::None),
-                };
-                let ks = fields.iter().map(|(k, _)| k);
-                let vs = fields.iter().map(|(_, v)| v);
-                quote! {
-                    #assert
-                    #ty {
-                        #(#ks: #vs,)*
-                        ..::core::default::Default::default()
-                    }
-                    .add_to(#scene, #p, #parent);
-                }
-            }
-        });
-    }
-    let checks = &ir.path_checks;
+    let stmts = ir.items.iter().map(items::item);
+    let checks = ir.path_checks.iter().map(items::path_check);
 
     // Hidden module: one item per component, for paths from outer models.
     let module = format_ident!("__modia3d_{}", name);

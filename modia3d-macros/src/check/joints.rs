@@ -1,0 +1,241 @@
+//! Check stage, components that connect: joints, force elements, inputs, contact pairs.
+
+use super::{lit_bool, lit_int, lit_str, lit_vec3, Checker};
+use crate::ast::Ctor;
+use crate::ir::{ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
+use crate::names::{did_you_mean, hint};
+use crate::vocab::{joint_keys, Kind, PAIR_KEYS};
+use proc_macro2::Ident;
+use quote::ToTokens;
+use syn::spanned::Spanned;
+use syn::Expr;
+
+impl Checker {
+    /// `Var(init = …)` → the initial value.
+    fn var(&mut self, key: &str, e: &Expr) -> Option<Expr> {
+        match self.nested(e, &["Var"], "initial value") {
+            Err(e) => {
+                self.err(
+                    e.span(),
+                    format!(
+                        "expected `Var(init = …)` for `{key}` (hint: `{key} = Var(init = {})`)",
+                        e.to_token_stream().to_string().replace(" . ", ".")
+                    ),
+                );
+                None
+            }
+            Ok(None) => None,
+            Ok(Some(vc)) => {
+                let a = self.args(&vc, &["init"]);
+                self.required(&a, "init").cloned()
+            }
+        }
+    }
+
+    pub(super) fn joint(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
+        let kind_name = ctor.name().to_string();
+        let a = self.args(ctor, joint_keys(&kind_name));
+        let o1 = self
+            .required(&a, "obj1")
+            .and_then(|e| self.reference(e, Kind::Object, "object"));
+        let o2 = self
+            .required(&a, "obj2")
+            .and_then(|e| self.reference(e, Kind::Object, "object"));
+        let can_collide = a.get("can_collide").map(|c| (c.clone(), lit_bool(c)));
+        let kind = match kind_name.as_str() {
+            "Fix" => Some(JointKindIr::Fix),
+            "Revolute" | "Prismatic" => {
+                let revolute = kind_name == "Revolute";
+                let (pos, vel) = if revolute { ("phi", "w") } else { ("s", "v") };
+                let axis = match a.get("axis") {
+                    None => Some(JointAxis::Index(None, 3)),
+                    Some(Expr::Array(arr)) => {
+                        let e = Expr::Array(arr.clone());
+                        Some(JointAxis::Vector(arr.clone(), lit_vec3(&e)))
+                    }
+                    Some(e) => match lit_int(e) {
+                        Some(i) if (1..=3).contains(&i.abs()) => {
+                            Some(JointAxis::Index(Some(e.clone()), i))
+                        }
+                        Some(i) => {
+                            self.err(
+                                e.span(),
+                                format!("`axis` must be ±1, ±2 or ±3 (±x, ±y, ±z), found `{i}`"),
+                            );
+                            None
+                        }
+                        None => Some(JointAxis::Expr(e.clone())),
+                    },
+                };
+                let position = a.get(pos).and_then(|p| self.var(pos, p));
+                let velocity = a.get(vel).and_then(|v| self.var(vel, v));
+                axis.map(|axis| JointKindIr::Scalar {
+                    revolute,
+                    axis,
+                    position,
+                    velocity,
+                })
+            }
+            _ => {
+                let mut field = |k: &str| a.get(k).and_then(|e| self.var(k, e));
+                let (r, rot, v, w) = (field("r"), field("rot"), field("v"), field("w"));
+                Some(JointKindIr::Free { r, rot, v, w })
+            }
+        };
+        Some(Item::Joint {
+            name: name.clone(),
+            obj1: o1?,
+            obj2: o2?,
+            kind: kind?,
+            can_collide,
+        })
+    }
+
+    pub(super) fn force(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
+        let force = match ctor.name().to_string().as_str() {
+            "SpringDamper" => {
+                let a = self.args(ctor, &["obj1", "obj2", "stiffness", "damping", "length0"]);
+                let o1 = self
+                    .required(&a, "obj1")
+                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let o2 = self
+                    .required(&a, "obj2")
+                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let stiffness = self.num(&a, "stiffness", true);
+                let damping = self.num(&a, "damping", false);
+                let length0 = self.num(&a, "length0", false);
+                ForceIr::SpringDamper {
+                    obj1: o1?,
+                    obj2: o2?,
+                    stiffness: stiffness?,
+                    damping,
+                    length0,
+                }
+            }
+            "JointSpringDamper" => {
+                let a = self.args(ctor, &["joint", "stiffness", "damping", "offset"]);
+                let joint = self
+                    .required(&a, "joint")
+                    .and_then(|e| self.reference(e, Kind::Joint, "joint"));
+                let stiffness = self.num(&a, "stiffness", true);
+                let damping = self.num(&a, "damping", false);
+                ForceIr::JointSpringDamper {
+                    joint: joint?,
+                    stiffness: stiffness?,
+                    damping,
+                    offset: a.get("offset").cloned(),
+                }
+            }
+            _ => {
+                let a = self.args(ctor, &["object", "law"]);
+                let o = self
+                    .required(&a, "object")
+                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let law = self.required(&a, "law");
+                ForceIr::ObjectForce {
+                    object: o?,
+                    law: law?.clone(),
+                }
+            }
+        };
+        Some(Item::Force {
+            name: name.clone(),
+            force,
+            slot: self.errors.slot(),
+        })
+    }
+
+    /// `JointForce(joint)`, `JointAcceleration(joint)`, `ObjectWrench(object)`.
+    pub(super) fn input(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
+        let cname = ctor.name().to_string();
+        let input = if cname == "ObjectWrench" {
+            let a = self.args(ctor, &["object"]);
+            let o = self
+                .required(&a, "object")
+                .and_then(|e| self.reference(e, Kind::Object, "object"))?;
+            InputIr::ObjectWrench(o)
+        } else {
+            let a = self.args(ctor, &["joint"]);
+            let e = self.required(&a, "joint")?;
+            let j = self.reference(e, Kind::Joint, "joint")?;
+            if cname == "JointForce" {
+                InputIr::JointForce(j)
+            } else {
+                InputIr::JointAcceleration(j)
+            }
+        };
+        Some(Item::Input {
+            name: name.clone(),
+            input,
+            slot: self.errors.slot(),
+        })
+    }
+
+    /// A material name in `ContactPair(…)`: `"Steel"`, `"wood"` or `wood` (a material of this
+    /// block), or a `&str`/`String` expression.
+    fn pair_material(&mut self, e: &Expr) -> Option<MaterialName> {
+        if let Some(name) = lit_str(e) {
+            if self.kind(&name) == Some(Kind::Material) {
+                return Some(MaterialName::Local(name));
+            }
+            return Some(MaterialName::Named(name, e.clone()));
+        }
+        if let Expr::Path(p) = e {
+            if let Some(id) = p.path.get_ident() {
+                let n = id.to_string();
+                match self.kind(&n) {
+                    Some(Kind::Material) => return Some(MaterialName::Local(n)),
+                    Some(k) => {
+                        self.err(
+                            id.span(),
+                            format!(
+                                "`{n}` is {}, not a material (hint: a contact material is a string like `\"Steel\"` or a `SolidMaterial` of this block)",
+                                k.article()
+                            ),
+                        );
+                        return None;
+                    }
+                    None if !self.is_param(&n) => {
+                        let h = match did_you_mean(&n, self.names_of(Kind::Material).into_iter()) {
+                            Some(h) => hint(Some(h)),
+                            None => format!(" (hint: write a name as a string, `\"{n}\"`, or define `{n} = SolidMaterial(…)`)"),
+                        };
+                        self.err(id.span(), format!("unknown material `{n}`{h}"));
+                        return None;
+                    }
+                    None => {}
+                }
+            }
+        }
+        Some(MaterialName::Expr(e.clone()))
+    }
+
+    /// `ContactPair(material1, material2, cor, mu_k, mu_r, v_min, w_min)`.
+    pub(super) fn contact_pair(&mut self, _name: &Ident, ctor: &Ctor) -> Option<Item> {
+        let a = self.args(ctor, PAIR_KEYS);
+        // A wrong name (reported) still leaves a pair whose numbers the core checks.
+        let material = |c: &mut Self, key: &str| {
+            let e = c.required(&a, key)?;
+            Some(
+                c.pair_material(e)
+                    .unwrap_or_else(|| MaterialName::Expr(e.clone())),
+            )
+        };
+        let m1 = material(self, "material1");
+        let m2 = material(self, "material2");
+        let cor = self.num(&a, "cor", true);
+        let mu_k = self.num(&a, "mu_k", true);
+        let mu_r = self.num(&a, "mu_r", true);
+        let v_min = self.num(&a, "v_min", false);
+        let w_min = self.num(&a, "w_min", false);
+        Some(Item::ContactPair {
+            material1: m1?,
+            material2: m2?,
+            cor: cor?,
+            mu_k: mu_k?,
+            mu_r: mu_r?,
+            v_min,
+            w_min,
+        })
+    }
+}

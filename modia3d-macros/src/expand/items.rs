@@ -1,0 +1,480 @@
+//! Expand stage, components: each IR item → the builder calls that add it to the scene
+//! (`scene.add(Object3D::new(…)…)`, `scene.add_joint(…)`, …), with the user's expressions
+//! spliced in on their own spans so rustc reports type errors there.
+
+use super::{local, paths_module_at, prefix, scoped};
+use crate::ir::{
+    AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr, MaterialName, Num,
+    Parent, PathCheck, Profile, SceneIr, ShapeIr, SolidIr,
+};
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote, quote_spanned};
+
+/// The statement that adds one component to the scene.
+pub fn item(it: &Item) -> TokenStream {
+    let scene = local("scene");
+    let attach = local("parent");
+    let obj = local("object");
+    let p = local("p");
+    let core = quote!(::modia3d::core);
+    match it {
+        Item::Material {
+            name,
+            density,
+            young_modulus,
+            poisson_ratio,
+        } => {
+            let n = scoped(&name.to_string());
+            let (d, e, nu) = (&density.expr, &young_modulus.expr, &poisson_ratio.expr);
+            quote! {
+                #scene.add_solid_material(#n, ::modia3d::core::SolidMaterial {
+                    density: #d,
+                    young_modulus: #e,
+                    poisson_ratio: #nu,
+                });
+            }
+        }
+        Item::Object {
+            name,
+            parent,
+            translation,
+            rotation,
+            feature,
+            ..
+        } => {
+            let n = scoped(&name.to_string());
+            let t = translation.as_ref().map(|t| quote!(.translation(#t)));
+            let r = rotation
+                .as_ref()
+                .map(|r| quote!(.rotation(::modia3d::__private::rotation(#r))));
+            let f = feature.as_ref().map(|f| {
+                let f = self::feature(f);
+                quote!(.feature(#f))
+            });
+            let base = quote!(#core::Object3D::new(#n) #t #r #f);
+            match parent {
+                Parent::None => quote!(#scene.add(#base);),
+                Parent::Ref(r) => {
+                    let p = scoped(&r.path);
+                    quote!(#scene.add(#base.parent(#p));)
+                }
+                Parent::Attach => quote! {
+                    let #obj = #base;
+                    #scene.add(match #attach {
+                        ::core::option::Option::Some(#p) => #obj.parent(#p),
+                        ::core::option::Option::None => #obj,
+                    });
+                },
+            }
+        }
+        Item::Input { name, input, .. } => {
+            let n = scoped(&name.to_string());
+            let i = quote!(::modia3d::core::Input);
+            let v = match input {
+                InputIr::ObjectWrench(o) => {
+                    let o = scoped(&o.path);
+                    quote!(#i::object_wrench(#n, #o))
+                }
+                InputIr::JointForce(j) => {
+                    let j = scoped(&j.path);
+                    quote!(#i::joint_force(#n, #j))
+                }
+                InputIr::JointAcceleration(j) => {
+                    let j = scoped(&j.path);
+                    quote!(#i::joint_acceleration(#n, #j))
+                }
+            };
+            quote!(#scene.add_input(#v);)
+        }
+        Item::ContactPair {
+            material1,
+            material2,
+            cor,
+            mu_k,
+            mu_r,
+            v_min,
+            w_min,
+            ..
+        } => {
+            let (m1, m2) = (pair_material(material1), pair_material(material2));
+            let (cor, mu_k, mu_r) = (&cor.expr, &mu_k.expr, &mu_r.expr);
+            let private = quote!(::modia3d::__private);
+            let v = v_min.as_ref().map(|v| {
+                let v = &v.expr;
+                quote!(__modia3d_pair.v_min = #private::optional_f64(#v);)
+            });
+            let w = w_min.as_ref().map(|w| {
+                let w = &w.expr;
+                quote!(__modia3d_pair.w_min = #private::optional_f64(#w);)
+            });
+            quote! {
+                #scene.add_contact_pair(#m1, #m2, {
+                    #[allow(unused_mut)]
+                    let mut __modia3d_pair = ::modia3d::core::ContactPairMaterial::new(#cor, #mu_k, #mu_r);
+                    #v
+                    #w
+                    __modia3d_pair
+                });
+            }
+        }
+        Item::Joint {
+            name,
+            obj1,
+            obj2,
+            kind,
+            can_collide,
+        } => {
+            let (n, o1, o2) = (
+                scoped(&name.to_string()),
+                scoped(&obj1.path),
+                scoped(&obj2.path),
+            );
+            let (kind, init) = joint_kind(kind);
+            let c = can_collide.as_ref().map(|(c, _)| quote!(.can_collide(#c)));
+            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #init);)
+        }
+        Item::Force { name, force, .. } => {
+            let v = self::force(&name.to_string(), force);
+            quote!(#scene.add_force(#v);)
+        }
+        Item::Assembly {
+            name,
+            ty,
+            parent,
+            fields,
+        } => assembly(name, ty, parent, fields),
+    }
+}
+
+fn assembly(
+    name: &proc_macro2::Ident,
+    ty: &syn::Path,
+    parent: &Parent,
+    fields: &[(proc_macro2::Ident, syn::Expr)],
+) -> TokenStream {
+    let scene = local("scene");
+    let attach = local("parent");
+    let prefix = prefix();
+    let tyname = ty.segments.last().expect("path").ident.to_string();
+    let msg = format!(
+        "`{tyname}` has a `Scene` object, so it is a model and cannot be a sub-assembly \
+         (hint: declare it as `assembly {tyname}` without a `Scene`)"
+    );
+    let span = ty.segments.last().expect("path").ident.span();
+    let assert = quote_spanned! {span=>
+        const _: () = ::core::assert!(<#ty>::__MODIA3D_IS_ASSEMBLY, #msg);
+    };
+    let n = format!("{name}.");
+    let p = quote!(&::std::format!("{}{}", #prefix, #n));
+    let parent = match parent {
+        Parent::Ref(r) => {
+            let s = scoped(&r.path);
+            quote!(::core::option::Option::Some(::core::convert::AsRef::<str>::as_ref(#s)))
+        }
+        Parent::Attach => quote!(#attach),
+        Parent::None => quote!(::core::option::Option::None),
+    };
+    let ks = fields.iter().map(|(k, _)| k);
+    let vs = fields.iter().map(|(_, v)| v);
+    quote! {
+        #assert
+        #ty {
+            #(#ks: #vs,)*
+            ..::core::default::Default::default()
+        }
+        .add_to(#scene, #p, #parent);
+    }
+}
+
+/// `let _: ObjectPath = __modia3d_Arm::tip;` — rustc checks the path on the user's tokens.
+pub fn path_check(c: &PathCheck) -> TokenStream {
+    let rest = &c.rest;
+    let module = paths_module_at(&c.ty, rest[0].span());
+    let marker = if c.joint {
+        quote!(JointPath)
+    } else {
+        quote!(ObjectPath)
+    };
+    let last_span = rest.last().expect("non-empty").span();
+    let marker = quote_spanned!(last_span=> ::modia3d::__private::#marker);
+    quote! {
+        let _: #marker = #module #(:: #rest)*;
+    }
+}
+
+fn pair_material(m: &MaterialName) -> TokenStream {
+    match m {
+        MaterialName::Local(n) => scoped(n),
+        MaterialName::Named(_, e) => quote!(#e),
+        MaterialName::Expr(e) => quote!(&(#e)),
+    }
+}
+
+fn feature(f: &FeatureIr) -> TokenStream {
+    match f {
+        FeatureIr::Expr(e) => quote!(#e),
+        FeatureIr::Scene(s) => scene_options(s),
+        FeatureIr::Visual(s) => {
+            let s = shape(s);
+            quote!(::modia3d::core::Feature::Visual(#s))
+        }
+        FeatureIr::Solid(s) => {
+            let s = solid(s);
+            quote!(::modia3d::core::Feature::Solid(#s))
+        }
+    }
+}
+
+fn num_or(n: &Option<Num>, default: TokenStream) -> TokenStream {
+    match n {
+        Some(n) => {
+            let e = &n.expr;
+            quote!(#e)
+        }
+        None => default,
+    }
+}
+
+fn solid(s: &SolidIr) -> TokenStream {
+    let mut calls = vec![];
+    match &s.mass {
+        None => {}
+        Some(MassIr::Mass(m)) => {
+            let m = &m.expr;
+            calls.push(quote!(.mass(#m)));
+        }
+        Some(MassIr::Explicit {
+            mass, com, inertia, ..
+        }) => {
+            let m = &mass.expr;
+            let com = com
+                .as_ref()
+                .map(|c| quote!(#c))
+                .unwrap_or_else(|| quote!([0.0, 0.0, 0.0]));
+            calls.push(quote! {
+                .mass_properties(
+                    #m,
+                    ::modia3d::__private::vector3(#com),
+                    ::modia3d::__private::matrix3(#inertia),
+                )
+            });
+        }
+    }
+    if let Some((m, span, _)) = &s.material {
+        calls.push(match m {
+            MaterialName::Local(n) => {
+                let n = scoped(n);
+                quote_spanned!(*span=> .material(#n))
+            }
+            MaterialName::Named(_, e) => quote!(.material(#e)),
+            MaterialName::Expr(e) => quote!(.material(&(#e))),
+        });
+    }
+    if let Some((c, ..)) = &s.collision {
+        calls.push(quote!(.collision(#c)));
+    }
+    if let Some((m, _)) = &s.contact_material {
+        let e = match m {
+            MaterialName::Named(_, e) | MaterialName::Expr(e) => e,
+            MaterialName::Local(n) => unreachable!("contact materials are names: {n}"),
+        };
+        calls.push(quote!(.contact_material(&(#e))));
+    }
+    if let Some(r) = &s.smoothing_radius {
+        let r = &r.expr;
+        calls.push(quote!(.smoothing_radius(#r)));
+    }
+    let base = match &s.shape {
+        Some(sh) => {
+            let sh = shape(sh);
+            quote!(::modia3d::core::Solid::new(#sh))
+        }
+        None => quote!(<::modia3d::core::Solid as ::core::default::Default>::default()),
+    };
+    quote!(#base #(#calls)*)
+}
+
+fn shape(s: &ShapeIr) -> TokenStream {
+    let shape = quote!(::modia3d::core::Shape);
+    let v3 = quote!(::modia3d::__private::vector3);
+    match s {
+        ShapeIr::Expr(e) => quote!(#e),
+        ShapeIr::Sphere(d) => {
+            let d = &d.expr;
+            quote!(#shape::Sphere { diameter: #d })
+        }
+        ShapeIr::Lengths { ellipsoid, lengths } => {
+            let id = format_ident!("{}", if *ellipsoid { "Ellipsoid" } else { "Box" });
+            let l = &lengths.expr;
+            quote!(#shape::#id { lengths: #v3(#l) })
+        }
+        ShapeIr::Round {
+            ctor,
+            axis,
+            diameter,
+            length,
+            top_diameter,
+        } => {
+            let ax = quote!(::modia3d::core::Axis);
+            let axis = match axis {
+                AxisIr::Index(1) => quote!(#ax::X),
+                AxisIr::Index(2) => quote!(#ax::Y),
+                AxisIr::Index(_) => quote!(#ax::Z),
+                AxisIr::Expr(e) => quote!(#e),
+            };
+            let (d, l) = (&diameter.expr, &length.expr);
+            let top = (*ctor == "Cone").then(|| {
+                let t = num_or(top_diameter, quote!(0.0));
+                quote!(top_diameter: #t,)
+            });
+            let id = format_ident!("{}", ctor);
+            quote!(#shape::#id { axis: #axis, diameter: #d, length: #l, #top })
+        }
+        ShapeIr::Hull(p) => {
+            quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) })
+        }
+    }
+}
+
+/// `Scene(…)` → `Feature::Scene(SceneOptions { …, ..Default::default() })`.
+fn scene_options(s: &SceneIr) -> TokenStream {
+    let mut fields = vec![];
+    if let Some(g) = &s.gravity {
+        fields.push(quote!(gravity: ::modia3d::__private::vector3(#g)));
+    }
+    if let Some((c, _)) = &s.contact_detection {
+        fields.push(quote!(contact_detection: #c));
+    }
+    for n in &s.numbers {
+        let (k, v) = (format_ident!("{}", n.key), &n.expr);
+        fields.push(quote!(#k: #v));
+    }
+    if let Some(n) = &s.mpr_max_iterations {
+        let v = &n.expr;
+        fields.push(quote!(mpr_max_iterations: #v));
+    }
+    match &s.profile {
+        Some(Profile::Variant(id)) => {
+            fields.push(quote!(contact_profile: ::modia3d::core::ContactProfile::#id))
+        }
+        Some(Profile::Expr(p)) => fields.push(quote!(contact_profile: #p)),
+        None => {}
+    }
+    quote! {
+        ::modia3d::core::Feature::Scene(::modia3d::core::SceneOptions {
+            #(#fields,)*
+            ..::core::default::Default::default()
+        })
+    }
+}
+
+/// A joint's `JointKind` expression and the builder calls that set its initial values.
+fn joint_kind(k: &JointKindIr) -> (TokenStream, TokenStream) {
+    let jk = quote!(::modia3d::core::JointKind);
+    let v3 = quote!(::modia3d::__private::vector3);
+    match k {
+        JointKindIr::Fix => (quote!(#jk::Fix), quote!()),
+        JointKindIr::Scalar {
+            revolute,
+            axis,
+            position,
+            velocity,
+        } => {
+            let pos = position.as_ref().map(|i| quote!(.init_position(#i)));
+            let vel = velocity.as_ref().map(|i| quote!(.init_velocity(#i)));
+            let ctor_fn = format_ident!("{}", if *revolute { "revolute" } else { "prismatic" });
+            let kind = match axis {
+                JointAxis::Index(None, _) => quote!(#jk::#ctor_fn(3)),
+                JointAxis::Index(Some(e), _) | JointAxis::Expr(e) => quote!(#jk::#ctor_fn(#e)),
+                // A vector axis: the variant itself, at rest at 0 like the constructors.
+                JointAxis::Vector(arr, _) if *revolute => {
+                    quote!(#jk::Revolute { axis: #v3(#arr), phi: 0.0, w: 0.0 })
+                }
+                JointAxis::Vector(arr, _) => {
+                    quote!(#jk::Prismatic { axis: #v3(#arr), s: 0.0, v: 0.0 })
+                }
+            };
+            (kind, quote!(#pos #vel))
+        }
+        JointKindIr::Free { r, rot, v, w } => {
+            let zero = quote!([0.0, 0.0, 0.0]);
+            let or0 = |e: &Option<syn::Expr>| {
+                e.as_ref()
+                    .map(|e| quote!(#e))
+                    .unwrap_or_else(|| zero.clone())
+            };
+            let (r, rot, v, w) = (or0(r), or0(rot), or0(v), or0(w));
+            (
+                quote! {
+                    #jk::FreeMotion {
+                        r: #v3(#r),
+                        rot: ::modia3d::__private::free_rotation(#rot),
+                        v: #v3(#v),
+                        w: #v3(#w),
+                    }
+                },
+                quote!(),
+            )
+        }
+    }
+}
+
+fn force(name: &str, f: &ForceIr) -> TokenStream {
+    let fe = quote!(::modia3d::core::ForceElement);
+    let to_string = quote!(::std::string::ToString::to_string);
+    match f {
+        ForceIr::SpringDamper {
+            obj1,
+            obj2,
+            stiffness,
+            damping,
+            length0,
+        } => {
+            let (n, o1, o2) = (scoped(name), scoped(&obj1.path), scoped(&obj2.path));
+            let c = &stiffness.expr;
+            let d = num_or(damping, quote!(0.0));
+            let l = num_or(length0, quote!(0.0));
+            quote! {
+                #fe::SpringDamper {
+                    name: #to_string(#n),
+                    obj1: #to_string(#o1),
+                    obj2: #to_string(#o2),
+                    stiffness: #c,
+                    damping: #d,
+                    length0: #l,
+                }
+            }
+        }
+        ForceIr::JointSpringDamper {
+            joint,
+            stiffness,
+            damping,
+            offset,
+        } => {
+            let j = scoped(&joint.path);
+            let c = &stiffness.expr;
+            let d = num_or(damping, quote!(0.0));
+            let off = offset
+                .as_ref()
+                .map(|o| quote!(#o))
+                .unwrap_or_else(|| quote!(0.0));
+            quote! {
+                #fe::JointSpringDamper {
+                    joint: #to_string(#j),
+                    stiffness: #c,
+                    damping: #d,
+                    offset: #off,
+                }
+            }
+        }
+        ForceIr::ObjectForce { object, law } => {
+            let o = scoped(&object.path);
+            quote! {
+                #fe::ObjectForce {
+                    object: #to_string(#o),
+                    law: ::modia3d::core::ForceFn::new(#law),
+                }
+            }
+        }
+    }
+}

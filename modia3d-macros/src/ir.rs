@@ -1,0 +1,385 @@
+//! The checked model as plain data: every component lowered to what it means (objects,
+//! joints, materials, …), values kept as the user's expressions with their spans, literal
+//! numbers read out. Produced by `check/`, read by `rules.rs` (the core's scene rules on the
+//! literal part) and by `expand/` (code generation). No token streams here.
+
+// A handful of nodes per block, built once at compile time: size does not matter, plain
+// nesting reads better than boxes.
+#![allow(clippy::large_enum_variant)]
+
+use crate::vocab::Kind;
+use proc_macro2::{Ident, Span};
+use syn::Expr;
+
+/// A reference to an object or joint of this block or of a sub-assembly, as a dotted path.
+#[derive(Clone, Debug)]
+pub struct NameRef {
+    /// `body` or `arm1.tip`.
+    pub path: String,
+    /// The user's tokens.
+    pub span: Span,
+    /// Whether it names a component of this block (no dots).
+    pub local: bool,
+}
+
+/// A literal number in the source (possibly negated), where the core's checks can see it.
+#[derive(Clone, Debug)]
+pub struct LitNum {
+    /// Its value.
+    pub value: f64,
+    /// The literal's tokens (errors cover all of them).
+    pub expr: Expr,
+    /// Where errors about it sort among the block's errors.
+    pub slot: u32,
+}
+
+/// A number-valued key (`diameter = 0.1`, `lengths = [1.0, 2.0, 3.0]`).
+#[derive(Clone, Debug)]
+pub struct Num {
+    /// The key, as messages name it.
+    pub key: &'static str,
+    /// The user's expression.
+    pub expr: Expr,
+    /// Its literal parts: one for a scalar, one per element of an array literal; `None` where
+    /// the value is only known at run time.
+    pub parts: Vec<Option<LitNum>>,
+}
+
+/// Where an object's or sub-assembly's parent comes from.
+#[derive(Clone, Debug)]
+pub enum Parent {
+    /// A root (the scene, or a body moved by a joint).
+    None,
+    /// `parent = …`.
+    Ref(NameRef),
+    /// A root-level part of an assembly: takes the `parent` handed to `add_to`, if any.
+    Attach,
+}
+
+/// A solid material or contact material as written.
+#[derive(Clone, Debug)]
+pub enum MaterialName {
+    /// A material of this block (`wood` or `"wood"`).
+    Local(String),
+    /// A literal name that is not one of the block's (`"Steel"`): the core resolves it.
+    Named(String, Expr),
+    /// A `&str`/`String` expression.
+    Expr(Expr),
+}
+
+/// `Scene(…)`.
+#[derive(Clone, Debug)]
+pub struct SceneIr {
+    /// `gravity = …`.
+    pub gravity: Option<Expr>,
+    /// `contact_detection = …` and its literal value.
+    pub contact_detection: Option<(Expr, Option<bool>)>,
+    /// The `f64` options that were given.
+    pub numbers: Vec<Num>,
+    /// `mpr_max_iterations = …` (`u32`).
+    pub mpr_max_iterations: Option<Num>,
+    /// `profile = …`.
+    pub profile: Option<Profile>,
+}
+
+/// `profile = …`.
+#[derive(Clone, Debug)]
+pub enum Profile {
+    /// A `ContactProfile` variant.
+    Variant(Ident),
+    /// An expression of type `ContactProfile`.
+    Expr(Expr),
+}
+
+/// `mass_properties = …`.
+#[derive(Clone, Debug)]
+pub enum MassIr {
+    /// `MassProperties(mass = …)`: inertia from the shape.
+    Mass(Num),
+    /// `MassProperties(mass = …, com = …, inertia = …)`.
+    Explicit {
+        /// Mass.
+        mass: Num,
+        /// Centre of mass (default zero).
+        com: Option<Expr>,
+        /// Inertia, and its value if every element is literal.
+        inertia: Expr,
+        /// See `inertia`.
+        inertia_lit: Option<[[f64; 3]; 3]>,
+    },
+}
+
+/// `Solid(…)`.
+#[derive(Clone, Debug)]
+pub struct SolidIr {
+    /// The shape (`None` with explicit mass properties only).
+    pub shape: Option<ShapeIr>,
+    /// `mass_properties`.
+    pub mass: Option<MassIr>,
+    /// `solid_material`, its token and the error slot of its name.
+    pub material: Option<(MaterialName, Span, u32)>,
+    /// `collision = …`, its literal value, the key's span and the error slot.
+    pub collision: Option<(Expr, Option<bool>, Span, u32)>,
+    /// `contact_material = …` and its token.
+    pub contact_material: Option<(MaterialName, Span)>,
+    /// `smoothing_radius`.
+    pub smoothing_radius: Option<Num>,
+    /// The `Solid` constructor's span and the error slot of "no mass".
+    pub span: Span,
+    /// See `span`.
+    pub mass_slot: u32,
+}
+
+/// `shape = …`.
+#[derive(Clone, Debug)]
+pub enum ShapeIr {
+    /// An expression of type `Shape`.
+    Expr(Expr),
+    /// `Sphere(diameter)`.
+    Sphere(Num),
+    /// `Box(lengths)` or `Ellipsoid(lengths)` (`ellipsoid` true).
+    Lengths {
+        /// Which.
+        ellipsoid: bool,
+        /// Full lengths.
+        lengths: Num,
+    },
+    /// `Cylinder`, `Capsule`, `Cone`.
+    Round {
+        /// `Cylinder`, `Capsule` or `Cone`.
+        ctor: &'static str,
+        /// The axis (1..3 literal or an `Axis` expression).
+        axis: AxisIr,
+        /// Diameter.
+        diameter: Num,
+        /// Length.
+        length: Num,
+        /// A cone's top diameter.
+        top_diameter: Option<Num>,
+    },
+    /// `ConvexHull(points)`.
+    Hull(Expr),
+}
+
+/// A shape's axis.
+#[derive(Clone, Debug)]
+pub enum AxisIr {
+    /// 1, 2 or 3 (default 3).
+    Index(u8),
+    /// An expression of type `Axis`.
+    Expr(Expr),
+}
+
+/// `feature = …`.
+#[derive(Clone, Debug)]
+pub enum FeatureIr {
+    /// An expression of type `Feature`.
+    Expr(Expr),
+    /// `Scene(…)`.
+    Scene(SceneIr),
+    /// `Visual(shape)`.
+    Visual(ShapeIr),
+    /// `Solid(…)`.
+    Solid(SolidIr),
+}
+
+/// A joint's kind.
+#[derive(Clone, Debug)]
+pub enum JointKindIr {
+    /// `Fix`.
+    Fix,
+    /// `Revolute` or `Prismatic`.
+    Scalar {
+        /// Which.
+        revolute: bool,
+        /// The axis.
+        axis: JointAxis,
+        /// `Var(init)` of the position.
+        position: Option<Expr>,
+        /// `Var(init)` of the velocity.
+        velocity: Option<Expr>,
+    },
+    /// `FreeMotion` with the `Var(init)` of `r`, `rot`, `v`, `w`.
+    Free {
+        /// Initial position.
+        r: Option<Expr>,
+        /// Initial rotation.
+        rot: Option<Expr>,
+        /// Initial velocity.
+        v: Option<Expr>,
+        /// Initial angular velocity.
+        w: Option<Expr>,
+    },
+}
+
+/// A joint's axis.
+#[derive(Clone, Debug)]
+pub enum JointAxis {
+    /// Default (3) or a literal ±1..3.
+    Index(Option<Expr>, i64),
+    /// An `i64` expression.
+    Expr(Expr),
+    /// `[x, y, z]`, with the value if literal.
+    Vector(syn::ExprArray, Option<[f64; 3]>),
+}
+
+/// A force element.
+#[derive(Clone, Debug)]
+pub enum ForceIr {
+    /// `SpringDamper`.
+    SpringDamper {
+        /// Ends.
+        obj1: NameRef,
+        /// Ends.
+        obj2: NameRef,
+        /// `stiffness`.
+        stiffness: Num,
+        /// `damping`.
+        damping: Option<Num>,
+        /// `length0`.
+        length0: Option<Num>,
+    },
+    /// `JointSpringDamper`.
+    JointSpringDamper {
+        /// The joint.
+        joint: NameRef,
+        /// `stiffness`.
+        stiffness: Num,
+        /// `damping`.
+        damping: Option<Num>,
+        /// `offset`.
+        offset: Option<Expr>,
+    },
+    /// `ObjectForce`.
+    ObjectForce {
+        /// The object.
+        object: NameRef,
+        /// The closure.
+        law: Expr,
+    },
+}
+
+/// An input.
+#[derive(Clone, Debug)]
+pub enum InputIr {
+    /// `JointForce(joint)`.
+    JointForce(NameRef),
+    /// `JointAcceleration(joint)`.
+    JointAcceleration(NameRef),
+    /// `ObjectWrench(object)`.
+    ObjectWrench(NameRef),
+}
+
+/// One component.
+#[derive(Clone, Debug)]
+pub enum Item {
+    /// `SolidMaterial(density, young_modulus, poisson_ratio)`.
+    Material {
+        /// Component name.
+        name: Ident,
+        /// The three numbers.
+        density: Num,
+        /// See `density`.
+        young_modulus: Num,
+        /// See `density`.
+        poisson_ratio: Num,
+    },
+    /// `Object3D(…)`.
+    Object {
+        /// Component name.
+        name: Ident,
+        /// Its parent.
+        parent: Parent,
+        /// `translation`.
+        translation: Option<Expr>,
+        /// `rotation`.
+        rotation: Option<Expr>,
+        /// `feature`.
+        feature: Option<FeatureIr>,
+        /// Whether it is the scene (the world).
+        scene: bool,
+    },
+    /// A joint.
+    Joint {
+        /// Component name.
+        name: Ident,
+        /// The world-side object.
+        obj1: NameRef,
+        /// The moved object.
+        obj2: NameRef,
+        /// Kind and initial values.
+        kind: JointKindIr,
+        /// `can_collide = …` and its literal value.
+        can_collide: Option<(Expr, Option<bool>)>,
+    },
+    /// A force element.
+    Force {
+        /// Component name.
+        name: Ident,
+        /// What it is.
+        force: ForceIr,
+        /// Where errors about it sort.
+        slot: u32,
+    },
+    /// An input.
+    Input {
+        /// Component name.
+        name: Ident,
+        /// What it drives.
+        input: InputIr,
+        /// Where errors about it sort.
+        slot: u32,
+    },
+    /// `ContactPair(…)`.
+    ContactPair {
+        /// The two contact materials.
+        material1: MaterialName,
+        /// See `material1`.
+        material2: MaterialName,
+        /// Coefficients.
+        cor: Num,
+        /// See `cor`.
+        mu_k: Num,
+        /// See `cor`.
+        mu_r: Num,
+        /// Optional regularisation velocities (`f64` or `Option<f64>`).
+        v_min: Option<Num>,
+        /// See `v_min`.
+        w_min: Option<Num>,
+    },
+    /// A sub-assembly: `Type { params… }.add_to(scene, prefix.name., parent)`.
+    Assembly {
+        /// Component name.
+        name: Ident,
+        /// The assembly's type.
+        ty: syn::Path,
+        /// Its parent.
+        parent: Parent,
+        /// Parameter values.
+        fields: Vec<(Ident, Expr)>,
+    },
+}
+
+/// A reference into a sub-assembly for rustc to check: `arm1.tip` → `__modia3d_Arm::tip`.
+#[derive(Clone, Debug)]
+pub struct PathCheck {
+    /// The sub-assembly's type.
+    pub ty: syn::Path,
+    /// The path inside it.
+    pub rest: Vec<Ident>,
+    /// Whether it must be a joint (else an object).
+    pub joint: bool,
+}
+
+/// The checked model.
+#[derive(Clone, Debug)]
+pub struct Ir {
+    /// Components in declaration order.
+    pub items: Vec<Item>,
+    /// Kind of every component, in declaration order.
+    pub kinds: Vec<(Ident, Kind)>,
+    /// References into sub-assemblies.
+    pub path_checks: Vec<PathCheck>,
+    /// Whether the block has a `Scene` object (then it is a model with `build()`).
+    pub has_scene: bool,
+}

@@ -1,0 +1,421 @@
+//! The core's scene rules on the literal part of a block. The IR is turned into a
+//! `modia3d_core::SceneDesc` — literal values as written, neutral stand-ins for everything known
+//! only at run time (expressions, parameters, parts of sub-assemblies) — and checked by the
+//! same code `SceneDesc::build` runs (`SceneDesc::scene_errors`: validation, topology, contact
+//! pairs). Each error is mapped back to the user's token; errors about stand-ins are dropped,
+//! since the block alone cannot decide them (`build()` does).
+
+mod map;
+
+use crate::ast::ModelDef;
+use crate::check::Errors;
+use crate::ir::{
+    AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr, LitNum, MassIr,
+    MaterialName, Num, Parent, SceneIr, ShapeIr, SolidIr,
+};
+use crate::names::NameRef;
+use crate::vocab::Kind;
+use modia3d_core::scene::{
+    ContactPairMaterial, Feature, ForceElement, ForceFn, Input, Joint, JointKind, MassSpec,
+    Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial, Wrench,
+};
+use modia3d_core::{Axis, Shape};
+use nalgebra::{Matrix3, Point3, Vector3};
+use std::collections::{HashMap, HashSet};
+
+/// The value of every number known only at run time: inside every range the core checks
+/// (positive, non-negative, [0, 1], (0, 1), (0, 1]). Should a rule ever exclude it, its error
+/// has no literal culprit and is dropped like any other error about a stand-in.
+const STAND_IN: f64 = 0.5;
+/// The name of a material known only at run time (names with a dot are parts of
+/// sub-assemblies; both are stand-ins).
+const STAND_IN_MATERIAL: &str = "__modia3d_stand_in";
+
+pub(crate) fn is_stand_in(name: &str) -> bool {
+    name.contains('.') || name.starts_with("__modia3d")
+}
+
+/// Runs the core's scene rules on the block and adds their errors, mapped to spans.
+pub fn check(def: &ModelDef, ir: &Ir, errors: &mut Errors) {
+    let mut p = Probe::default();
+    p.build(ir);
+    let macro_errors = errors.any();
+    let m = map::Mapper {
+        ir,
+        probe: &p,
+        assembly: def.assembly.is_some(),
+        macro_errors,
+        used: vec![false; p.nums.len()],
+        consumed: HashMap::new(),
+    };
+    m.map_all(p.desc.scene_errors(), errors);
+}
+
+/// The scene description of the literal part, and where its literal numbers came from.
+#[derive(Default)]
+pub(crate) struct Probe<'a> {
+    pub(crate) desc: SceneDesc,
+    /// (owner as the core names it, key, literal).
+    pub(crate) nums: Vec<(String, &'static str, &'a LitNum)>,
+    /// A `ContactPair` of the block names a material known only at run time.
+    pub(crate) pairs_unsure: bool,
+    /// The block has sub-assemblies (they may add anything).
+    pub(crate) has_assemblies: bool,
+    /// Some value of the block is known only at run time (a stand-in stands for it).
+    pub(crate) run_time_values: bool,
+}
+
+impl<'a> Probe<'a> {
+    fn scalar(&mut self, owner: &str, n: &'a Num) -> f64 {
+        match n.parts.as_slice() {
+            [Some(l)] => {
+                self.nums.push((owner.to_string(), n.key, l));
+                l.value
+            }
+            _ => {
+                self.run_time_values = true;
+                STAND_IN
+            }
+        }
+    }
+
+    fn vec3(&mut self, owner: &str, n: &'a Num) -> Vector3<f64> {
+        let mut v = Vector3::repeat(STAND_IN);
+        self.run_time_values |= n.parts.len() != 3 || n.parts.iter().any(|p| p.is_none());
+        if n.parts.len() == 3 {
+            for (i, part) in n.parts.iter().enumerate() {
+                if let Some(l) = part {
+                    self.nums.push((owner.to_string(), n.key, l));
+                    v[i] = l.value;
+                }
+            }
+        }
+        v
+    }
+
+    fn material(&mut self, m: &MaterialName) -> String {
+        match m {
+            MaterialName::Local(n) | MaterialName::Named(n, _) => n.clone(),
+            MaterialName::Expr(_) => {
+                self.run_time_values = true;
+                STAND_IN_MATERIAL.to_string()
+            }
+        }
+    }
+
+    fn build(&mut self, ir: &'a Ir) {
+        let neutral = SolidMaterial {
+            density: STAND_IN,
+            young_modulus: STAND_IN,
+            poisson_ratio: STAND_IN,
+        };
+        self.desc.add_solid_material(STAND_IN_MATERIAL, neutral);
+        // Block materials whose definition has errors (reported) still exist.
+        for (n, k) in &ir.kinds {
+            let defined = ir
+                .items
+                .iter()
+                .any(|it| matches!(it, Item::Material { name, .. } if name == n));
+            if *k == Kind::Material && !defined {
+                self.desc.add_solid_material(&n.to_string(), neutral);
+            }
+        }
+        let mut outside: Vec<&str> = vec![];
+        for it in &ir.items {
+            self.item(it, &mut outside);
+        }
+        let mut seen = HashSet::new();
+        for path in outside {
+            if seen.insert(path) {
+                self.desc.add(Object3D::new(path));
+            }
+        }
+    }
+
+    fn item(&mut self, it: &'a Item, outside: &mut Vec<&'a str>) {
+        let mut obj = |r: &'a NameRef| {
+            if !r.local {
+                outside.push(&r.path);
+            }
+            r.path.as_str()
+        };
+        match it {
+            Item::Material {
+                name,
+                density,
+                young_modulus,
+                poisson_ratio,
+            } => {
+                let n = name.to_string();
+                let m = SolidMaterial {
+                    density: self.scalar(&n, density),
+                    young_modulus: self.scalar(&n, young_modulus),
+                    poisson_ratio: self.scalar(&n, poisson_ratio),
+                };
+                self.desc.add_solid_material(&n, m);
+            }
+            Item::Object {
+                name,
+                parent,
+                feature,
+                ..
+            } => {
+                let n = name.to_string();
+                let mut o = Object3D::new(&n);
+                if let Parent::Ref(r) = parent {
+                    o = o.parent(obj(r));
+                }
+                if let Some(f) = feature {
+                    o = o.feature(self.feature(&n, f));
+                }
+                self.desc.add(o);
+            }
+            Item::Joint {
+                name,
+                obj1,
+                obj2,
+                kind,
+                can_collide,
+            } => {
+                let kind = match kind {
+                    JointKindIr::Fix => JointKind::Fix,
+                    JointKindIr::Free { .. } => JointKind::free(),
+                    JointKindIr::Scalar { revolute, axis, .. } => {
+                        let k = match axis {
+                            JointAxis::Index(_, i) => *i,
+                            _ => 3,
+                        };
+                        let mut kind = if *revolute {
+                            JointKind::revolute(k)
+                        } else {
+                            JointKind::prismatic(k)
+                        };
+                        if let JointAxis::Vector(_, Some(v)) = axis {
+                            match &mut kind {
+                                JointKind::Revolute { axis, .. }
+                                | JointKind::Prismatic { axis, .. } => *axis = Vector3::from(*v),
+                                _ => {}
+                            }
+                        }
+                        kind
+                    }
+                };
+                let (o1, o2) = (obj(obj1), obj(obj2));
+                let collide = can_collide.as_ref().and_then(|c| c.1).unwrap_or(false);
+                self.desc
+                    .add_joint(Joint::new(&name.to_string(), o1, o2, kind).can_collide(collide));
+            }
+            Item::Force { name, force, .. } => {
+                let f = match force {
+                    ForceIr::SpringDamper {
+                        obj1,
+                        obj2,
+                        stiffness,
+                        damping,
+                        length0,
+                    } => {
+                        let n = name.to_string();
+                        ForceElement::SpringDamper {
+                            obj1: obj(obj1).to_string(),
+                            obj2: obj(obj2).to_string(),
+                            stiffness: self.scalar(&n, stiffness),
+                            damping: damping.as_ref().map_or(0.0, |d| self.scalar(&n, d)),
+                            length0: length0.as_ref().map_or(0.0, |l| self.scalar(&n, l)),
+                            name: n,
+                        }
+                    }
+                    ForceIr::JointSpringDamper {
+                        joint,
+                        stiffness,
+                        damping,
+                        ..
+                    } => ForceElement::JointSpringDamper {
+                        joint: joint.path.clone(),
+                        stiffness: self.scalar(&joint.path, stiffness),
+                        damping: damping
+                            .as_ref()
+                            .map_or(0.0, |d| self.scalar(&joint.path, d)),
+                        offset: 0.0,
+                    },
+                    ForceIr::ObjectForce { object, .. } => ForceElement::ObjectForce {
+                        object: obj(object).to_string(),
+                        law: ForceFn::new(|_, _| Wrench::default()),
+                    },
+                };
+                self.desc.add_force(f);
+            }
+            Item::Input { name, input, .. } => {
+                let n = name.to_string();
+                self.desc.add_input(match input {
+                    InputIr::JointForce(j) => Input::joint_force(&n, &j.path),
+                    InputIr::JointAcceleration(j) => Input::joint_acceleration(&n, &j.path),
+                    InputIr::ObjectWrench(o) => Input::object_wrench(&n, obj(o)),
+                });
+            }
+            Item::ContactPair {
+                material1,
+                material2,
+                cor,
+                mu_k,
+                mu_r,
+                v_min,
+                w_min,
+                ..
+            } => {
+                let unsure = |m: &MaterialName| matches!(m, MaterialName::Expr(_));
+                self.pairs_unsure |= unsure(material1) || unsure(material2);
+                let (a, b) = (self.material(material1), self.material(material2));
+                let mut m = ContactPairMaterial::new(
+                    self.scalar(&a, cor),
+                    self.scalar(&a, mu_k),
+                    self.scalar(&a, mu_r),
+                );
+                m.v_min = v_min.as_ref().map(|v| self.scalar(&a, v));
+                m.w_min = w_min.as_ref().map(|w| self.scalar(&a, w));
+                self.desc.add_contact_pair(&a, &b, m);
+            }
+            Item::Assembly { parent, .. } => {
+                self.has_assemblies = true;
+                if let Parent::Ref(r) = parent {
+                    obj(r);
+                }
+            }
+        }
+    }
+
+    fn feature(&mut self, owner: &str, f: &'a FeatureIr) -> Feature {
+        match f {
+            FeatureIr::Expr(_) => {
+                self.run_time_values = true;
+                Feature::None
+            }
+            FeatureIr::Scene(s) => Feature::Scene(self.scene(owner, s)),
+            FeatureIr::Visual(s) => Feature::Visual(self.shape(owner, s)),
+            FeatureIr::Solid(s) => Feature::Solid(self.solid(owner, s)),
+        }
+    }
+
+    fn scene(&mut self, owner: &str, s: &'a SceneIr) -> SceneOptions {
+        let mut o = SceneOptions::default();
+        if let Some((_, lit)) = &s.contact_detection {
+            o.contact_detection = lit.unwrap_or(false);
+        }
+        for n in &s.numbers {
+            let v = self.scalar(owner, n);
+            let field = match n.key {
+                "k_red" => &mut o.k_red,
+                "d_max" => &mut o.d_max,
+                "cor_min" => &mut o.cor_min,
+                "v_min" => &mut o.v_min,
+                "w_min" => &mut o.w_min,
+                "hysteresis" => &mut o.hysteresis,
+                "mpr_tolerance" => &mut o.mpr_tolerance,
+                _ => &mut o.smoothing_radius,
+            };
+            *field = v;
+        }
+        if let Some(n) = &s.mpr_max_iterations {
+            let v = self.scalar(owner, n);
+            if v >= 0.0 && v.fract() == 0.0 && v <= u32::MAX as f64 {
+                o.mpr_max_iterations = v as u32;
+            }
+        }
+        o
+    }
+
+    fn shape(&mut self, owner: &str, s: &'a ShapeIr) -> Shape {
+        match s {
+            ShapeIr::Expr(_) => {
+                self.run_time_values = true;
+                Shape::Sphere { diameter: STAND_IN }
+            }
+            ShapeIr::Sphere(d) => Shape::Sphere {
+                diameter: self.scalar(owner, d),
+            },
+            ShapeIr::Lengths { ellipsoid, lengths } => {
+                let lengths = self.vec3(owner, lengths);
+                if *ellipsoid {
+                    Shape::Ellipsoid { lengths }
+                } else {
+                    Shape::Box { lengths }
+                }
+            }
+            ShapeIr::Round {
+                ctor,
+                axis,
+                diameter,
+                length,
+                top_diameter,
+            } => {
+                let axis = match axis {
+                    AxisIr::Index(1) => Axis::X,
+                    AxisIr::Index(2) => Axis::Y,
+                    _ => Axis::Z,
+                };
+                let (diameter, length) = (self.scalar(owner, diameter), self.scalar(owner, length));
+                match *ctor {
+                    "Cylinder" => Shape::Cylinder {
+                        axis,
+                        diameter,
+                        length,
+                    },
+                    "Capsule" => Shape::Capsule {
+                        axis,
+                        diameter,
+                        length,
+                    },
+                    _ => Shape::Cone {
+                        axis,
+                        diameter,
+                        length,
+                        top_diameter: top_diameter.as_ref().map_or(0.0, |t| self.scalar(owner, t)),
+                    },
+                }
+            }
+            ShapeIr::Hull(_) => Shape::ConvexHull {
+                points: vec![
+                    Point3::origin(),
+                    Point3::new(STAND_IN, 0.0, 0.0),
+                    Point3::new(0.0, STAND_IN, 0.0),
+                    Point3::new(0.0, 0.0, STAND_IN),
+                ],
+            },
+        }
+    }
+
+    fn solid(&mut self, owner: &str, s: &'a SolidIr) -> Solid {
+        let mut solid = Solid {
+            shape: s.shape.as_ref().map(|sh| self.shape(owner, sh)),
+            ..Default::default()
+        };
+        if let Some((m, ..)) = &s.material {
+            let name = self.material(m);
+            solid = solid.material(&name);
+        }
+        solid.mass_properties = match &s.mass {
+            None => MassSpec::FromShapeAndDensity,
+            Some(MassIr::Mass(m)) => MassSpec::FromShapeAndMass(self.scalar(owner, m)),
+            Some(MassIr::Explicit {
+                mass, inertia_lit, ..
+            }) => MassSpec::Explicit {
+                mass: self.scalar(owner, mass),
+                com: Vector3::zeros(),
+                inertia: match inertia_lit {
+                    Some(rows) => Matrix3::from_fn(|i, j| rows[i][j]),
+                    None => Matrix3::identity() * STAND_IN,
+                },
+            },
+        };
+        if let Some((_, lit, ..)) = &s.collision {
+            solid.collision = lit.unwrap_or(false);
+        }
+        if let Some((m, _)) = &s.contact_material {
+            let name = self.material(m);
+            solid = solid.contact_material(&name);
+        }
+        if let Some(r) = &s.smoothing_radius {
+            solid.smoothing_radius = Some(self.scalar(owner, r));
+        }
+        solid
+    }
+}

@@ -1,0 +1,186 @@
+//! Vocabulary of `model!`: the constructors, the keys each accepts, synonyms users guess, and
+//! what kind of component a constructor makes. Plain data; the rules a *value* must satisfy
+//! are the core's (`modia3d_core::scene`), not listed here.
+
+/// Constructors of components.
+pub const COMPONENTS: &[&str] = &[
+    "Object3D",
+    "Fix",
+    "Revolute",
+    "Prismatic",
+    "FreeMotion",
+    "SpringDamper",
+    "JointSpringDamper",
+    "ObjectForce",
+    "SolidMaterial",
+    "ContactPair",
+    "JointForce",
+    "JointAcceleration",
+    "ObjectWrench",
+];
+
+/// Constructors that appear only inside values.
+pub const NESTED: &[&str] = &[
+    "Scene",
+    "Solid",
+    "Visual",
+    "MassProperties",
+    "Var",
+    "Sphere",
+    "Box",
+    "Cylinder",
+    "Capsule",
+    "Cone",
+    "Ellipsoid",
+    "ConvexHull",
+];
+
+/// Constructors of `feature = …`.
+pub const FEATURES: &[&str] = &["Scene", "Solid", "Visual"];
+
+/// Constructors of `shape = …`.
+pub const SHAPES: &[&str] = &[
+    "Sphere",
+    "Box",
+    "Cylinder",
+    "Capsule",
+    "Cone",
+    "Ellipsoid",
+    "ConvexHull",
+];
+
+/// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).
+pub const SCENE_KEYS: &[&str] = &[
+    "gravity",
+    "contact_detection",
+    "k_red",
+    "d_max",
+    "cor_min",
+    "v_min",
+    "w_min",
+    "hysteresis",
+    "mpr_tolerance",
+    "mpr_max_iterations",
+    "smoothing_radius",
+    "profile",
+];
+
+/// The numeric fields of `SceneOptions` that `Scene(…)` sets directly (`f64`).
+pub const SCENE_NUMBERS: &[&str] = &[
+    "k_red",
+    "d_max",
+    "cor_min",
+    "v_min",
+    "w_min",
+    "hysteresis",
+    "mpr_tolerance",
+    "smoothing_radius",
+];
+
+/// The variants of `ContactProfile`.
+pub const PROFILES: &[&str] = &["Paper2019", "Modia3DLater"];
+
+/// Keys of `Solid(…)`.
+pub const SOLID_KEYS: &[&str] = &[
+    "shape",
+    "solid_material",
+    "mass_properties",
+    "collision",
+    "contact_material",
+    "smoothing_radius",
+];
+
+/// Keys of `ContactPair(…)`.
+pub const PAIR_KEYS: &[&str] = &[
+    "material1",
+    "material2",
+    "cor",
+    "mu_k",
+    "mu_r",
+    "v_min",
+    "w_min",
+];
+
+/// Keys of a joint constructor.
+pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
+    match ctor {
+        "Fix" => &["obj1", "obj2", "can_collide"],
+        "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide"],
+        "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide"],
+        _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide"],
+    }
+}
+
+/// Keys that are easy to guess wrong, with the key meant.
+pub const SYNONYMS: &[(&str, &str)] = &[
+    ("radius", "diameter"),
+    ("size", "lengths"),
+    ("dimensions", "lengths"),
+    ("material", "solid_material"),
+    ("density", "solid_material"),
+    ("angle", "phi"),
+    ("position", "translation"),
+    ("mass_properties", "mass"),
+    ("k", "stiffness"),
+    ("d", "damping"),
+    ("contact_profile", "profile"),
+    ("mu", "mu_k"),
+    ("e", "cor"),
+];
+
+/// What a component is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// An `Object3D`.
+    Object,
+    /// A joint.
+    Joint,
+    /// A force element.
+    Force,
+    /// A solid material defined in the block.
+    Material,
+    /// A contact-pair material defined in the block.
+    ContactPair,
+    /// An input (set between simulation steps).
+    Input,
+    /// A sub-assembly (another `model!` type).
+    Assembly,
+}
+
+impl Kind {
+    /// The kind a built-in component constructor makes; `None` for other names.
+    pub fn of_builtin(ctor: &str) -> Option<Kind> {
+        Some(match ctor {
+            "Object3D" => Kind::Object,
+            "Fix" | "Revolute" | "Prismatic" | "FreeMotion" => Kind::Joint,
+            "SpringDamper" | "JointSpringDamper" | "ObjectForce" => Kind::Force,
+            "SolidMaterial" => Kind::Material,
+            "ContactPair" => Kind::ContactPair,
+            "JointForce" | "JointAcceleration" | "ObjectWrench" => Kind::Input,
+            _ => return None,
+        })
+    }
+
+    /// "an object", "a joint", … for messages.
+    pub fn article(self) -> &'static str {
+        match self {
+            Kind::Object => "an object",
+            Kind::Joint => "a joint",
+            Kind::Force => "a force element",
+            Kind::Material => "a solid material",
+            Kind::ContactPair => "a contact-pair material",
+            Kind::Input => "an input",
+            Kind::Assembly => "a sub-assembly",
+        }
+    }
+}
+
+/// How to write a nested constructor that was used as a component.
+pub fn nested_hint(n: &str) -> String {
+    match n {
+        "Scene" | "Solid" | "Visual" => format!("`Object3D(feature = {n}(…))`"),
+        "Var" => "`phi = Var(init = …)` inside a joint".into(),
+        "MassProperties" => "`Solid(mass_properties = MassProperties(…))`".into(),
+        _ => format!("`Object3D(feature = Solid(shape = {n}(…)))`"),
+    }
+}
