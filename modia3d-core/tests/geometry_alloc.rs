@@ -10,8 +10,7 @@ use modia3d_core::geometry::{
 };
 #[path = "common/counting_alloc.rs"]
 mod counting_alloc;
-use counting_alloc::ALLOCS;
-use std::sync::atomic::Ordering;
+use counting_alloc::allocs;
 
 #[test]
 fn queries_and_updates_do_not_allocate() {
@@ -40,7 +39,7 @@ fn queries_and_updates_do_not_allocate() {
     };
     let default = NarrowPhaseOptions::default();
 
-    let before = ALLOCS.load(Ordering::Relaxed);
+    let before = allocs();
     let mut acc = 0.0;
     for round in 0..20 {
         for (k, (s, p)) in shapes.iter().zip(&poses).enumerate() {
@@ -64,7 +63,7 @@ fn queries_and_updates_do_not_allocate() {
             }
         }
     }
-    let after = ALLOCS.load(Ordering::Relaxed);
+    let after = allocs();
     assert!(acc.is_finite());
     assert_eq!(after - before, 0, "allocations during queries and updates");
 }
