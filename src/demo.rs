@@ -82,6 +82,48 @@ pub fn add_free_sphere(
         ));
 }
 
+/// A sphere (Ø `d` [m], solid material `mat`, contact material "Ball") flying at `v0` [m/s]
+/// along −z towards a fixed 1 × 1 × 0.1 m steel box (top face at z = 0) from a gap of `gap` [m];
+/// pair material `pair` for Ball–Steel; world options `options`.
+pub fn sphere_on_plane(
+    d: f64,
+    mat: SolidMaterial,
+    v0: f64,
+    gap: f64,
+    pair: ContactPairMaterial,
+    options: SceneOptions,
+) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(options))
+        .add(fixed_box(
+            "plane",
+            [1.0, 1.0, 0.1],
+            [0.0, 0.0, -0.05],
+            "Steel",
+        ))
+        .add(
+            Object3D::new("ball").solid(
+                Solid::new(Shape::Sphere { diameter: d })
+                    .material_value(mat)
+                    .contact_material("Ball")
+                    .collision(true),
+            ),
+        )
+        .add_joint(Joint::new(
+            "free",
+            "world",
+            "ball",
+            JointKind::FreeMotion {
+                r: Vector3::new(0.0, 0.0, d / 2.0 + gap),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::new(0.0, 0.0, -v0),
+                w: Vector3::zeros(),
+            },
+        ))
+        .add_contact_pair("Ball", "Steel", pair);
+    s
+}
+
 /// The built-in Steel–Steel pair material (`CONTACT_PAIR_MATERIALS`): cor 0.7, μ_k 0.5,
 /// μ_r 0.001.
 pub const STEEL_STEEL: ContactPairMaterial = ContactPairMaterial::new(0.7, 0.5, 0.001);

@@ -15,8 +15,7 @@ fn e_star(m1: &SolidMaterial, m2: &SolidMaterial) -> f64 {
     demo::c_res(m1, m2)
 }
 
-/// A sphere (Ø `d`, solid material `mat`, contact material "Ball") flying at `v0` along −z
-/// towards a fixed steel box (top at z = 0) from a gap of `gap`; pair material `pair`.
+/// [`demo::sphere_on_plane`] without gravity, with `k_red` and `d_max`.
 fn sphere_on_plane(
     d: f64,
     mat: SolidMaterial,
@@ -26,40 +25,13 @@ fn sphere_on_plane(
     k_red: f64,
     d_max: f64,
 ) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(demo::world(SceneOptions {
+    let options = SceneOptions {
         gravity: Vector3::zeros(),
         k_red,
         d_max,
         ..Default::default()
-    }))
-    .add(demo::fixed_box(
-        "plane",
-        [1.0, 1.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "Steel",
-    ))
-    .add(
-        Object3D::new("ball").solid(
-            Solid::new(Shape::Sphere { diameter: d })
-                .material_value(mat)
-                .contact_material("Ball")
-                .collision(true),
-        ),
-    )
-    .add_joint(Joint::new(
-        "free",
-        "world",
-        "ball",
-        JointKind::FreeMotion {
-            r: Vector3::new(0.0, 0.0, d / 2.0 + gap),
-            rot: FreeRotation::Cardan([0.0; 3]),
-            v: Vector3::new(0.0, 0.0, -v0),
-            w: Vector3::zeros(),
-        },
-    ))
-    .add_contact_pair("Ball", "Steel", pair);
-    s
+    };
+    demo::sphere_on_plane(d, mat, v0, gap, pair, options)
 }
 
 fn event_times(res: &SimulationResult) -> (f64, f64) {

@@ -74,6 +74,8 @@ pub struct SceneIr {
     pub gravity: Option<Expr>,
     /// `contact_detection = …` and its literal value.
     pub contact_detection: Option<(Expr, Option<bool>)>,
+    /// `exact_restitution = …` (`bool`; no scene rule depends on it).
+    pub exact_restitution: Option<Expr>,
     /// The `f64` options that were given.
     pub numbers: Vec<Num>,
     /// `mpr_max_iterations = …` (`u32`).

@@ -80,7 +80,7 @@ use proc_macro::TokenStream;
 ///
 /// | constructor | keys |
 /// |---|---|
-/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `contact_detection = true`, `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
+/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `contact_detection = true`, `exact_restitution = false` (`bool`: damping from the exact restitution relation instead of the paper's approximation), `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
 /// | `Solid` | `shape*` (unless explicit mass properties), `solid_material` (`"Steel"`, a block material's name as string or identifier, or a `&str`/`String` expression), `mass_properties` (default: from density), `collision = false`, `contact_material` (string), `smoothing_radius` (m) |
 /// | `Visual` | `shape*` |
 /// | `MassProperties` | `mass*` (kg); with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |

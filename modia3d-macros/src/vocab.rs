@@ -53,6 +53,7 @@ pub const SHAPES: &[&str] = &[
 pub const SCENE_KEYS: &[&str] = &[
     "gravity",
     "contact_detection",
+    "exact_restitution",
     "k_red",
     "d_max",
     "cor_min",

@@ -3,7 +3,7 @@
 //! and velocities; contact forces are added to `ws.f_ext`). No allocation after construction.
 
 use super::preprocess::ContactPlan;
-use super::regularise::{cor_reg, damping_factor};
+use super::regularise::{cor_reg, damping_factor, damping_factor_exact};
 use super::response::{pair_response, PairResponse};
 use crate::dynamics::forces::add_world_wrench;
 use crate::dynamics::kinematics::point_velocity;
@@ -287,7 +287,11 @@ impl ContactState {
                 let dd = -(v2 - v1).dot(&sd.normal);
                 ps.delta_dot_minus = dd;
                 let c = cor_reg(cp.profile, pp.cor, cp.cor_min, dd, pp.v_min);
-                ps.d = damping_factor(c, dd, pp.v_min, cp.d_max);
+                ps.d = if cp.exact_restitution {
+                    damping_factor_exact(c, dd, pp.v_min, cp.d_max)
+                } else {
+                    damping_factor(c, dd, pp.v_min, cp.d_max)
+                };
                 self.started.push(p as u32);
             } else if !now && ps.in_contact {
                 self.ended.push(p as u32);

@@ -69,6 +69,8 @@ pub struct ContactPlan {
     pub hysteresis: f64,
     /// Contact law variant.
     pub profile: ContactProfile,
+    /// Damping from the exact restitution relation (`SceneOptions::exact_restitution`).
+    pub exact_restitution: bool,
     /// Narrow-phase options.
     pub narrow: NarrowPhaseOptions,
     /// Candidate pair index of each shape pair `(a, b)`, `a < b` (the broad phase's filter).
@@ -207,6 +209,7 @@ impl ContactPlan {
             cor_min: opts.cor_min,
             hysteresis: opts.hysteresis,
             profile: opts.contact_profile,
+            exact_restitution: opts.exact_restitution,
             narrow: NarrowPhaseOptions {
                 mpr_tolerance: opts.mpr_tolerance,
                 max_iterations: opts.mpr_max_iterations,

@@ -44,6 +44,15 @@ pub fn damping_factor(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f6
     d.min(d_max)
 }
 
+/// Damping factor `d` [s/m] fixed at contact start that makes the impact rebound with exactly
+/// `cor_reg` ([`super::restitution::chi_for_restitution`]): `min(d_max, χ(cor_reg) / reg(δ̇⁻,
+/// v_min))` (`d_max` when `cor_reg = 0`).
+#[inline]
+pub fn damping_factor_exact(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f64 {
+    let chi = super::restitution::chi_for_restitution(cor_reg);
+    (chi / reg(dd_minus, v_min)).min(d_max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -93,6 +93,13 @@ pub struct SceneOptions {
     pub smoothing_radius: f64,
     /// Variant of the contact law (default [`ContactProfile::Paper2019`]).
     pub contact_profile: ContactProfile,
+    /// Damping from the exact restitution relation of the force law (default `false`: the
+    /// paper's `d = 8(1 − cor)/(5·cor·δ̇⁻)`, kept for comparability, which turns cor 0.9 into
+    /// an effective 0.894). With `true`, `d = χ(cor_reg)/reg(δ̇⁻, v_min)` where `χ(e)` solves
+    /// the law's closed-form rebound relation, so an impact rebounds with exactly the pair's
+    /// (regularised) cor whatever the masses, stiffness, speed and exponent
+    /// (`docs/contact-model.md` §3); `d_max` still caps it.
+    pub exact_restitution: bool,
 }
 
 impl Default for SceneOptions {
@@ -110,6 +117,7 @@ impl Default for SceneOptions {
             mpr_max_iterations: 100,
             smoothing_radius: crate::geometry::DEFAULT_SMOOTHING_RADIUS,
             contact_profile: ContactProfile::Paper2019,
+            exact_restitution: false,
         }
     }
 }

@@ -199,6 +199,7 @@ impl Checker {
     fn scene_options(&mut self, a: &super::Args) -> SceneIr {
         let gravity = a.get("gravity").cloned();
         let contact_detection = a.get("contact_detection").map(|c| (c.clone(), lit_bool(c)));
+        let exact_restitution = a.get("exact_restitution").cloned();
         let mut numbers = vec![];
         for key in SCENE_NUMBERS {
             if let Some(n) = self.num(a, key, false) {
@@ -232,6 +233,7 @@ impl Checker {
         SceneIr {
             gravity,
             contact_detection,
+            exact_restitution,
             numbers,
             mpr_max_iterations,
             profile,

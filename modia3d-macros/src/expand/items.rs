@@ -345,6 +345,9 @@ fn scene_options(s: &SceneIr) -> TokenStream {
     if let Some((c, _)) = &s.contact_detection {
         fields.push(quote!(contact_detection: #c));
     }
+    if let Some(e) = &s.exact_restitution {
+        fields.push(quote!(exact_restitution: #e));
+    }
     for n in &s.numbers {
         let (k, v) = (format_ident!("{}", n.key), &n.expr);
         fields.push(quote!(#k: #v));
