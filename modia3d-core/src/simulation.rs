@@ -727,7 +727,7 @@ impl Simulation {
             &y,
             self.opts.contact_results,
         );
-        Ok(now.signal(name)?.last().to_vec())
+        Ok(now.signal(name)?.last().unwrap_or(&[]).to_vec())
     }
 
     /// Back to the initial state and zero inputs, with the recorded results cleared; the plan

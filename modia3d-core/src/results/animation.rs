@@ -63,13 +63,10 @@ impl SimulationResult {
             let r = self.signal(&format!("{}.r_abs", op.name))?;
             let rot = self.signal(&format!("{}.R_abs", op.name))?;
             let n = self.time().len();
-            let positions = (0..n).map(|k| {
-                let p = r.at(k);
-                [p[0], p[1], p[2]]
-            });
+            let positions = r.data.chunks_exact(3).map(|p| [p[0], p[1], p[2]]);
             let mut rotations: Vec<[f64; 4]> = Vec::with_capacity(n);
-            for k in 0..n {
-                let mut q = quaternion_of_row_major(rot.at(k));
+            for row in rot.data.chunks_exact(9) {
+                let mut q = quaternion_of_row_major(row);
                 if let Some(prev) = rotations.last() {
                     let dot: f64 = (0..4).map(|j| prev[j] * q[j]).sum();
                     if dot < 0.0 {

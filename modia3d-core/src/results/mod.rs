@@ -77,18 +77,36 @@ impl Signal {
             .copied()
             .collect()
     }
-    /// The values at time point `k`.
-    pub fn at(&self, k: usize) -> &[f64] {
-        &self.data[k * self.dim..(k + 1) * self.dim]
+    /// Number of time points.
+    pub fn len(&self) -> usize {
+        self.data.len().checked_div(self.dim).unwrap_or(0)
+    }
+    /// True if the signal has no time point (e.g. of a run that failed before its first
+    /// output point).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The `dim` values at time point `k`; `None` if `k` is not a recorded time point
+    /// (`k >= len()`). Never panics.
+    pub fn at(&self, k: usize) -> Option<&[f64]> {
+        if k >= self.len() {
+            return None;
+        }
+        // k < len() = data.len() / dim, so neither product overflows.
+        self.data.get(k * self.dim..(k + 1) * self.dim)
     }
     /// The values of a scalar signal (component 0).
     pub fn values(&self) -> Vec<f64> {
         self.component(0)
     }
-    /// The values at the last time point.
-    pub fn last(&self) -> &[f64] {
-        let n = self.data.len() / self.dim.max(1);
-        self.at(n - 1)
+    /// The values at the first time point; `None` for an empty signal.
+    pub fn first(&self) -> Option<&[f64]> {
+        self.at(0)
+    }
+    /// The values at the last time point; `None` for an empty signal (e.g. the partial result
+    /// of a run that failed before recording a point). Never panics.
+    pub fn last(&self) -> Option<&[f64]> {
+        self.len().checked_sub(1).and_then(|k| self.at(k))
     }
 }
 
@@ -447,7 +465,7 @@ impl SimulationResult {
         for (k, t) in self.time.iter().enumerate() {
             let mut row = vec![format!("{t:.17e}")];
             for s in &signals {
-                row.extend(s.at(k).iter().map(|x| format!("{x:.17e}")));
+                row.extend(s.at(k).unwrap_or(&[]).iter().map(|x| format!("{x:.17e}")));
             }
             writeln!(out, "{}", row.join(",")).map_err(io)?;
         }
