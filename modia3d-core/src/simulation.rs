@@ -4,7 +4,8 @@
 //! [`Model::simulate`](crate::Model::simulate) is `Simulation::new` + `advance_to(stop_time)`.
 
 use crate::contact::ContactError;
-use crate::dae::MultibodyDae;
+use crate::dae::{DerivativeError, MultibodyDae};
+use crate::dynamics::forces::{FaultKind, UserFault};
 use crate::model::Model;
 use crate::results::Event;
 use crate::results::{SimStats, SimulationResult};
@@ -218,6 +219,28 @@ pub enum SimErrorKind {
         /// Time [s].
         t: f64,
     },
+    /// A user closure (an `ObjectForce` force law) panicked; the panic was caught at the call.
+    #[error("{element} panicked at t = {t} s: {message}; the run was stopped: a force law must return a finite wrench for every state the integrator tries")]
+    UserPanic {
+        /// The element whose closure panicked, e.g. ``ObjectForce on `ball` (force element 0)``.
+        element: String,
+        /// Time [s] passed to the closure.
+        t: f64,
+        /// The panic payload as text.
+        message: String,
+    },
+    /// A user force law returned a NaN or infinite force or torque.
+    #[error("{element} returned a non-finite wrench at t = {t} s (force {force:?} N, torque {torque:?} N·m); the run was stopped: check the force law for divisions by zero or unbounded growth")]
+    NonFiniteForce {
+        /// The element, e.g. ``ObjectForce on `ball` (force element 0)``.
+        element: String,
+        /// Time [s] passed to the law.
+        t: f64,
+        /// The force returned [N], resolved in world.
+        force: [f64; 3],
+        /// The torque returned [N·m], resolved in world.
+        torque: [f64; 3],
+    },
     /// The integrator failed.
     #[error(transparent)]
     Solver(#[from] IdaError),
@@ -248,6 +271,34 @@ pub enum SimErrorKind {
         /// Events without progress.
         count: u32,
     },
+}
+
+impl From<UserFault> for SimErrorKind {
+    fn from(f: UserFault) -> Self {
+        let element = f.element_name();
+        match f.kind {
+            FaultKind::Panic(message) => SimErrorKind::UserPanic {
+                element,
+                t: f.t,
+                message,
+            },
+            FaultKind::NonFinite { force, torque } => SimErrorKind::NonFiniteForce {
+                element,
+                t: f.t,
+                force,
+                torque,
+            },
+        }
+    }
+}
+
+/// The error of [`MultibodyDae::consistent_derivative`] at time `t` [s].
+fn derivative_error(e: DerivativeError, t: f64) -> SimErrorKind {
+    match e {
+        DerivativeError::Singular => SimErrorKind::Inconsistent { t },
+        DerivativeError::Contact(c) => c.into(),
+        DerivativeError::User(f) => f.into(),
+    }
 }
 
 /// A failed simulation: what went wrong, and the results computed up to the failure.
@@ -384,8 +435,9 @@ impl Simulation {
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
         }
-        let Some(yp0) = dae.consistent_derivative(t0, &y0) else {
-            return Err(fail(SimErrorKind::Inconsistent { t: t0 }, result));
+        let yp0 = match dae.consistent_derivative(t0, &y0) {
+            Ok(yp0) => yp0,
+            Err(e) => return Err(fail(derivative_error(e, t0), result)),
         };
         let root_functions = dae.num_roots_public();
         let ida_opts = IdaOptions {
@@ -500,6 +552,9 @@ impl Simulation {
             let t_out = if on_grid { grid } else { target };
             self.check_budget()?;
             let solved = self.ida.solve(t_out, false);
+            if let Some(f) = self.ida.system_mut().take_user_fault() {
+                return Err(f.into());
+            }
             if let Some(e) = self.ida.system_mut().take_root_error() {
                 return Err(e.into());
             }
@@ -660,9 +715,11 @@ impl Simulation {
     /// Re-initialises IDA at `t` with the current `y` and a consistent `y'`.
     fn restart(&mut self, t: f64) -> Result<(), SimErrorKind> {
         let y = self.ida.y().to_vec();
-        let Some(yp) = self.ida.system_mut().consistent_derivative(t, &y) else {
-            return Err(SimErrorKind::Inconsistent { t });
-        };
+        let yp = self
+            .ida
+            .system_mut()
+            .consistent_derivative(t, &y)
+            .map_err(|e| derivative_error(e, t))?;
         self.ida.reinit(t, &y, &yp)?;
         Ok(())
     }
