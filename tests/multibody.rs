@@ -386,7 +386,7 @@ fn solids_fixed_together_behave_as_one() {
     let rb = b.build().unwrap().simulate(&opts).unwrap();
     let mut worst = 0.0f64;
     for k in 0..ra.time().len() {
-        for (x, y) in ra.state(k).iter().zip(rb.state(k)) {
+        for (x, y) in ra.state(k).unwrap().iter().zip(rb.state(k).unwrap()) {
             worst = worst.max((x - y).abs());
         }
     }

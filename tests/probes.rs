@@ -78,12 +78,15 @@ fn last_of_an_empty_partial_result_is_none() {
     assert_eq!(r.first(), None);
     assert_eq!(r.at(0), None);
     assert_eq!(err.partial.final_state(), None);
+    assert_eq!(err.partial.state(0), None);
     // An index beyond the end of a full result is `None` as well.
     let res = free_ball().build().unwrap().simulate(&opts(0.1)).unwrap();
     let z = res.signal("ball.r_abs[2]").unwrap();
     assert_eq!(z.at(z.len()), None);
     assert_eq!(z.at(usize::MAX), None);
     assert!(z.last().is_some());
+    assert_eq!(res.state(res.time().len()), None);
+    assert_eq!(res.state(0).map(<[f64]>::len), Some(res.state_len()));
 }
 
 // ---- 2. User closures are caught at every call site ----------------------------------------

@@ -2,6 +2,8 @@
 //! stop time, records output points, handles events, and returns results — or, on failure, an
 //! error that carries the results up to the failure. [`SimOptions`] and [`SimError`] live here;
 //! [`Model::simulate`](crate::Model::simulate) is `Simulation::new` + `advance_to(stop_time)`.
+// No panic on user input: indexing goes through `get` and iterators (issue 15's audit).
+#![deny(clippy::indexing_slicing)]
 
 use crate::contact::ContactError;
 use crate::dae::{DerivativeError, MultibodyDae};
@@ -480,7 +482,10 @@ impl Simulation {
 
     /// Current state `y = [q; v]` (empty for a scene without unknowns).
     pub fn state(&self) -> &[f64] {
-        &self.ida.y()[..self.model.plan.nq + self.model.plan.nv]
+        let y = self.ida.y();
+        // IDA's vector holds nq + nv values, or one dummy value for a scene without unknowns.
+        y.get(..self.model.plan.nq + self.model.plan.nv)
+            .unwrap_or(&[])
     }
 
     /// The results recorded so far.
@@ -651,11 +656,14 @@ impl Simulation {
     /// duration end the run, naming the pair with the most of them.
     fn check_chattering(&self, t: f64) -> Result<(), SimErrorKind> {
         let events = &self.result.events;
-        let n = events.len();
-        if n < CHATTER_EVENTS {
+        let Some(oldest) = events
+            .len()
+            .checked_sub(CHATTER_EVENTS)
+            .and_then(|k| events.get(k))
+        else {
             return Ok(());
-        }
-        let span = t - events[n - CHATTER_EVENTS].t;
+        };
+        let span = t - oldest.t;
         if span > CHATTER_SPAN * (self.opts.stop_time - self.opts.start_time) {
             return Ok(());
         }
@@ -760,10 +768,12 @@ impl Simulation {
             });
         }
         let (off, len) = (inp.offset, inp.len);
-        let slot = &mut self.ida.system_mut().inputs_mut()[off..off + len];
-        if slot != values {
-            slot.copy_from_slice(values);
-            self.inputs_changed = true;
+        // The plan lays out `len` values at `off` for every input: the slot always exists.
+        if let Some(slot) = self.ida.system_mut().inputs_mut().get_mut(off..off + len) {
+            if slot != values {
+                slot.copy_from_slice(values);
+                self.inputs_changed = true;
+            }
         }
         Ok(())
     }
@@ -806,7 +816,7 @@ fn record(
 ) {
     // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
     let n = dae.plan().nq + dae.plan().nv;
-    result.push(t, &y[..n]);
+    result.push(t, y.get(..n).unwrap_or(y));
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.
         let _ = dae.update_contacts(t, y);
