@@ -1,5 +1,5 @@
 //! Resting contact rests at the default options (issue 15, point 2): the contact-set hysteresis
-//! lies on the separated side of the contact (`modia3d_core::contact::Hysteresis`,
+//! lies on the separated side of the contact (`Hysteresis` in the core's `contact/contact_set.rs`,
 //! docs/contact-hysteresis.md), so it does no work and a body at rest stays in the contact set
 //! whatever its static penetration `m·g/k`.
 //!

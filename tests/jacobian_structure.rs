@@ -65,7 +65,7 @@ fn compare(
     assert_eq!(s.stats.events, d.stats.events, "same contact events");
     // The Jacobians agree to rounding (rows of a tree see only its own and its contact
     // partners' perturbations), so Newton converges alike and the step counts match; a
-    // missing coupling would show as extra iterations and steps (tests/ida_wrapper.rs).
+    // missing coupling would show as extra iterations and steps (the solver unit tests, modia3d-core/src/solver/tests/).
     let ratio = s.stats.solver.steps as f64 / d.stats.solver.steps as f64;
     assert!(
         (ratio - 1.0).abs() < 0.05,

@@ -426,64 +426,6 @@ fn csv_export_has_named_columns_and_all_rows() {
     assert_eq!(last, res.signal("rev2.phi").unwrap().last().unwrap()[0]);
 }
 
-/// `M(q)` assembled tree by tree (one inverse-dynamics call per coordinate index shared by all
-/// trees) equals the definition column by column — inverse dynamics with unit acceleration k,
-/// no velocity, gravity or external force — for a scene of several trees of different shapes
-/// (a two-link arm, twelve free balls): to round-off, and zero between trees.
-#[test]
-fn tree_blocked_mass_matrix_matches_the_column_definition() {
-    use modia3d::core::dynamics::{mass_matrix, rnea, spatial::Force, Workspace};
-    let mut scene = modia3d::demo::ball_pile(SceneOptions::default(), modia3d::demo::STEEL_STEEL);
-    scene
-        .add(
-            Object3D::new("link1").solid(
-                Solid::new(Shape::Box {
-                    lengths: Vector3::new(0.3, 0.05, 0.05),
-                })
-                .material("Steel"),
-            ),
-        )
-        .add(
-            Object3D::new("link2").solid(
-                Solid::new(Shape::Box {
-                    lengths: Vector3::new(0.2, 0.04, 0.04),
-                })
-                .material("Steel"),
-            ),
-        )
-        .add(
-            Object3D::new("tip")
-                .parent("link1")
-                .translation([0.3, 0.0, 0.0]),
-        )
-        .add_joint(Joint::new("j1", "world", "link1", JointKind::revolute(3)).init_position(0.4))
-        .add_joint(Joint::new("j2", "tip", "link2", JointKind::revolute(2)).init_position(-0.7));
-    let model = scene.build().unwrap();
-    let plan = model.plan();
-    let q = &plan.q0;
-    let mut ws = Workspace::new(plan);
-    let m = mass_matrix::mass_matrix(plan, &mut ws, q);
-    let nv = plan.nv;
-    modia3d::core::dynamics::kinematics::position_velocity(plan, &mut ws, q, &vec![0.0; nv]);
-    ws.f_ext.fill(Force::default());
-    let (mut e, mut col) = (vec![0.0; nv], vec![0.0; nv]);
-    let scale = (0..nv).map(|i| m[(i, i)].abs()).fold(0.0, f64::max);
-    let mut max_err = 0.0f64;
-    for k in 0..nv {
-        e[k] = 1.0;
-        rnea::inverse_dynamics(plan, &mut ws, &e, &Vector3::zeros(), &mut col);
-        e[k] = 0.0;
-        for i in 0..nv {
-            max_err = max_err.max((m[(i, k)] - col[i]).abs());
-        }
-    }
-    assert_eq!(plan.velocity_groups().len(), 13, "12 balls and one arm");
-    assert!(
-        max_err < 1e-12 * scale,
-        "max |ΔM| = {max_err:e} (scale {scale:e})"
-    );
-}
-
 /// The model's public queries describe the compiled scene: a Fix joint merges two solids into
 /// one body whose mass is the sum of the parts (1 kg + 2 kg, given explicitly), the free body's
 /// states are 7 + 6, and the signal names are those a result answers to.

@@ -6,7 +6,7 @@
 
 use modia3d::demo::{fixed_box, world};
 use modia3d::prelude::*;
-use modia3d_core::simulation::{Budget, SlowCause};
+use modia3d_core::{Budget, SlowCause};
 
 fn explicit(mass: f64) -> Solid {
     Solid {
@@ -21,7 +21,7 @@ fn explicit(mass: f64) -> Solid {
 
 fn budget_error(
     res: Result<SimulationResult, SimError>,
-) -> (modia3d_core::simulation::WorkDiagnosis, SimulationResult) {
+) -> (modia3d_core::WorkDiagnosis, SimulationResult) {
     match res {
         Err(SimError {
             kind: SimErrorKind::WorkBudget(d),

@@ -8,23 +8,40 @@
 // and ida/linear.rs) may use `unsafe`; `mod ida` opts back in explicitly.
 #![deny(unsafe_code)]
 
+// The public surface is the crate root's re-exports below plus the two stage modules a user
+// may call directly: `scene` (the builder types, materials, scene errors) and `geometry`
+// (shapes and collision queries). The pipeline's inner stages — contact, DAE, dynamics, the
+// IDA wrapper — are internal, so changing them is never a breaking change; their tests are
+// unit tests inside the crate.
 #[cfg(feature = "solver")]
-pub mod contact;
+mod contact;
 #[cfg(feature = "solver")]
-pub mod dae;
+mod dae;
 #[cfg(feature = "solver")]
-pub mod dynamics;
+mod dynamics;
 pub mod geometry;
 #[cfg(feature = "solver")]
-pub mod model;
+mod model;
 #[cfg(feature = "solver")]
-pub mod results;
+mod results;
 pub mod scene;
 #[cfg(feature = "solver")]
-pub mod simulation;
+mod simulation;
+// The safe IDA wrapper is complete (vector tolerances, both `IDACalcIC` modes, recoverable
+// residual errors, …) and every part of it is tested in `solver/tests`; the multibody DAE uses
+// a subset, so the rest is unused outside the tests.
 #[cfg(feature = "solver")]
-pub mod solver;
+#[cfg_attr(not(test), allow(dead_code))]
+mod solver;
 
+// Test builds only: counts allocations per thread, for the "hot path allocates nothing" tests.
+#[cfg(test)]
+#[allow(unsafe_code)]
+#[path = "../tests/common/counting_alloc.rs"]
+mod counting_alloc;
+
+#[cfg(feature = "solver")]
+pub use contact::ContactError;
 pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, Model};
@@ -36,4 +53,9 @@ pub use scene::{
     Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid, SolidMaterial, Wrench,
 };
 #[cfg(feature = "solver")]
-pub use simulation::{InputError, SimError, SimErrorKind, SimOptions, Simulation};
+pub use simulation::{
+    Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause, WorkDiagnosis,
+    CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_MAX_STEPS, MAX_OUTPUT_POINTS,
+};
+#[cfg(feature = "solver")]
+pub use solver::IdaError;

@@ -81,21 +81,6 @@ impl Model {
         })
     }
 
-    /// The compiled multibody plan. Not part of the API (hidden from the docs; use the queries
-    /// below): kept for the two integration tests that check internals through it (the
-    /// allocation-free hot path and the tree-blocked mass matrix).
-    #[doc(hidden)]
-    pub fn plan(&self) -> &Plan {
-        &self.plan
-    }
-
-    /// The compiled collision pipeline, `None` without candidate pairs. Not part of the API
-    /// (hidden; use [`Model::contact_pairs`]): kept for the allocation test of the hot path.
-    #[doc(hidden)]
-    pub fn contact_plan(&self) -> Option<&ContactPlan> {
-        self.contact.as_deref()
-    }
-
     /// The candidate collision pairs (after the preprocessing rules, `docs/contact-model.md`
     /// §2.1) with their constants, in the order of their signals; empty without collisions.
     pub fn contact_pairs(&self) -> Vec<ContactPairInfo> {

@@ -13,7 +13,5 @@ mod preprocess;
 mod regularise;
 mod response;
 
-pub use contact_set::{ContactError, ContactState, Mode, PairState};
-pub use preprocess::{ContactPlan, PairPlan, ShapePlan};
-pub use regularise::{cor_reg, damping_factor, reg};
-pub use response::{pair_response, PairResponse};
+pub use contact_set::{ContactError, ContactState, Mode};
+pub use preprocess::ContactPlan;

@@ -11,6 +11,9 @@ use crate::scene::ValidForce;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
+#[cfg(test)]
+mod alloc_tests;
+
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
 pub struct MultibodyDae {
@@ -92,14 +95,6 @@ impl MultibodyDae {
     /// The plan.
     pub fn plan(&self) -> &Plan {
         &self.plan
-    }
-    /// The workspace (after the last evaluation).
-    pub fn workspace_mut(&mut self) -> &mut Workspace {
-        &mut self.ws
-    }
-    /// Current input values (len `Plan::n_inputs`).
-    pub fn inputs(&self) -> &[f64] {
-        &self.ws.inputs
     }
     /// Sets input values (len `Plan::n_inputs`).
     pub fn inputs_mut(&mut self) -> &mut [f64] {

@@ -10,7 +10,7 @@ pub mod plan;
 pub mod rnea;
 pub mod spatial;
 
-pub use plan::{BodyPlan, InputPlan, InputTarget, JointCoord, JointPlan, ObjectPlan, Plan};
+pub use plan::{InputTarget, JointCoord, ObjectPlan, Plan};
 
 use spatial::{Force, Motion, Transform};
 

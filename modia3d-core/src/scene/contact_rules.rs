@@ -112,7 +112,7 @@ pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
 
 impl SceneDesc {
     /// Every error [`SceneDesc::validate`] finds (missing contact pairs
-    /// ([`missing_contact_pairs`]) and the topology included); empty for a valid scene. This is
+    /// (`missing_contact_pairs`) and the topology included); empty for a valid scene. This is
     /// the check the `model!` macro runs on the literal part of a block at compile time;
     /// `build()` runs the same validation plus the plan's own checks.
     pub fn scene_errors(&self) -> Vec<SceneError> {

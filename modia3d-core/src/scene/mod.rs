@@ -1,20 +1,22 @@
 //! Scene stage: the description (builder API), the material palette and validation.
 //! Touches only plain data; nothing here knows about dynamics or the solver.
 
-pub mod contact_rules;
-pub mod desc;
-pub mod materials;
-pub mod topology;
-pub mod validate;
+mod contact_rules;
+mod desc;
+mod materials;
+mod topology;
+mod validate;
 
-pub use contact_rules::{colliding_objects, missing_contact_pairs, CollisionFilter};
+#[cfg(feature = "solver")]
+pub(crate) use contact_rules::CollisionFilter;
 pub use desc::*;
 pub use materials::{
     builtin_contact_pair, builtin_solid_material, ContactPairEntry, ContactPairMaterial,
     MaterialFileError, MaterialPalette, SolidMaterial, CONTACT_PAIR_MATERIALS, SOLID_MATERIALS,
 };
-pub use topology::{Topology, TreeEdge};
-pub use validate::{
-    did_you_mean, MassProps, SceneError, SceneErrors, ValidForce, ValidInput, ValidInputKind,
-    ValidJoint, ValidJointKind, ValidObject, ValidScene, ValidSolid,
-};
+/// Closest candidate to a misspelt name (shared with the `model!` macro's messages).
+#[doc(hidden)]
+pub use validate::did_you_mean;
+pub use validate::{SceneError, SceneErrors};
+#[cfg(feature = "solver")]
+pub(crate) use validate::{ValidForce, ValidInputKind, ValidJointKind, ValidScene};

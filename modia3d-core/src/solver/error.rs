@@ -5,8 +5,8 @@
 
 use sundials_sys as sys;
 
-/// Everything that can go wrong in [`super::Ida`]. Every message says what went wrong, at which
-/// time `t` \[s\], and what to try.
+/// Everything that can go wrong in the IDA integrator (the crate's internal wrapper). Every
+/// message says what went wrong, at which time `t` \[s\], and what to try.
 #[derive(thiserror::Error, Debug, Clone, PartialEq)]
 pub enum IdaError {
     /// IDA returned a failure flag.
@@ -23,7 +23,7 @@ pub enum IdaError {
         /// The message SUNDIALS reported through the context's error handler (may be empty).
         message: String,
     },
-    /// A [`super::DaeSystem`] callback panicked; the panic was caught at the FFI boundary.
+    /// A callback of the DAE system (the residual, root or Jacobian-structure function) panicked; the panic was caught at the FFI boundary.
     #[error(
         "a DaeSystem callback panicked at t = {t} s: {message}; the integration was stopped \
          (the system may be in an inconsistent state: re-initialise or rebuild it)"
@@ -34,7 +34,7 @@ pub enum IdaError {
         /// Time \[s\] passed to the callback that panicked.
         t: f64,
     },
-    /// [`super::DaeSystem::residual`] returned `ResidualError::Fatal`.
+    /// The DAE residual returned a fatal error.
     #[error(
         "the residual reported a fatal error at t = {t} s: {message}; the integration was stopped"
     )]

@@ -31,6 +31,7 @@
 //! # Ok::<(), modia3d_core::solver::IdaError>(())
 //! ```
 
+mod args;
 mod block_lu;
 mod colouring;
 mod error;
@@ -39,6 +40,8 @@ mod error;
 mod ida;
 mod options;
 mod stats;
+#[cfg(test)]
+mod tests;
 
 pub use error::IdaError;
 pub use ida::Ida;
@@ -51,11 +54,6 @@ pub use stats::IdaStats;
 pub trait DaeSystem {
     /// Number of unknowns n.
     fn len(&self) -> usize;
-
-    /// True when the system has no unknowns (such a system cannot be integrated).
-    fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
 
     /// Fills `res` (len n) with F(t, y, y'). `Err(Recoverable)` asks IDA to retry with a smaller
     /// step; `Err(Fatal(msg))` stops the integration with that message.

@@ -110,12 +110,6 @@ impl IdaOptions {
         self
     }
 
-    /// Leaves algebraic components out of the local error test.
-    pub fn suppress_algebraic_error(mut self, suppress: bool) -> Self {
-        self.suppress_algebraic_error = suppress;
-        self
-    }
-
     /// Sets the root crossing directions (+1 up, -1 down, 0 both), one per root function.
     pub fn root_directions(mut self, directions: Vec<i32>) -> Self {
         self.root_directions = Some(directions);

@@ -1,5 +1,6 @@
 //! A global allocator that counts allocations, for the "allocates nothing" tests. Included by
-//! path from the core's and the facade's allocation tests.
+//! path from the core's geometry allocation test and, in test builds, from the core's `lib.rs`
+//! (for the DAE hot-path test in `dae/alloc_tests.rs`).
 //!
 //! The count is per thread: only allocations made by the thread that reads [`allocs`] are
 //! seen. The process-wide counter this replaces also saw the test harness's own threads, and
