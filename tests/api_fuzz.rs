@@ -246,7 +246,7 @@ fn edit(rng: &mut Rng, s: &mut SceneDesc) {
             s.add_input(match rng.below(3) {
                 0 => Input::joint_force(&name, &joint),
                 1 => Input::joint_acceleration(&name, &joint),
-                _ => Input::object_wrench(&name, *rng.pick(&OBJECTS)),
+                _ => Input::object_wrench(&name, OBJECTS[rng.below(OBJECTS.len())]),
             });
         }
         9 => {
@@ -276,7 +276,7 @@ fn edit(rng: &mut Rng, s: &mut SceneDesc) {
         }
         _ => {
             s.add_contact_pair(
-                *rng.pick(&["Steel", "DryWood", "Rubber"]),
+                ["Steel", "DryWood", "Rubber"][rng.below(3)],
                 "Steel",
                 ContactPairMaterial::new(
                     rng.value(0.0, 1.0),

@@ -497,7 +497,7 @@ fn small_ball_pendulum_period_matches_the_analytic_value() {
         .filter(|&k| phi[k - 1] < 0.0 && phi[k] >= 0.0)
         .map(|k| t[k - 1] + (t[k] - t[k - 1]) * (-phi[k - 1]) / (phi[k] - phi[k - 1]))
         .collect();
-    assert!(crossings.len() >= 1, "{crossings:?}");
+    assert!(!crossings.is_empty(), "{crossings:?}");
     // First upward crossing at 3/4 of a period (released at +amplitude, at rest). Amplitude
     // 0.01 rad lengthens the period by θ²/16 = 6e-6; interpolation error ~(period/2000)²: the
     // tolerance 1e-4 of the period.
