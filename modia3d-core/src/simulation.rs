@@ -26,8 +26,6 @@ pub const MAX_OUTPUT_POINTS: f64 = 1e7;
 pub const CHATTER_EVENTS: usize = 100;
 /// Chattering guard: relative time span (see [`CHATTER_EVENTS`]).
 pub const CHATTER_SPAN: f64 = 1e-6;
-/// IDA steps per `IDASolve` call between two checks of the budgets.
-const STEP_CHUNK: u64 = 2_000;
 
 /// Options of a simulation run. Build with [`SimOptions::new`] and the setters.
 #[derive(Clone, Debug, PartialEq)]
@@ -391,6 +389,10 @@ pub struct Simulation {
     result: SimulationResult,
     /// Index of the next output-grid point.
     k_grid: u64,
+    /// Scratch for interpolated output points (length n once used).
+    y_out: Vec<f64>,
+    /// The step limit IDA has now [s] (`None`: unlimited).
+    h_max: Option<f64>,
     /// Inputs changed since the last restart: the next step restarts IDA.
     inputs_changed: bool,
     stalled: u32,
@@ -463,6 +465,8 @@ impl Simulation {
             ida,
             result,
             k_grid: 1,
+            y_out: Vec::new(),
+            h_max: opts.max_step,
             inputs_changed: false,
             stalled: 0,
             last_event_t: f64::NEG_INFINITY,
@@ -551,46 +555,95 @@ impl Simulation {
         }
         let dt = self.opts.interval.unwrap_or((t1 - t0) / 500.0);
         self.ida.set_stop_time(target)?;
+        // One internal step per `solve`: the output grid never steers the steps (IDA's first
+        // step after a restart would otherwise be 0.001 × the distance to the next output
+        // point, and every output point inside a step would cost a root evaluation); output
+        // points inside a step are read off IDA's interpolating polynomial instead.
         loop {
-            let grid = t0 + self.k_grid as f64 * dt;
-            let on_grid = grid < target - eps;
-            let t_out = if on_grid { grid } else { target };
             self.check_budget()?;
-            let solved = self.ida.solve(t_out, false);
+            self.guard_step()?;
+            let solved = self.ida.solve(target, true);
             if let Some(f) = self.ida.system_mut().take_user_fault() {
                 return Err(f.into());
             }
             if let Some(e) = self.ida.system_mut().take_root_error() {
                 return Err(e.into());
             }
-            let status = match solved {
-                Ok(status) => status,
-                // The chunk of steps is used up (see `check_budget`): continue from there.
-                Err(e) if e.is_too_much_work() => continue,
-                Err(e) => return Err(e.into()),
-            };
+            let status = solved?;
+            let (SolveStatus::Reached { t }
+            | SolveStatus::StopTime { t }
+            | SolveStatus::Root { t }) = status;
+            self.record_grid(t0, dt, t.min(target - eps))?;
             match status {
-                SolveStatus::Reached { t } | SolveStatus::StopTime { t } => {
+                SolveStatus::Root { t } => self.event(t)?,
+                _ if t >= target - eps => {
                     let y = self.ida.y().to_vec();
                     record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
-                    if let Some(bar) = &self.progress {
-                        bar.set_position((1000.0 * (t - t0) / (t1 - t0)) as u64);
-                        bar.set_message(format!("t = {t:.4} s"));
-                    }
-                    if (grid - t).abs() <= eps {
+                    self.show_progress(t);
+                    // The target was a grid point too.
+                    if (t0 + self.k_grid as f64 * dt - t).abs() <= eps {
                         self.k_grid += 1;
                     }
-                    if !on_grid {
-                        return Ok(());
-                    }
+                    return Ok(());
                 }
-                SolveStatus::Root { t } => self.event(t)?,
+                _ => {}
             }
         }
     }
 
-    /// Ends the run if a budget is reached, else lets the next `IDASolve` take at most the
-    /// steps left (in chunks of [`STEP_CHUNK`], so that the wall time is checked in between).
+    /// Limits the next step to the tunnelling guard's (`MultibodyDae::max_safe_step`) and the
+    /// user's `max_step`; IDA is told only when the limit changed by more than 10 %.
+    fn guard_step(&mut self) -> Result<(), SimErrorKind> {
+        let Some(guard) = self.ida.system().max_safe_step() else {
+            if self.h_max != self.opts.max_step {
+                self.ida.set_max_step(self.opts.max_step)?;
+                self.h_max = self.opts.max_step;
+            }
+            return Ok(());
+        };
+        let h = self.opts.max_step.map_or(guard, |m| m.min(guard));
+        let stale = self.h_max.is_none_or(|old| (h - old).abs() > 0.1 * old);
+        if stale {
+            self.ida.set_max_step(Some(h))?;
+            self.h_max = Some(h);
+        }
+        Ok(())
+    }
+
+    /// Records the output-grid points up to `t_end` [s] (within the last step) from IDA's
+    /// interpolating polynomial.
+    fn record_grid(&mut self, t0: f64, dt: f64, t_end: f64) -> Result<(), SimErrorKind> {
+        let contacts = self.opts.contact_results;
+        let mut recorded = false;
+        loop {
+            let grid = t0 + self.k_grid as f64 * dt;
+            if grid > t_end {
+                break;
+            }
+            let mut y = std::mem::take(&mut self.y_out);
+            y.resize(self.ida.y().len(), 0.0);
+            self.ida.interpolate(grid, &mut y)?;
+            record(self.ida.system_mut(), &mut self.result, grid, &y, contacts);
+            self.y_out = y;
+            self.k_grid += 1;
+            recorded = true;
+        }
+        if recorded {
+            self.show_progress(t_end);
+        }
+        Ok(())
+    }
+
+    /// Moves the progress bar (a one-shot run on a terminal) to `t` [s].
+    fn show_progress(&self, t: f64) {
+        if let Some(bar) = &self.progress {
+            let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
+            bar.set_position((1000.0 * (t - t0) / (t1 - t0)) as u64);
+            bar.set_message(format!("t = {t:.4} s"));
+        }
+    }
+
+    /// Ends the run if a budget is reached (checked before every internal step).
     fn check_budget(&mut self) -> Result<(), SimErrorKind> {
         let steps = self.ida.stats().steps;
         let wall = self.wall + self.call_started.elapsed().as_secs_f64();
@@ -602,11 +655,6 @@ impl Simulation {
         if let Some(budget) = reached {
             return Err(self.diagnose(budget, steps));
         }
-        let chunk = self
-            .opts
-            .max_steps
-            .map_or(STEP_CHUNK, |n| (n - steps).min(STEP_CHUNK));
-        self.ida.set_max_num_steps(chunk as usize)?;
         Ok(())
     }
 

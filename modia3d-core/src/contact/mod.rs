@@ -12,6 +12,7 @@ mod contact_set;
 mod preprocess;
 mod regularise;
 mod response;
+mod step_guard;
 
 pub use contact_set::{ContactError, ContactState, Mode};
 pub use preprocess::ContactPlan;

@@ -77,6 +77,8 @@ pub struct ContactPlan {
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
     /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
     pub margin: f64,
+    /// The largest step that keeps every passage through a contact visible (tunnelling).
+    pub step_guard: super::step_guard::StepGuard,
 }
 
 impl ContactPlan {
@@ -195,6 +197,7 @@ impl ContactPlan {
                 .map(|s| s.shape.bounding_radius())
                 .fold(f64::INFINITY, f64::min);
         Ok(Some(ContactPlan {
+            step_guard: super::step_guard::StepGuard::new(&shapes, &pairs),
             pair_of,
             margin,
             shapes,

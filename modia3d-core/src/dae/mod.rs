@@ -96,6 +96,16 @@ impl MultibodyDae {
     pub fn plan(&self) -> &Plan {
         &self.plan
     }
+    /// The largest step [s] after which no collision shape can have passed through another
+    /// unseen, at the body velocities and accelerations of the last evaluation
+    /// (`contact/step_guard.rs`); `None` without candidate pairs or when nothing that can
+    /// collide moves.
+    pub fn max_safe_step(&self) -> Option<f64> {
+        self.contact_plan
+            .as_ref()?
+            .step_guard
+            .max_step(&self.ws, &self.plan.gravity)
+    }
     /// Sets input values (len `Plan::n_inputs`).
     pub fn inputs_mut(&mut self) -> &mut [f64] {
         &mut self.ws.inputs

@@ -92,6 +92,8 @@ pub struct Ida<S: DaeSystem> {
     yp: sys::N_Vector,
     /// Differential (1) / algebraic (0) flags for IDASetId.
     id: sys::N_Vector,
+    /// Scratch output of `IDAGetDky` ([`Ida::interpolate`]).
+    dky: sys::N_Vector,
     /// Vector absolute tolerance, or null for a scalar one.
     atol: sys::N_Vector,
     mat: sys::SUNMatrix,
@@ -147,6 +149,7 @@ impl<S: DaeSystem> Ida<S> {
             y: ptr::null_mut(),
             yp: ptr::null_mut(),
             id: ptr::null_mut(),
+            dky: ptr::null_mut(),
             atol: ptr::null_mut(),
             mat: ptr::null_mut(),
             ls: ptr::null_mut(),
@@ -190,6 +193,7 @@ impl<S: DaeSystem> Ida<S> {
                 None => vec![1.0; self.n],
             };
             self.id = self.new_vector(&id)?;
+            self.dky = self.new_vector(y0)?;
 
             self.mem = sys::IDACreate(ctx);
             if self.mem.is_null() {
@@ -473,6 +477,30 @@ impl<S: DaeSystem> Ida<S> {
         }
     }
 
+    /// The solution at `t` \[s\] by IDA's own interpolating polynomial (`IDAGetDky` with
+    /// k = 0), written into `out` (length n): as accurate as the steps, and free of any effect on
+    /// them. `t` must lie within the last step, `[t_n − h_u, t_n]` (IDA checks: otherwise
+    /// `IDA_BAD_T` as an error naming the interval).
+    pub fn interpolate(&mut self, t: f64, out: &mut [f64]) -> Result<(), IdaError> {
+        check_finite("t", t)?;
+        if out.len() != self.n {
+            return Err(bad(format!(
+                "interpolate: out has length {} but the system has n = {} unknowns",
+                out.len(),
+                self.n
+            )));
+        }
+        self.begin_call();
+        // SAFETY: mem and dky are valid; dky has length n.
+        let rc = unsafe { sys::IDAGetDky(self.mem, t, 0, self.dky) };
+        self.check(rc, "IDAGetDky")?;
+        // SAFETY: dky is a valid serial vector of length n.
+        out.copy_from_slice(unsafe {
+            slice::from_raw_parts(sys::N_VGetArrayPointer(self.dky), self.n)
+        });
+        Ok(())
+    }
+
     /// Re-initialises after an event (`IDAReInit`) at time `t` \[s\] with new y and y' (length n).
     /// Keeps the options, root functions and linear solver; statistics keep accumulating.
     pub fn reinit(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), IdaError> {
@@ -495,19 +523,6 @@ impl<S: DaeSystem> Ida<S> {
         // IDAReInit resets the integrator counters but the linear solver's only at the next
         // solve; re-attaching resets them now, so stats() never counts a segment twice.
         self.attach_linear_solver()
-    }
-
-    /// Sets the largest number of internal steps of the next `solve` calls
-    /// (`IDASetMaxNumSteps`, ≥ 1). A call that reaches it returns `IDA_TOO_MUCH_WORK` with the
-    /// solution at the last step taken; calling `solve` again continues from there.
-    pub fn set_max_num_steps(&mut self, n: usize) -> Result<(), IdaError> {
-        let Ok(n) = c_long::try_from(n.max(1)) else {
-            return Err(bad(format!("max_num_steps = {n} must fit a C long")));
-        };
-        self.begin_call();
-        // SAFETY: mem is valid.
-        let rc = unsafe { sys::IDASetMaxNumSteps(self.mem, n) };
-        self.check(rc, "IDASetMaxNumSteps")
     }
 
     /// The component of y whose estimated local error, weighted as in IDA's error test
@@ -653,7 +668,13 @@ impl<S: DaeSystem> Ida<S> {
                 sys::SUNMatDestroy(self.mat);
                 self.mat = ptr::null_mut();
             }
-            for v in [&mut self.y, &mut self.yp, &mut self.id, &mut self.atol] {
+            for v in [
+                &mut self.y,
+                &mut self.yp,
+                &mut self.id,
+                &mut self.dky,
+                &mut self.atol,
+            ] {
                 if !v.is_null() {
                     sys::N_VDestroy(*v);
                     *v = ptr::null_mut();
