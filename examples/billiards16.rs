@@ -37,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     names.push("cue".into());
     for n in &names {
         let r = res.signal(&format!("{n}.r_abs"))?;
-        let p = r.last();
+        let p = r.last().ok_or("no output point")?;
         println!(
             "{n:>6}: x = {:+.4} m, y = {:+.4} m, z = {:.6} m",
             p[0], p[1], p[2]

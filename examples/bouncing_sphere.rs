@@ -16,7 +16,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "{} events; final height {:.7} m (radius 0.05 m); stats: {} steps, {} root functions, {} narrow-phase calls, wall {:.3} s",
         res.events.len(),
-        z.last()[0],
+        z.last().ok_or("no output point")?[0],
         res.stats.solver.steps,
         res.stats.root_functions,
         res.stats.narrow_phase_calls,

@@ -38,9 +38,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("  t = {:.6} s: {}", ev.t, ev.description);
     }
     for n in ["box1", "box2", "cyl1", "cyl2"] {
-        let z = res.signal(&format!("{n}.r_abs[2]"))?.last()[0];
+        let z = res
+            .signal(&format!("{n}.r_abs[2]"))?
+            .last()
+            .ok_or("no output point")?[0];
         let v = res.signal(&format!("{n}.v_abs"))?;
-        let v = v.last();
+        let v = v.last().ok_or("no output point")?;
         println!(
             "{n}: height {z:.4} m, speed {:.2e} m/s",
             (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()

@@ -23,7 +23,7 @@ fn run(label: &str, w0: [f64; 3], axis: usize) -> Result<(), Box<dyn std::error:
     let mut sign = 1.0;
     let mut min = 1.0f64;
     for k in 0..result.time().len() {
-        let a = rot.at(k)[3 * axis + axis]; // R[axis][axis]
+        let a = rot.at(k).ok_or("no output point")?[3 * axis + axis]; // R[axis][axis]
         min = min.min(a);
         if a * sign < -0.5 {
             flips += 1;

@@ -20,7 +20,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("t = {:.6} s: {}", e.t, e.description);
     }
     for b in 0..5 {
-        let v = res.signal(&format!("ball{b}.v_abs[0]"))?.last()[0];
+        let v = res
+            .signal(&format!("ball{b}.v_abs[0]"))?
+            .last()
+            .ok_or("no output point")?[0];
         println!("ball{b}: v_x = {v:+.5} m/s");
     }
     // Two seconds of swinging for the animation (three.js JSON, glTF, HTML player).

@@ -56,7 +56,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Err(e) => (*e.partial, Some(e.kind)),
     };
     let st = res.stats;
-    let f = res.signal("table|b0.f_n")?.last()[0];
+    let f = res
+        .signal("table|b0.f_n")?
+        .last()
+        .ok_or("no output point")?[0];
     let weight = n as f64 * 8000.0 * 1e-3 * 9.81;
     println!(
         "n = {n}, k_red = {k_red}: reached t = {:.4} s; {} events, {} steps, wall {:.2} s; \

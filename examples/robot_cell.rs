@@ -60,8 +60,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let s = result.signal(name)?;
         println!(
             "{name:>18}: {:+.4} rad at t = 0, {:+.4} rad at t = {:.1} s",
-            s.at(0)[0],
-            s.last()[0],
+            s.first().ok_or("no output point")?[0],
+            s.last().ok_or("no output point")?[0],
             t[t.len() - 1]
         );
     }

@@ -12,8 +12,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for e in &res.events {
         println!("t = {:.6} s: {}", e.t, e.description);
     }
-    let cue = res.signal("cue.v_abs[0]")?.last()[0];
-    let ball = res.signal("ball.v_abs[0]")?.last()[0];
+    let cue = res
+        .signal("cue.v_abs[0]")?
+        .last()
+        .ok_or("no output point")?[0];
+    let ball = res
+        .signal("ball.v_abs[0]")?
+        .last()
+        .ok_or("no output point")?[0];
     println!(
         "at 1 s: cue ball {cue:.4} m/s (ideal 2/7·2 = {:.4}, minus rolling resistance 5/7·μ_r·g·0.75 s = {:.4}), struck ball {ball:.4} m/s (ideal 5/7·2 = {:.4}, minus {:.4}); wall {:.3} s",
         2.0 * 2.0 / 7.0,

@@ -27,7 +27,13 @@ struct Case {
 fn final_positions(res: &SimulationResult, bodies: &[String]) -> Vec<f64> {
     bodies
         .iter()
-        .flat_map(|b| res.signal(&format!("{b}.r_abs")).unwrap().last().to_vec())
+        .flat_map(|b| {
+            res.signal(&format!("{b}.r_abs"))
+                .unwrap()
+                .last()
+                .map(<[f64]>::to_vec)
+                .unwrap_or_default()
+        })
         .collect()
 }
 

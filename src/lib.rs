@@ -37,7 +37,7 @@
 //!
 //! let model = Pendulum { l: 1.0, ..Default::default() }.build()?;
 //! let result = model.simulate(&SimOptions::new(1.0).tolerance(1e-8))?;
-//! assert!(result.signal("rev.phi")?.last()[0] < 0.5);
+//! assert!(result.signal("rev.phi")?.last().ok_or("no output point")?[0] < 0.5);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![warn(missing_docs)]

@@ -13,7 +13,13 @@ fn ball(i: usize, j: usize) -> usize {
 /// Largest mirror asymmetry [m] at output point k: |x − x'| + |y + y'| over mirrored balls
 /// (ball j of row i ↔ ball i − j), and |y| of the balls on the axis.
 fn asymmetry(res: &SimulationResult, k: usize) -> f64 {
-    let pos = |n: String| res.signal(&format!("{n}.r_abs")).unwrap().at(k).to_vec();
+    let pos = |n: String| {
+        res.signal(&format!("{n}.r_abs"))
+            .unwrap()
+            .at(k)
+            .unwrap()
+            .to_vec()
+    };
     let mut worst = pos("cue".into())[1].abs();
     for i in 0..5 {
         for j in 0..=i {
@@ -53,7 +59,7 @@ fn run(k_red: f64) {
     {
         let r = res.signal(&format!("{n}.r_abs")).unwrap();
         for (k, tk) in t.iter().enumerate() {
-            let p = r.at(k);
+            let p = r.at(k).unwrap();
             assert!(
                 p[0].abs() < 1.12 && p[1].abs() < 0.56,
                 "{n} at {p:?}, t = {tk}"

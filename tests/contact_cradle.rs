@@ -39,7 +39,7 @@ fn each_impact_hands_the_motion_on() {
             let v = res.signal(&format!("ball{b}.v_abs")).unwrap();
             let w = res.signal(&format!("ball{b}.w_abs")).unwrap();
             let r = res.signal(&format!("ball{b}.r_abs")).unwrap();
-            let (v, w, r) = (v.at(k), w.at(k), r.at(k));
+            let (v, w, r) = (v.at(k).unwrap(), w.at(k).unwrap(), r.at(k).unwrap());
             e += 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2])
                 + 0.5 * i_c * (w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
                 + m * 9.81 * r[2];
@@ -50,9 +50,15 @@ fn each_impact_hands_the_motion_on() {
     let last = res.time().len() - 1;
     let (e0, p0) = energy_momentum(0);
     let (e1, p1) = energy_momentum(last);
-    let v_last = res.signal("ball4.v_abs[0]").unwrap().last()[0];
+    let v_last = res.signal("ball4.v_abs[0]").unwrap().last().unwrap()[0];
     let v_others: f64 = (0..4)
-        .map(|b| res.signal(&format!("ball{b}.v_abs[0]")).unwrap().last()[0].abs())
+        .map(|b| {
+            res.signal(&format!("ball{b}.v_abs[0]"))
+                .unwrap()
+                .last()
+                .unwrap()[0]
+                .abs()
+        })
         .fold(0.0, f64::max);
     let ke0 = 0.5 * (m + i_c / 0.25) * v0 * v0; // ball 0 swings about its pivot 0.5 m above
     println!(

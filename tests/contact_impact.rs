@@ -158,7 +158,7 @@ fn restitution(d: f64, mat: SolidMaterial, v0: f64, cor: f64, k_red: f64, d_max:
         res.events.iter().any(|e| !e.ended.is_empty()),
         "the ball rebounds"
     );
-    res.signal("ball.v_abs[2]").unwrap().last()[0] / v0
+    res.signal("ball.v_abs[2]").unwrap().last().unwrap()[0] / v0
 }
 
 /// With d = 8(1 − cor)/(5 cor δ̇⁻) the law is scale-free: the rebound ratio depends on cor only

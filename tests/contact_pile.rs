@@ -26,7 +26,9 @@ fn rigid_energy(res: &SimulationResult) -> Vec<f64> {
         let w = res.signal(&format!("{b}.w_abs")).unwrap();
         let r = res.signal(&format!("{b}.r_abs")).unwrap();
         for (k, e) in e.iter_mut().enumerate() {
-            *e += 0.5 * m * sq(v.at(k)) + 0.5 * i_c * sq(w.at(k)) + m * G * r.at(k)[2];
+            *e += 0.5 * m * sq(v.at(k).unwrap())
+                + 0.5 * i_c * sq(w.at(k).unwrap())
+                + m * G * r.at(k).unwrap()[2];
         }
     }
     e
@@ -39,7 +41,7 @@ fn assert_inside(res: &SimulationResult, slack: f64) {
     for b in balls() {
         let s = res.signal(&format!("{b}.r_abs")).unwrap();
         for k in 0..res.time().len() {
-            let p = s.at(k);
+            let p = s.at(k).unwrap();
             assert!(
                 p[0].abs() <= half + slack && p[1].abs() <= half + slack && p[2] >= r - slack,
                 "{b} left the box at t = {}: {p:?}",
@@ -88,7 +90,7 @@ fn elastic_pile_conserves_energy_including_the_hertz_energy() {
         let elastic: f64 = f_n
             .iter()
             .zip(&depth)
-            .map(|(f, d)| 0.4 * f.at(k)[0] * d.at(k)[0])
+            .map(|(f, d)| 0.4 * f.at(k).unwrap()[0] * d.at(k).unwrap()[0])
             .sum();
         rigid[k] + elastic
     };
@@ -137,7 +139,12 @@ fn dissipative_pile_comes_to_rest_in_static_equilibrium() {
         .iter()
         .map(|b| {
             let v = res.signal(&format!("{b}.v_abs")).unwrap();
-            v.at(last).iter().map(|x| x * x).sum::<f64>().sqrt()
+            v.at(last)
+                .unwrap()
+                .iter()
+                .map(|x| x * x)
+                .sum::<f64>()
+                .sqrt()
         })
         .fold(0.0, f64::max);
     let mut f_z = 0.0;
@@ -146,9 +153,17 @@ fn dissipative_pile_comes_to_rest_in_static_equilibrium() {
         if is_ball(a) == is_ball(b) {
             continue; // internal (ball–ball) or not involving a ball
         }
-        let f_n = res.signal(&format!("{p}.f_n")).unwrap().at(last)[0];
-        let n_z = res.signal(&format!("{p}.normal")).unwrap().at(last)[2];
-        let ft_z = res.signal(&format!("{p}.friction_force")).unwrap().at(last)[2];
+        let f_n = res.signal(&format!("{p}.f_n")).unwrap().at(last).unwrap()[0];
+        let n_z = res
+            .signal(&format!("{p}.normal"))
+            .unwrap()
+            .at(last)
+            .unwrap()[2];
+        let ft_z = res
+            .signal(&format!("{p}.friction_force"))
+            .unwrap()
+            .at(last)
+            .unwrap()[2];
         // The second object of a pair receives f_n·n + f_t, the first the opposite.
         let on_second = f_n * n_z + ft_z;
         f_z += if is_ball(b) { on_second } else { -on_second };

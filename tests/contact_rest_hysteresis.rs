@@ -116,13 +116,18 @@ fn stack_of_ten_steel_boxes_holds() {
         } else {
             format!("b{}|b{i}", i - 1)
         };
-        let f = res.signal(&format!("{pair}.f_n")).unwrap().last()[0];
+        let f = res.signal(&format!("{pair}.f_n")).unwrap().last().unwrap()[0];
         let w = (n - i) as f64 * m * G;
         assert!(
             (f - w).abs() < 1e-3 * w,
             "{pair}: f_n {f} N vs weight {w} N"
         );
-        let v = res.signal(&format!("b{i}.v_abs")).unwrap().last().to_vec();
+        let v = res
+            .signal(&format!("b{i}.v_abs"))
+            .unwrap()
+            .last()
+            .unwrap()
+            .to_vec();
         assert!(v.iter().all(|x| x.abs() < 1e-6), "b{i} moves: {v:?}");
     }
 }

@@ -153,10 +153,14 @@ fn run(scene: SceneDesc, t_end: f64) -> SimulationResult {
 fn check_rest(name: &str, scene: SceneDesc, z_rest: f64, mass: f64) {
     let res = run(scene, 2.0);
     let delta = mass * G / (K_RED * c_res(&dry_wood(), &dry_wood()));
-    let z = res.signal("body.r_abs[2]").unwrap().last()[0];
-    let v = norm(res.signal("body.v_abs").unwrap().last());
-    let w = norm(res.signal("body.w_abs").unwrap().last());
-    let pen = res.signal("table|body.penetration").unwrap().last()[0];
+    let z = res.signal("body.r_abs[2]").unwrap().last().unwrap()[0];
+    let v = norm(res.signal("body.v_abs").unwrap().last().unwrap());
+    let w = norm(res.signal("body.w_abs").unwrap().last().unwrap());
+    let pen = res
+        .signal("table|body.penetration")
+        .unwrap()
+        .last()
+        .unwrap()[0];
     let last_event = res.events.last().map_or(0.0, |e| e.t);
     println!(
         "{name}: {} events (last at {last_event:.4} s), {} steps; z = {z:.9} m (expected {:.9}), \
@@ -250,9 +254,13 @@ fn falling_boxes_scene_comes_to_rest() {
         res.stats.wall_time
     );
     for n in ["box1", "box2", "cyl1", "cyl2"] {
-        let z = res.signal(&format!("{n}.r_abs[2]")).unwrap().last()[0];
-        let v = norm(res.signal(&format!("{n}.v_abs")).unwrap().last());
-        let w = norm(res.signal(&format!("{n}.w_abs")).unwrap().last());
+        let z = res
+            .signal(&format!("{n}.r_abs[2]"))
+            .unwrap()
+            .last()
+            .unwrap()[0];
+        let v = norm(res.signal(&format!("{n}.v_abs")).unwrap().last().unwrap());
+        let w = norm(res.signal(&format!("{n}.w_abs")).unwrap().last().unwrap());
         println!("{n}: height {z:.6} m, speed {v:.2e} m/s, ω {w:.2e} rad/s");
         assert!(v < 1e-3, "{n}: speed {v}");
         assert!(w < 1e-2, "{n}: angular speed {w}");

@@ -209,7 +209,7 @@ fn threejs_json_has_the_shapes_and_one_keyframe_per_time_point() {
         let gm = floats(&g["matrix"]);
         let r = result.signal(&format!("{name}.r_abs")).unwrap();
         for i in 0..3 {
-            assert!((gm[12 + i] - r.at(0)[i]).abs() < 1e-12);
+            assert!((gm[12 + i] - r.at(0).unwrap()[i]).abs() < 1e-12);
         }
     }
 
@@ -250,11 +250,11 @@ fn threejs_json_has_the_shapes_and_one_keyframe_per_time_point() {
         let rot = result.signal(&format!("{name}.R_abs")).unwrap();
         for k in [0, nt / 2, nt - 1] {
             for i in 0..3 {
-                assert!((p[3 * k + i] - r.at(k)[i]).abs() < 1e-12);
+                assert!((p[3 * k + i] - r.at(k).unwrap()[i]).abs() < 1e-12);
             }
             assert!(same_rotation(
                 &q[4 * k..4 * k + 4],
-                &quaternion(rot.at(k)),
+                &quaternion(rot.at(k).unwrap()),
                 1e-12
             ));
         }
@@ -349,10 +349,10 @@ fn gltf_accessors_buffer_and_keyframes_are_consistent() {
         let r = result.signal(&format!("{name}.r_abs")).unwrap();
         let rot = result.signal(&format!("{name}.R_abs")).unwrap();
         let t0 = floats(&node["translation"]);
-        assert!((0..3).all(|i| (t0[i] - r.at(0)[i]).abs() < 1e-12));
+        assert!((0..3).all(|i| (t0[i] - r.at(0).unwrap()[i]).abs() < 1e-12));
         assert!(same_rotation(
             &floats(&node["rotation"]),
-            &quaternion(rot.at(0)),
+            &quaternion(rot.at(0).unwrap()),
             1e-12
         ));
     }
@@ -382,7 +382,7 @@ fn gltf_accessors_buffer_and_keyframes_are_consistent() {
             "translation" => {
                 let r = result.signal(&format!("{name}.r_abs")).unwrap();
                 for k in [0, nt - 1] {
-                    assert!((0..3).all(|i| (values[3 * k + i] - r.at(k)[i]).abs() < 1e-6));
+                    assert!((0..3).all(|i| (values[3 * k + i] - r.at(k).unwrap()[i]).abs() < 1e-6));
                 }
             }
             "rotation" => {
@@ -390,7 +390,7 @@ fn gltf_accessors_buffer_and_keyframes_are_consistent() {
                 for k in [0, nt - 1] {
                     assert!(same_rotation(
                         &values[4 * k..4 * k + 4],
-                        &quaternion(rot.at(k)),
+                        &quaternion(rot.at(k).unwrap()),
                         1e-6
                     ));
                 }

@@ -11,7 +11,7 @@ fn final_state(res: &SimulationResult, bodies: &[&str]) -> Vec<f64> {
     let mut out = vec![];
     for b in bodies {
         for s in ["r_abs", "v_abs"] {
-            out.extend_from_slice(res.signal(&format!("{b}.{s}")).unwrap().last());
+            out.extend_from_slice(res.signal(&format!("{b}.{s}")).unwrap().last().unwrap());
         }
     }
     out

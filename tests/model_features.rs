@@ -277,8 +277,8 @@ fn joints_forces_and_scene_options() {
     // The core accepts it and it simulates.
     let model = m.build().unwrap();
     let r = model.simulate(&SimOptions::new(0.2)).unwrap();
-    assert_eq!(r.signal("rev.phi").unwrap().at(0)[0], 0.3);
-    assert_eq!(r.signal("slide.s").unwrap().at(0)[0], 0.1);
+    assert_eq!(r.signal("rev.phi").unwrap().at(0).unwrap()[0], 0.3);
+    assert_eq!(r.signal("slide.s").unwrap().at(0).unwrap()[0], 0.1);
 }
 
 model! {
@@ -384,7 +384,7 @@ fn nested_assemblies_names_attach_rule_and_parameters() {
         .unwrap()
         .simulate(&SimOptions::new(0.5))
         .unwrap();
-    assert_eq!(r.signal("arm1.hinge.phi").unwrap().at(0)[0], 0.3);
+    assert_eq!(r.signal("arm1.hinge.phi").unwrap().at(0).unwrap()[0], 0.3);
     assert!(r.signal("arm2.upper.top.r_abs").is_ok());
 }
 

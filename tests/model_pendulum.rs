@@ -72,5 +72,5 @@ fn same_trajectory_as_builder() {
         assert_eq!(a.values(), b.values(), "signal {s}");
     }
     // It moved.
-    assert!(rm.signal("rev.phi").unwrap().last()[0] != 0.5);
+    assert!(rm.signal("rev.phi").unwrap().last().unwrap()[0] != 0.5);
 }

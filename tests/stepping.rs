@@ -42,6 +42,7 @@ fn stepping_in_1ms_steps_matches_one_simulate_call() {
             .signal("rev1.phi")
             .unwrap()
             .last()
+            .unwrap()
             .first()
             .unwrap()
     );

@@ -254,7 +254,7 @@ fn scene_without_unknowns_simulates() {
     assert_eq!(res.state_len(), 0);
     let r = res.signal("block.r_abs").unwrap();
     for k in 0..res.time().len() {
-        assert_eq!(r.at(k), &[0.3, 0.0, 0.05]);
+        assert_eq!(r.at(k).unwrap(), &[0.3, 0.0, 0.05]);
     }
     assert!((res.time().last().unwrap() - 1.0).abs() < 1e-12);
 }

@@ -3,6 +3,8 @@
 //! [`ContactPlan`] (`None` without candidate pairs) — and is the entry point of a run
 //! ([`Model::simulate`], [`Model::simulation`]). Neither plan refers to the other: the DAE
 //! stage takes both.
+// No panic on user input: indexing goes through `get` and iterators (issue 15's audit).
+#![deny(clippy::indexing_slicing)]
 
 use crate::contact::ContactPlan;
 use crate::dynamics::Plan;
@@ -115,11 +117,17 @@ impl Model {
             .bodies
             .iter()
             .map(|b| BodyInfo {
-                joint: self.plan.joints[b.joint].name.clone(),
+                joint: self
+                    .plan
+                    .joints
+                    .get(b.joint)
+                    .map(|j| j.name.clone())
+                    .unwrap_or_default(),
                 objects: b
                     .objects
                     .iter()
-                    .map(|&o| self.plan.objects[o].name.clone())
+                    .filter_map(|&o| self.plan.objects.get(o))
+                    .map(|o| o.name.clone())
                     .collect(),
                 mass: b.inertia.mass,
             })

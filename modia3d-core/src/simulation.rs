@@ -2,9 +2,12 @@
 //! stop time, records output points, handles events, and returns results — or, on failure, an
 //! error that carries the results up to the failure. [`SimOptions`] and [`SimError`] live here;
 //! [`Model::simulate`](crate::Model::simulate) is `Simulation::new` + `advance_to(stop_time)`.
+// No panic on user input: indexing goes through `get` and iterators (issue 15's audit).
+#![deny(clippy::indexing_slicing)]
 
 use crate::contact::ContactError;
-use crate::dae::MultibodyDae;
+use crate::dae::{DerivativeError, MultibodyDae};
+use crate::dynamics::forces::{FaultKind, UserFault};
 use crate::model::Model;
 use crate::results::Event;
 use crate::results::{SimStats, SimulationResult};
@@ -216,6 +219,28 @@ pub enum SimErrorKind {
         /// Time [s].
         t: f64,
     },
+    /// A user closure (an `ObjectForce` force law) panicked; the panic was caught at the call.
+    #[error("{element} panicked at t = {t} s: {message}; the run was stopped: a force law must return a finite wrench for every state the integrator tries")]
+    UserPanic {
+        /// The element whose closure panicked, e.g. ``ObjectForce on `ball` (force element 0)``.
+        element: String,
+        /// Time [s] passed to the closure.
+        t: f64,
+        /// The panic payload as text.
+        message: String,
+    },
+    /// A user force law returned a NaN or infinite force or torque.
+    #[error("{element} returned a non-finite wrench at t = {t} s (force {force:?} N, torque {torque:?} N·m); the run was stopped: check the force law for divisions by zero or unbounded growth")]
+    NonFiniteForce {
+        /// The element, e.g. ``ObjectForce on `ball` (force element 0)``.
+        element: String,
+        /// Time [s] passed to the law.
+        t: f64,
+        /// The force returned [N], resolved in world.
+        force: [f64; 3],
+        /// The torque returned [N·m], resolved in world.
+        torque: [f64; 3],
+    },
     /// The integrator failed.
     #[error(transparent)]
     Solver(#[from] IdaError),
@@ -246,6 +271,34 @@ pub enum SimErrorKind {
         /// Events without progress.
         count: u32,
     },
+}
+
+impl From<UserFault> for SimErrorKind {
+    fn from(f: UserFault) -> Self {
+        let element = f.element_name();
+        match f.kind {
+            FaultKind::Panic(message) => SimErrorKind::UserPanic {
+                element,
+                t: f.t,
+                message,
+            },
+            FaultKind::NonFinite { force, torque } => SimErrorKind::NonFiniteForce {
+                element,
+                t: f.t,
+                force,
+                torque,
+            },
+        }
+    }
+}
+
+/// The error of [`MultibodyDae::consistent_derivative`] at time `t` [s].
+fn derivative_error(e: DerivativeError, t: f64) -> SimErrorKind {
+    match e {
+        DerivativeError::Singular => SimErrorKind::Inconsistent { t },
+        DerivativeError::Contact(c) => c.into(),
+        DerivativeError::User(f) => f.into(),
+    }
 }
 
 /// A failed simulation: what went wrong, and the results computed up to the failure.
@@ -386,8 +439,9 @@ impl Simulation {
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
         }
-        let Some(yp0) = dae.consistent_derivative(t0, &y0) else {
-            return Err(fail(SimErrorKind::Inconsistent { t: t0 }, result));
+        let yp0 = match dae.consistent_derivative(t0, &y0) {
+            Ok(yp0) => yp0,
+            Err(e) => return Err(fail(derivative_error(e, t0), result)),
         };
         let root_functions = dae.num_roots_public();
         let ida_opts = IdaOptions {
@@ -432,7 +486,10 @@ impl Simulation {
 
     /// Current state `y = [q; v]` (empty for a scene without unknowns).
     pub fn state(&self) -> &[f64] {
-        &self.ida.y()[..self.model.plan.nq + self.model.plan.nv]
+        let y = self.ida.y();
+        // IDA's vector holds nq + nv values, or one dummy value for a scene without unknowns.
+        y.get(..self.model.plan.nq + self.model.plan.nv)
+            .unwrap_or(&[])
     }
 
     /// The results recorded so far.
@@ -506,6 +563,9 @@ impl Simulation {
             self.check_budget()?;
             self.guard_step()?;
             let solved = self.ida.solve(target, true);
+            if let Some(f) = self.ida.system_mut().take_user_fault() {
+                return Err(f.into());
+            }
             if let Some(e) = self.ida.system_mut().take_root_error() {
                 return Err(e.into());
             }
@@ -644,11 +704,14 @@ impl Simulation {
     /// duration end the run, naming the pair with the most of them.
     fn check_chattering(&self, t: f64) -> Result<(), SimErrorKind> {
         let events = &self.result.events;
-        let n = events.len();
-        if n < CHATTER_EVENTS {
+        let Some(oldest) = events
+            .len()
+            .checked_sub(CHATTER_EVENTS)
+            .and_then(|k| events.get(k))
+        else {
             return Ok(());
-        }
-        let span = t - events[n - CHATTER_EVENTS].t;
+        };
+        let span = t - oldest.t;
         if span > CHATTER_SPAN * (self.opts.stop_time - self.opts.start_time) {
             return Ok(());
         }
@@ -708,9 +771,11 @@ impl Simulation {
     /// Re-initialises IDA at `t` with the current `y` and a consistent `y'`.
     fn restart(&mut self, t: f64) -> Result<(), SimErrorKind> {
         let y = self.ida.y().to_vec();
-        let Some(yp) = self.ida.system_mut().consistent_derivative(t, &y) else {
-            return Err(SimErrorKind::Inconsistent { t });
-        };
+        let yp = self
+            .ida
+            .system_mut()
+            .consistent_derivative(t, &y)
+            .map_err(|e| derivative_error(e, t))?;
         self.ida.reinit(t, &y, &yp)?;
         Ok(())
     }
@@ -751,10 +816,12 @@ impl Simulation {
             });
         }
         let (off, len) = (inp.offset, inp.len);
-        let slot = &mut self.ida.system_mut().inputs_mut()[off..off + len];
-        if slot != values {
-            slot.copy_from_slice(values);
-            self.inputs_changed = true;
+        // The plan lays out `len` values at `off` for every input: the slot always exists.
+        if let Some(slot) = self.ida.system_mut().inputs_mut().get_mut(off..off + len) {
+            if slot != values {
+                slot.copy_from_slice(values);
+                self.inputs_changed = true;
+            }
         }
         Ok(())
     }
@@ -775,7 +842,7 @@ impl Simulation {
             &y,
             self.opts.contact_results,
         );
-        Ok(now.signal(name)?.last().to_vec())
+        Ok(now.signal(name)?.last().unwrap_or(&[]).to_vec())
     }
 
     /// Back to the initial state and zero inputs, with the recorded results cleared; the plan
@@ -797,7 +864,7 @@ fn record(
 ) {
     // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
     let n = dae.plan().nq + dae.plan().nv;
-    result.push(t, &y[..n]);
+    result.push(t, y.get(..n).unwrap_or(y));
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.
         let _ = dae.update_contacts(t, y);

@@ -5,6 +5,7 @@
 //! stage calls and allocates nothing.
 
 use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
+use crate::dynamics::forces::UserFault;
 use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
 use crate::scene::ValidForce;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
@@ -165,18 +166,23 @@ impl MultibodyDae {
     }
 
     /// Derivative `y'` consistent with `y` at time `t` [s], contact forces of the current set
-    /// included; `None` if the mass matrix is singular there (or the narrow phase fails).
-    pub fn consistent_derivative(&mut self, t: f64, y: &[f64]) -> Option<Vec<f64>> {
+    /// included; an error if the mass matrix is singular there, the narrow phase fails or a
+    /// user force law panics or returns a non-finite wrench.
+    pub fn consistent_derivative(
+        &mut self,
+        t: f64,
+        y: &[f64],
+    ) -> Result<Vec<f64>, DerivativeError> {
         let (nq, nv) = (self.plan.nq, self.plan.nv);
         if nq + nv == 0 {
-            return Some(vec![0.0; self.len()]);
+            return Ok(vec![0.0; self.len()]);
         }
         let (q, v) = y.split_at(nq);
         let mut yp = vec![0.0; nq + nv];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
         let contact = &mut self.contact;
         let contact_plan = self.contact_plan.as_deref();
-        let mut failed = false;
+        let mut failed = None;
         let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
             &self.plan,
             &mut self.ws,
@@ -185,16 +191,39 @@ impl MultibodyDae {
             v,
             &mut |plan, ws| {
                 if let (Some(cs), Some(cp)) = (contact.as_mut(), contact_plan) {
-                    failed |= cs.evaluate(plan, cp, ws, Mode::Continuous, t).is_err();
+                    if let Err(e) = cs.evaluate(plan, cp, ws, Mode::Continuous, t) {
+                        failed.get_or_insert(e);
+                    }
                 }
             },
-        )?;
-        if failed {
-            return None;
+        );
+        if let Some(fault) = self.ws.fault.take() {
+            return Err(DerivativeError::User(fault));
         }
+        if let Some(e) = failed {
+            return Err(DerivativeError::Contact(e));
+        }
+        let vd = vd.ok_or(DerivativeError::Singular)?;
         yp[nq..].copy_from_slice(&vd);
-        Some(yp)
+        Ok(yp)
     }
+
+    /// Takes the first failure of a user force law since the last call (see
+    /// [`Workspace::fault`]).
+    pub fn take_user_fault(&mut self) -> Option<UserFault> {
+        self.ws.fault.take()
+    }
+}
+
+/// Why [`MultibodyDae::consistent_derivative`] found no derivative.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DerivativeError {
+    /// The mass matrix of the free coordinates is singular.
+    Singular,
+    /// The collision stage failed.
+    Contact(ContactError),
+    /// A user force law failed.
+    User(UserFault),
 }
 
 impl DaeSystem for MultibodyDae {
@@ -222,6 +251,14 @@ impl DaeSystem for MultibodyDae {
         let (res_q, res_v) = res.split_at_mut(nq);
         kinematics::position_velocity(plan, &mut self.ws, q, v);
         forces::applied_forces(plan, &mut self.ws, t, q, v);
+        if let Some(f) = &self.ws.fault {
+            // The driver takes the fault (with the element's name) when IDA stops.
+            return Err(ResidualError::Fatal(format!(
+                "{} failed at t = {} s",
+                f.element_name(),
+                f.t
+            )));
+        }
         if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
             cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
                 .map_err(|e| ResidualError::Fatal(e.to_string()))?;

@@ -8,6 +8,54 @@ use super::{InputTarget, Plan, Workspace};
 use crate::scene::ValidForce;
 use crate::scene::{ObjectMotion, Wrench};
 use nalgebra::Vector3;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+/// A user force law that failed: a panic caught at its call, or a non-finite wrench. Its
+/// contribution is left out of that evaluation; the driver ends the run with it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UserFault {
+    /// The object the law acts on.
+    pub object: String,
+    /// Index of the force element (in the scene's order of force elements).
+    pub element: usize,
+    /// Time [s] of the call.
+    pub t: f64,
+    /// What went wrong.
+    pub kind: FaultKind,
+}
+
+/// How a user force law failed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FaultKind {
+    /// It panicked, with this payload as text.
+    Panic(String),
+    /// It returned a NaN or infinite component: force [N] and torque [N·m], in world.
+    NonFinite {
+        /// The force returned [N].
+        force: [f64; 3],
+        /// The torque returned [N·m].
+        torque: [f64; 3],
+    },
+}
+
+impl UserFault {
+    /// The element in words: `ObjectForce on `ball` (force element 2)`.
+    pub fn element_name(&self) -> String {
+        format!(
+            "ObjectForce on `{}` (force element {})",
+            self.object, self.element
+        )
+    }
+}
+
+/// The text of a panic payload (`&str` or `String`; otherwise a placeholder).
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(a panic without a text payload)".into())
+}
 
 /// Adds a force `force` [N] acting at the world point `point` [m] and a pure torque `torque`
 /// [N·m], all resolved in world, to body `b` (nothing for the world).
@@ -46,7 +94,7 @@ pub fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
 pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
     ws.f_ext.fill(Force::default());
     ws.tau_applied.fill(0.0);
-    for f in &plan.scene.forces {
+    for (e, f) in plan.scene.forces.iter().enumerate() {
         match f {
             ValidForce::SpringDamper {
                 obj1,
@@ -86,8 +134,29 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
             }
             ValidForce::ObjectForce { object, law } => {
                 let m = object_motion(plan, ws, *object);
-                let Wrench { force, torque } = (law.0)(t, &m);
-                add_world_wrench(ws, plan.objects[*object].body, &m.r_abs, &force, &torque);
+                // User code: a panic is caught here, at the call, whichever stage called
+                // (residual, consistent derivatives, restarts), and never unwinds further.
+                let outcome = catch_unwind(AssertUnwindSafe(|| (law.0)(t, &m)));
+                let fault = match outcome {
+                    Ok(Wrench { force, torque })
+                        if force.iter().chain(torque.iter()).all(|x| x.is_finite()) =>
+                    {
+                        let body = plan.objects[*object].body;
+                        add_world_wrench(ws, body, &m.r_abs, &force, &torque);
+                        continue;
+                    }
+                    Ok(w) => FaultKind::NonFinite {
+                        force: [w.force.x, w.force.y, w.force.z],
+                        torque: [w.torque.x, w.torque.y, w.torque.z],
+                    },
+                    Err(payload) => FaultKind::Panic(panic_text(payload.as_ref())),
+                };
+                ws.fault.get_or_insert(UserFault {
+                    object: plan.objects[*object].name.clone(),
+                    element: e,
+                    t,
+                    kind: fault,
+                });
             }
         }
     }

@@ -55,17 +55,27 @@ pub fn tree_mass_matrices(
         .collect()
 }
 
+/// Relative size below which a Cholesky pivot counts as zero (see [`cholesky_in_place`]).
+const PIVOT_TOLERANCE: f64 = 1e-12;
+
 /// Cholesky factorisation `M = L Lᵀ` in place (lower triangle); `Err(k)` names the first
-/// pivot that is not clearly positive (relative to the largest diagonal entry).
+/// pivot that is not clearly positive.
+///
+/// The pivot of coordinate `k` is the part of its inertia `M_kk` that the earlier coordinates
+/// do not already carry; it is compared with `M_kk` itself, not with the largest entry of the
+/// matrix, so the test is relative to each coordinate's own scale (a 2 mm ball on a joint of a
+/// 0.2 m steel block, or the rotations of a free 3 µm sphere, whose entries are 1e-13 of the
+/// others, are not singular; a massless body, a point mass on a rotation through it or a
+/// coordinate that only duplicates others is).
 pub fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
     let n = m.nrows();
-    let scale = (0..n).map(|i| m[(i, i)].abs()).fold(0.0, f64::max);
     for k in 0..n {
-        let mut d = m[(k, k)];
+        let own = m[(k, k)];
+        let mut d = own;
         for p in 0..k {
             d -= m[(k, p)] * m[(k, p)];
         }
-        if d.is_nan() || d <= 1e-12 * scale {
+        if d.is_nan() || d <= PIVOT_TOLERANCE * own {
             return Err(k);
         }
         let d = d.sqrt();

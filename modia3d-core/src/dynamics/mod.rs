@@ -36,6 +36,10 @@ pub struct Workspace {
     pub tau_applied: Vec<f64>,
     /// Current input values (len `Plan::n_inputs`), 0 until set.
     pub inputs: Vec<f64>,
+    /// The first failure of a user force law since it was last taken (a panic caught at the
+    /// call, or a non-finite wrench); the law's contribution is left out meanwhile and the
+    /// caller ends the run with it (see [`forces::UserFault`]).
+    pub fault: Option<forces::UserFault>,
 }
 
 impl Workspace {
@@ -52,6 +56,7 @@ impl Workspace {
             f_ext: vec![Force::default(); nb],
             tau_applied: vec![0.0; plan.nv],
             inputs: vec![0.0; plan.n_inputs],
+            fault: None,
         }
     }
 }

@@ -46,7 +46,7 @@ pub fn inverse_dynamics(
         let a = ws.x[i].motion_to_child(&a_parent) + s_qdd + vel.cross_motion(&ws.vj[i]);
         ws.acc[i] = a;
         let inertia = &b.inertia;
-        ws.f[i] = inertia.mul_motion(&a) + vel.cross_force(&inertia.mul_motion(&vel)) - ws.f_ext[i];
+        ws.f[i] = inertia.mul_motion(&a) + inertia.bias_force(&vel) - ws.f_ext[i];
     }
     for (i, b) in plan.bodies.iter().enumerate().rev() {
         let j = &plan.joints[b.joint];

@@ -156,6 +156,22 @@ impl Inertia {
             f: lin,
         }
     }
+    /// The velocity-product force `v ×f (I v)` of a body moving with `m`. Equal to
+    /// `m.cross_force(&self.mul_motion(m))`, but the term `v × (mass·v)`, zero in exact
+    /// arithmetic, is left out exactly instead of being formed from two rounded products: its
+    /// rounding (~mass·|v|²·1e-16) lands in the torque rows, where for a small body it
+    /// dwarfs the inertia terms (a 3 µm sphere drifting at 0.1 m/s: a torque noise of 1e-31
+    /// N·m against an inertia of 1e-25 kg·m², and IDA needed 650,000 steps for 0.3 s).
+    #[inline]
+    pub fn bias_force(&self, m: &Motion) -> Force {
+        let wc = m.w.cross(&self.com);
+        let lin = (m.v + wc) * self.mass;
+        let n_h = self.inertia_com * m.w + self.com.cross(&lin);
+        Force {
+            n: m.w.cross(&n_h) + m.v.cross(&wc) * self.mass,
+            f: m.w.cross(&lin),
+        }
+    }
     /// Adds `other`, given in a frame placed at `x` in this frame (parallel-axis theorem).
     pub fn add_transformed(&self, other: &Inertia, x: &Transform) -> Inertia {
         let m = self.mass + other.mass;
@@ -247,5 +263,32 @@ mod tests {
             0.9,
         );
         assert!((r - n.into_inner()).norm() < 1e-14);
+    }
+
+    #[test]
+    fn bias_force_equals_the_cross_product_of_the_momentum() {
+        let inertia = Inertia {
+            mass: 2.5,
+            com: Vector3::new(0.1, -0.2, 0.05),
+            inertia_com: nalgebra::Matrix3::new(0.3, 0.01, 0.0, 0.01, 0.2, 0.02, 0.0, 0.02, 0.4),
+        };
+        let m = Motion {
+            w: Vector3::new(0.7, -1.1, 2.0),
+            v: Vector3::new(-0.4, 0.9, 0.3),
+        };
+        let a = inertia.bias_force(&m);
+        let b = m.cross_force(&inertia.mul_motion(&m));
+        // The same expression up to rounding: entries are O(1), so 1e-14.
+        assert!((a.n - b.n).norm() < 1e-14 && (a.f - b.f).norm() < 1e-14);
+        // A body at its centre of mass translating without spin: exactly no bias torque.
+        let point = Inertia {
+            com: Vector3::zeros(),
+            ..inertia
+        };
+        let slide = Motion {
+            w: Vector3::zeros(),
+            v: Vector3::new(0.1, 0.3, -0.7),
+        };
+        assert_eq!(point.bias_force(&slide).n, Vector3::zeros());
     }
 }

@@ -48,8 +48,7 @@ impl SimulationResult {
     pub(crate) fn animated_objects(&self) -> Result<Vec<AnimObject>, ResultError> {
         let plan = self.plan();
         let mut out = vec![];
-        for (i, op) in plan.objects.iter().enumerate() {
-            let so = &plan.scene.objects[i];
+        for (op, so) in plan.objects.iter().zip(&plan.scene.objects) {
             let shapes: Vec<Shape> = so
                 .solid
                 .as_ref()
@@ -63,15 +62,15 @@ impl SimulationResult {
             let r = self.signal(&format!("{}.r_abs", op.name))?;
             let rot = self.signal(&format!("{}.R_abs", op.name))?;
             let n = self.time().len();
-            let positions = (0..n).map(|k| {
-                let p = r.at(k);
-                [p[0], p[1], p[2]]
-            });
+            let positions = r
+                .data
+                .chunks_exact(3)
+                .filter_map(|p| <[f64; 3]>::try_from(p).ok());
             let mut rotations: Vec<[f64; 4]> = Vec::with_capacity(n);
-            for k in 0..n {
-                let mut q = quaternion_of_row_major(rot.at(k));
+            for row in rot.data.chunks_exact(9) {
+                let mut q = quaternion_of_row_major(row);
                 if let Some(prev) = rotations.last() {
-                    let dot: f64 = (0..4).map(|j| prev[j] * q[j]).sum();
+                    let dot: f64 = prev.iter().zip(&q).map(|(a, b)| a * b).sum();
                     if dot < 0.0 {
                         q = q.map(|c| -c);
                     }

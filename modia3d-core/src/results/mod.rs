@@ -1,5 +1,7 @@
 //! Results stage: time points and states of a run, signals by name computed on demand from the
 //! stored states (so a run pays only for the signals asked for), statistics, events, CSV export.
+// No panic on user input: indexing goes through `get` and iterators (issue 15's audit).
+#![deny(clippy::indexing_slicing)]
 
 mod animation;
 mod gltf;
@@ -77,18 +79,36 @@ impl Signal {
             .copied()
             .collect()
     }
-    /// The values at time point `k`.
-    pub fn at(&self, k: usize) -> &[f64] {
-        &self.data[k * self.dim..(k + 1) * self.dim]
+    /// Number of time points.
+    pub fn len(&self) -> usize {
+        self.data.len().checked_div(self.dim).unwrap_or(0)
+    }
+    /// True if the signal has no time point (e.g. of a run that failed before its first
+    /// output point).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// The `dim` values at time point `k`; `None` if `k` is not a recorded time point
+    /// (`k >= len()`). Never panics.
+    pub fn at(&self, k: usize) -> Option<&[f64]> {
+        if k >= self.len() {
+            return None;
+        }
+        // k < len() = data.len() / dim, so neither product overflows.
+        self.data.get(k * self.dim..(k + 1) * self.dim)
     }
     /// The values of a scalar signal (component 0).
     pub fn values(&self) -> Vec<f64> {
         self.component(0)
     }
-    /// The values at the last time point.
-    pub fn last(&self) -> &[f64] {
-        let n = self.data.len() / self.dim.max(1);
-        self.at(n - 1)
+    /// The values at the first time point; `None` for an empty signal.
+    pub fn first(&self) -> Option<&[f64]> {
+        self.at(0)
+    }
+    /// The values at the last time point; `None` for an empty signal (e.g. the partial result
+    /// of a run that failed before recording a point). Never panics.
+    pub fn last(&self) -> Option<&[f64]> {
+        self.len().checked_sub(1).and_then(|k| self.at(k))
     }
 }
 
@@ -172,9 +192,7 @@ impl SimulationResult {
             rec.data.push(if on { r.penetration } else { 0.0 });
             rec.data.push(if on { r.f_n } else { 0.0 });
             for v in [r.friction_force, r.rolling_torque, r.point, r.normal] {
-                for i in 0..3 {
-                    rec.data.push(if on { v[i] } else { 0.0 });
-                }
+                rec.data.extend(v.iter().map(|&x| if on { x } else { 0.0 }));
             }
         }
     }
@@ -205,9 +223,11 @@ impl SimulationResult {
         let np = self.model.contact.as_ref()?.pairs.len();
         let stride = np * PAIR_VALUES;
         let base = p * PAIR_VALUES + off;
-        let data = (0..self.time.len())
-            .flat_map(|k| rec.data[k * stride + base..k * stride + base + dim].to_vec())
-            .collect();
+        let mut data = Vec::with_capacity(dim * self.time.len());
+        for k in 0..self.time.len() {
+            let at = k * stride + base;
+            data.extend_from_slice(rec.data.get(at..at + dim)?);
+        }
         Some(Signal {
             name: format!("{owner}.{field}"),
             unit,
@@ -231,15 +251,25 @@ impl SimulationResult {
         self.model.plan.nq + self.model.plan.nv
     }
 
-    /// State `y = [q; v]` at time point `k`.
-    pub fn state(&self, k: usize) -> &[f64] {
+    /// State `y = [q; v]` at time point `k`; `None` if `k` is not a recorded time point
+    /// (`k >= time().len()`). Never panics.
+    pub fn state(&self, k: usize) -> Option<&[f64]> {
+        if k >= self.time.len() {
+            return None;
+        }
         let n = self.state_len();
-        &self.states[k * n..(k + 1) * n]
+        // k < time().len(), and `states` holds n values per time point: no overflow.
+        self.states.get(k * n..(k + 1) * n)
+    }
+
+    /// The states at every time point, in order.
+    fn states_iter(&self) -> impl Iterator<Item = &[f64]> + '_ {
+        (0..self.time.len()).filter_map(|k| self.state(k))
     }
 
     /// The final state, if any time point was recorded.
     pub fn final_state(&self) -> Option<&[f64]> {
-        (!self.time.is_empty()).then(|| self.state(self.time.len() - 1))
+        self.time.len().checked_sub(1).and_then(|k| self.state(k))
     }
 
     /// The plan the run was made with.
@@ -353,8 +383,7 @@ impl SimulationResult {
             dim,
             data,
         };
-        if let Some(ji) = plan.joint_index(owner) {
-            let j = &plan.joints[ji];
+        if let Some(j) = plan.joint_index(owner).and_then(|ji| plan.joints.get(ji)) {
             let (off, dim, unit) = match (j.coord, field) {
                 (JointCoord::Revolute { .. }, "phi") => (j.q_offset, 1, "rad"),
                 (JointCoord::Revolute { .. }, "w") => (nq + j.v_offset, 1, "rad/s"),
@@ -366,25 +395,24 @@ impl SimulationResult {
                 (JointCoord::Free, "v") => {
                     // der(r), resolved in obj1: rotate the body-frame velocity.
                     let mut data = Vec::with_capacity(3 * nt);
-                    for k in 0..nt {
-                        let y = self.state(k);
-                        let rot = crate::dynamics::spatial::quat_to_matrix(
-                            &y[j.q_offset + 3..j.q_offset + 7],
-                        );
-                        let o = nq + j.v_offset + 3;
-                        let v = rot * nalgebra::Vector3::new(y[o], y[o + 1], y[o + 2]);
-                        data.extend_from_slice(v.as_slice());
+                    let (q, o) = (j.q_offset + 3, nq + j.v_offset + 3);
+                    for y in self.states_iter() {
+                        let rot = crate::dynamics::spatial::quat_to_matrix(y.get(q..q + 4)?);
+                        let v_body = nalgebra::Vector3::from_column_slice(y.get(o..o + 3)?);
+                        data.extend_from_slice((rot * v_body).as_slice());
                     }
                     return Some(make("m/s", 3, data));
                 }
                 _ => return None,
             };
-            let data = (0..nt)
-                .flat_map(|k| self.state(k)[off..off + dim].to_vec())
-                .collect();
+            let mut data = Vec::with_capacity(dim * nt);
+            for y in self.states_iter() {
+                data.extend_from_slice(y.get(off..off + dim)?);
+            }
             return Some(make(unit, dim, data));
         }
         let o = plan.object_index(owner)?;
+        let body = plan.objects.get(o)?.body;
         let (quantity, dim, unit) = match field {
             "r_abs" => (Quantity::Pos, 3, "m"),
             "v_abs" => (Quantity::Vel, 3, "m/s"),
@@ -394,15 +422,15 @@ impl SimulationResult {
         };
         let mut ws = Workspace::new(plan);
         let mut data = Vec::with_capacity(dim * nt);
-        for k in 0..nt {
-            let (q, v) = self.state(k).split_at(nq);
+        for y in self.states_iter() {
+            let (q, v) = y.split_at(nq);
             kinematics::position_velocity(plan, &mut ws, q, v);
             let x = kinematics::object_in_world(plan, &ws, o);
             match quantity {
                 Quantity::Pos => data.extend_from_slice(x.pos.as_slice()),
                 Quantity::Rot => data.extend(x.rot.transpose().iter().copied()),
                 Quantity::Vel | Quantity::AngVel => {
-                    let (vel, w) = kinematics::point_velocity(&ws, plan.objects[o].body, &x.pos);
+                    let (vel, w) = kinematics::point_velocity(&ws, body, &x.pos);
                     let val = if matches!(quantity, Quantity::Vel) {
                         vel
                     } else {
@@ -447,7 +475,7 @@ impl SimulationResult {
         for (k, t) in self.time.iter().enumerate() {
             let mut row = vec![format!("{t:.17e}")];
             for s in &signals {
-                row.extend(s.at(k).iter().map(|x| format!("{x:.17e}")));
+                row.extend(s.at(k).unwrap_or(&[]).iter().map(|x| format!("{x:.17e}")));
             }
             writeln!(out, "{}", row.join(",")).map_err(io)?;
         }

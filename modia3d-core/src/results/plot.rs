@@ -65,9 +65,9 @@ impl SimulationResult {
             return Err(export("no signal names given".into()));
         }
         let time = self.time();
-        if time.is_empty() {
+        let (Some(&t0), Some(&t_last)) = (time.first(), time.last()) else {
             return Err(export("the result has no time points".into()));
-        }
+        };
         let mut curves = vec![];
         for name in names {
             let s = self.signal(name)?;
@@ -84,7 +84,7 @@ impl SimulationResult {
                 });
             }
         }
-        let (t0, mut t1) = (time[0], time[time.len() - 1]);
+        let mut t1 = t_last;
         if t1 <= t0 {
             t1 = t0 + 1.0;
         }
@@ -105,14 +105,13 @@ impl SimulationResult {
         units.dedup();
         units.sort_unstable();
         units.dedup();
-        let y_desc = if units.len() == 1 {
-            let unit = if units[0] == "1" { "-" } else { units[0] };
+        let y_desc = if let [only] = units[..] {
+            let unit = if only == "1" { "-" } else { only };
             format!(
                 "{} [{unit}]",
-                if curves.len() == 1 {
-                    &curves[0].label
-                } else {
-                    "value"
+                match &curves[..] {
+                    [c] => c.label.as_str(),
+                    _ => "value",
                 }
             )
         } else {
@@ -138,8 +137,7 @@ impl SimulationResult {
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()
                 .map_err(draw)?;
-            for (n, c) in curves.iter().enumerate() {
-                let color = PALETTE[n % PALETTE.len()];
+            for (c, color) in curves.iter().zip(PALETTE.iter().cycle()) {
                 let points = time
                     .iter()
                     .zip(&c.values)

@@ -121,13 +121,15 @@ impl SimulationResult {
         for (i, o) in objects.iter().enumerate() {
             let mat = uuid(2, i);
             materials.push(json!({"uuid": mat, "type": "MeshStandardMaterial",
-                "name": o.name, "color": COLORS[i % COLORS.len()], "roughness": 0.6,
+                "name": o.name, "color": COLORS.iter().cycle().nth(i), "roughness": 0.6,
                 "metalness": 0.1, "side": 2}));
             let mut meshes = vec![];
             for (s, shape) in o.shapes.iter().enumerate() {
                 let g = uuid(1, geometries.len());
                 let (mut geo, m) = geometry(shape);
-                geo["uuid"] = json!(g);
+                if let Some(fields) = geo.as_object_mut() {
+                    fields.insert("uuid".into(), json!(g));
+                }
                 geometries.push(geo);
                 meshes.push(json!({"uuid": uuid(3, 1000 * (i + 1) + s), "type": "Mesh",
                     "name": format!("{}_shape{s}", o.name), "geometry": g, "material": mat,

@@ -2,11 +2,15 @@
 //! Modia3D.jl's palettes, see `reference/materials.md`) and user palettes loaded from JSON.
 //! Plain data; validation checks the ranges.
 
+use serde::de::{Deserializer, Error as _, MapAccess, Visitor};
 use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::fmt;
 
-/// Mechanical data of a solid material.
+/// Mechanical data of a solid material. In a JSON palette every field is required and an
+/// unknown field (e.g. a misspelt `poisson_ration`) is an error.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SolidMaterial {
     /// Density [kg/m³].
     pub density: f64,
@@ -157,12 +161,63 @@ pub struct ContactPairEntry {
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialPalette {
-    /// Solid materials by name.
-    #[serde(default)]
+    /// Solid materials by name (a name given twice is an error, not "the last one wins").
+    #[serde(default, deserialize_with = "unique_solids")]
     pub solid: BTreeMap<String, SolidMaterial>,
     /// Contact-pair materials.
     #[serde(default)]
     pub contact_pairs: Vec<ContactPairEntry>,
+}
+
+/// The `solid` section: names to materials, each name once; an error inside a material names
+/// it (serde's own map would keep the last of two equal keys without a word).
+fn unique_solids<'de, D: Deserializer<'de>>(
+    d: D,
+) -> Result<BTreeMap<String, SolidMaterial>, D::Error> {
+    struct Solids;
+    impl<'de> Visitor<'de> for Solids {
+        type Value = BTreeMap<String, SolidMaterial>;
+        fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+            f.write_str("an object of solid materials by name")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some(name) = map.next_key::<String>()? {
+                if out.contains_key(&name) {
+                    return Err(A::Error::custom(format!(
+                        "solid material `{name}` is defined twice in section `solid`: keep one definition"
+                    )));
+                }
+                let m = map.next_value::<SolidMaterial>().map_err(|e| {
+                    A::Error::custom(format!(
+                        "solid material `{name}`: {}",
+                        without_position(&e.to_string())
+                    ))
+                })?;
+                out.insert(name, m);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(Solids)
+}
+
+/// `message` without serde_json's trailing ` at line L column C` (the position is reported
+/// in fields of its own).
+fn without_position(message: &str) -> &str {
+    let mut m = message;
+    while let Some((head, tail)) = m.rsplit_once(" at line ") {
+        let is_position = tail.split_once(" column ").is_some_and(|(l, c)| {
+            [l, c]
+                .iter()
+                .all(|s| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit()))
+        });
+        if !is_position {
+            break;
+        }
+        m = head;
+    }
+    m
 }
 
 /// A material file that cannot be read or parsed.
@@ -197,7 +252,7 @@ impl MaterialPalette {
             path: origin.to_string(),
             line: e.line(),
             column: e.column(),
-            message: e.to_string(),
+            message: without_position(&e.to_string()).to_string(),
         })
     }
     /// Reads a palette from a JSON file.

@@ -130,7 +130,7 @@ impl std::fmt::Display for WorkDiagnosis {
 /// Events of one pair among the last `window` events: the pair with the most, their number and
 /// time span [s].
 pub(crate) fn busiest_pair(events: &[Event], window: usize) -> Option<(String, usize, f64)> {
-    let recent = &events[events.len().saturating_sub(window)..];
+    let recent = events.iter().skip(events.len().saturating_sub(window));
     let mut counts: Vec<(&str, usize, f64, f64)> = vec![];
     for e in recent {
         for p in e.started.iter().chain(&e.ended) {
@@ -151,7 +151,8 @@ pub(crate) fn busiest_pair(events: &[Event], window: usize) -> Option<(String, u
 
 /// Mass [kg] of body `b` (`None` = the world: infinite).
 fn mass(plan: &Plan, b: Option<usize>) -> f64 {
-    b.map_or(f64::INFINITY, |b| plan.bodies[b].inertia.mass)
+    b.and_then(|b| plan.bodies.get(b))
+        .map_or(f64::INFINITY, |b| b.inertia.mass)
 }
 
 fn reduced(m1: f64, m2: f64) -> f64 {
@@ -180,13 +181,13 @@ pub(crate) fn stiffest(
     let mut best_t = f64::INFINITY;
     if let (Some(cs), Some(cp)) = (cs, cp) {
         for &p in &cs.active {
-            let (pp, ps) = (&cp.pairs[p as usize], &cs.pairs[p as usize]);
+            let (Some(pp), Some(ps)) = (cp.pairs.get(p as usize), cs.pairs.get(p as usize)) else {
+                continue;
+            };
+            let body = |s: usize| cp.shapes.get(s).and_then(|s| s.body);
             let delta = ps.response.penetration;
             let k = cp.k_red * pp.c_res * pp.c_geo * pp.n_geo * delta.powf(pp.n_geo - 1.0);
-            let m = reduced(
-                mass(plan, cp.shapes[pp.a].body),
-                mass(plan, cp.shapes[pp.b].body),
-            );
+            let m = reduced(mass(plan, body(pp.a)), mass(plan, body(pp.b)));
             let t = period(m, k);
             if k > 0.0 && t.is_finite() && t < best_t {
                 best_t = t;
@@ -207,7 +208,9 @@ pub(crate) fn stiffest(
                 let Some(j) = plan.joints.iter().find(|j| j.scene_joint == *joint) else {
                     continue;
                 };
-                let b = &plan.bodies[j.body];
+                let Some(b) = plan.bodies.get(j.body) else {
+                    continue;
+                };
                 let m = match j.coord {
                     JointCoord::Revolute { axis } => {
                         // About the joint axis through the body frame origin (parallel axes).
@@ -227,15 +230,13 @@ pub(crate) fn stiffest(
                 stiffness,
                 ..
             } => {
-                let m = reduced(
-                    mass(plan, plan.objects[*obj1].body),
-                    mass(plan, plan.objects[*obj2].body),
-                );
+                let (Some(o1), Some(o2)) = (plan.objects.get(*obj1), plan.objects.get(*obj2))
+                else {
+                    continue;
+                };
+                let m = reduced(mass(plan, o1.body), mass(plan, o2.body));
                 (
-                    format!(
-                        "spring-damper `{}`–`{}`",
-                        plan.objects[*obj1].name, plan.objects[*obj2].name
-                    ),
+                    format!("spring-damper `{}`–`{}`", o1.name, o2.name),
                     m,
                     *stiffness,
                 )
@@ -267,10 +268,12 @@ pub(crate) fn state_name(plan: &Plan, i: usize) -> Option<String> {
         (off..off + n).contains(&k)
     })?;
     let off = if i < plan.nq { j.q_offset } else { j.v_offset };
-    let object = plan.bodies[j.body]
-        .objects
-        .first()
-        .map(|&o| plan.objects[o].name.clone())
+    let object = plan
+        .bodies
+        .get(j.body)
+        .and_then(|b| b.objects.first())
+        .and_then(|&o| plan.objects.get(o))
+        .map(|o| o.name.clone())
         .unwrap_or_default();
     Some(format!(
         "{kind} {} of joint `{}` (object `{object}`)",

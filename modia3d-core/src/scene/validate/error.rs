@@ -14,6 +14,17 @@ pub enum SceneError {
         /// The repeated name.
         name: String,
     },
+    /// An object, a joint or a named force element share a name: they form one namespace
+    /// (signals are `<object or joint>.<quantity>`; in `model!` all are Rust identifiers).
+    #[error("{first} `{name}` and {second} `{name}` share a name: objects, joints and force elements form one namespace (signals are `<name>.<quantity>`); rename one of them")]
+    NameClash {
+        /// The shared name.
+        name: String,
+        /// What the first one is: "object", "joint" or "force element".
+        first: &'static str,
+        /// What the second one is.
+        second: &'static str,
+    },
     /// No object has the `Scene` feature.
     #[error("the scene has no `Scene` object: add exactly one root object with feature `Scene` (the world)")]
     NoScene,

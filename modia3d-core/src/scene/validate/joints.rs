@@ -5,6 +5,10 @@ use super::{Checker, Names, SceneError, ValidJoint, ValidJointKind};
 use crate::scene::desc::{FreeRotation, JointKind, SceneDesc};
 use nalgebra::{Rotation3, UnitQuaternion, Vector3};
 
+/// Largest admissible `|‖q‖ − 1|` of a FreeMotion's initial quaternion (round-off of a
+/// normalised quaternion is ~1e-16; a user's rounded literal digits stay well inside).
+const UNIT_QUATERNION_TOLERANCE: f64 = 1e-6;
+
 /// Every joint resolved and checked, in declaration order; a joint with an error is left out
 /// and its resolved ends marked in `suspect` (they may now look unconnected).
 pub(super) fn joints(
@@ -101,7 +105,19 @@ fn check_joint_kind(c: &mut Checker, joint: &str, k: &JointKind) -> Option<Valid
                         || format!("joint `{joint}`: initial quaternion"),
                         q.coords.as_slice(),
                     );
-                    *q
+                    // A `UnitQuaternion` made with `new_unchecked` may be anything: a zero
+                    // (or far from unit) quaternion is no rotation, and the solver would
+                    // fail on it later without naming the joint.
+                    let n = q.coords.norm();
+                    if n.is_finite() && (n - 1.0).abs() > UNIT_QUATERNION_TOLERANCE {
+                        c.errors.push(SceneError::InvalidValue {
+                            what: format!("joint `{joint}`: norm of the initial quaternion"),
+                            value: n,
+                            expected: "1 within 1e-6 (a unit quaternion: build it with UnitQuaternion::from_quaternion or new_normalize, not new_unchecked)",
+                        });
+                    }
+                    // Exactly unit from here on (the joint is dropped if the check failed).
+                    UnitQuaternion::new_normalize(q.into_inner())
                 }
             };
             ValidJointKind::FreeMotion {

@@ -16,7 +16,7 @@ mod options;
 
 pub use error::{did_you_mean, SceneError, SceneErrors};
 
-use super::desc::SceneDesc;
+use super::desc::{ForceElement, SceneDesc};
 use super::materials::{builtin_contact_pair, ContactPairMaterial, SolidMaterial};
 use crate::geometry::Shape;
 use crate::scene::desc::SceneOptions;
@@ -274,6 +274,28 @@ impl<'a> Names<'a> {
                     kind: "joint",
                     name: j.name.clone(),
                 });
+            }
+        }
+        // One namespace: a joint (or spring-damper) named like an object would make its
+        // signals `<name>.<quantity>` ambiguous.
+        let spring_names = desc.forces.iter().filter_map(|f| match f {
+            ForceElement::SpringDamper { name, .. } => Some(name.as_str()),
+            _ => None,
+        });
+        let mut seen: HashMap<&str, &'static str> =
+            obj_index.keys().map(|&n| (n, "object")).collect();
+        let joint_names = desc.joints.iter().map(|j| (j.name.as_str(), "joint"));
+        for (name, kind) in joint_names.chain(spring_names.map(|n| (n, "force element"))) {
+            match seen.get(name) {
+                Some(&first) if first != kind => c.errors.push(SceneError::NameClash {
+                    name: name.to_string(),
+                    first,
+                    second: kind,
+                }),
+                Some(_) => {}
+                None => {
+                    seen.insert(name, kind);
+                }
             }
         }
         Names {

@@ -162,6 +162,7 @@ pub(super) fn objects(
                     c.non_negative(|| format!("solid `{}`: smoothing radius [m]", o.name), r);
                 }
                 let mass = solid_mass(c, &o.name, s, material.as_ref());
+                check_mass_range(c, &o.name, s, material.as_ref(), mass.mass);
                 let contact_material = s.contact_material.clone().or(material_name.clone());
                 let mut contact_elasticity = None;
                 if s.collision {
@@ -239,6 +240,39 @@ fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {
             });
         }
     }
+}
+
+/// Range of a solid's mass [kg]: far beyond any body the contact laws are meant for (a
+/// 1e-20 kg steel sphere is 13 nm across; 1e20 kg is a small moon), and far enough from f64's
+/// limits that `m·r²` of the inertia and `f/m` of the accelerations neither underflow nor
+/// overflow (a 1e-300 kg body passed the positivity check and ended as `IDA_ILL_INPUT`).
+pub(crate) const MASS_RANGE: (f64, f64) = (1e-20, 1e20);
+
+/// The mass of a solid (given or density × volume) within [`MASS_RANGE`]; a mass that is not
+/// positive and finite was reported by [`solid_mass`] already.
+fn check_mass_range(
+    c: &mut Checker,
+    object: &str,
+    s: &crate::scene::desc::Solid,
+    material: Option<&SolidMaterial>,
+    mass: f64,
+) {
+    let (lo, hi) = MASS_RANGE;
+    if !(mass.is_finite() && mass > 0.0) || (lo..=hi).contains(&mass) {
+        return;
+    }
+    let what = match (&s.mass_properties, material) {
+        (MassSpec::FromShapeAndDensity, Some(m)) => format!(
+            "solid `{object}`: mass [kg] from density {:e} kg/m³ × volume",
+            m.density
+        ),
+        _ => format!("solid `{object}`: mass [kg]"),
+    };
+    c.errors.push(SceneError::InvalidValue {
+        what,
+        value: mass,
+        expected: "in [1e-20, 1e20] kg (a rigid body from 13 nm of steel to a small moon)",
+    });
 }
 
 fn solid_mass(
