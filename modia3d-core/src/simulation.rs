@@ -543,10 +543,16 @@ impl Simulation {
         if let Some(budget) = reached {
             return Err(self.diagnose(budget, steps));
         }
-        let chunk = self
+        let mut chunk = self
             .opts
             .max_steps
             .map_or(STEP_CHUNK, |n| (n - steps).min(STEP_CHUNK));
+        if let Some(w) = self.opts.max_wall_time {
+            // Check the wall time about every 5 % of its budget: at the step rate so far
+            // (a large scene can take a millisecond a step, 2,000 steps would overshoot).
+            let rate = steps as f64 / wall.max(1e-6);
+            chunk = chunk.min((rate * 0.05 * w).max(10.0) as u64);
+        }
         self.ida.set_max_num_steps(chunk as usize)?;
         Ok(())
     }
