@@ -11,8 +11,11 @@
 //! `tol` = the narrow phase's admitted error, `mpr_tolerance · size` (size = sum of the two
 //! bounding radii, 0.80 m here: below 1e-9 m at 1e-9).
 
+mod recorder;
+
 use modia3d::demo::{c_res, fixed_box, world};
 use modia3d::prelude::*;
+use recorder::Recorder;
 
 fn steel() -> SolidMaterial {
     modia3d::core::scene::builtin_solid_material("Steel").unwrap()
@@ -106,8 +109,11 @@ fn mpr_at_its_iteration_limit_returns_its_best_iterate_and_the_run_ends() {
         ..Default::default()
     };
     let opts = SimOptions::new(0.2).max_wall_time(2.0).progress(false);
+    let model = box_on_table(options).build().unwrap();
+    let rec = std::sync::Arc::new(Recorder(std::sync::Mutex::new(vec![])));
     let t0 = std::time::Instant::now();
-    let stats = match box_on_table(options).build().unwrap().simulate(&opts) {
+    let res = tracing::subscriber::with_default(rec.clone(), || model.simulate(&opts));
+    let stats = match res {
         Ok(r) => r.stats,
         Err(SimError {
             kind: SimErrorKind::WorkBudget(_),
@@ -123,4 +129,12 @@ fn mpr_at_its_iteration_limit_returns_its_best_iterate_and_the_run_ends() {
         "no call stopped at the limit"
     );
     assert!(stats.narrow_phase_limits <= stats.narrow_phase_calls);
+    // Warned once for the one pair, however often the limit was hit.
+    let msgs = rec.0.lock().unwrap();
+    let warned: Vec<_> = msgs
+        .iter()
+        .filter(|m| m.contains("iteration limit"))
+        .collect();
+    assert_eq!(warned.len(), 1, "{warned:#?}");
+    assert!(warned[0].contains("pair=table|box"), "{}", warned[0]);
 }
