@@ -548,10 +548,11 @@ impl Simulation {
             .max_steps
             .map_or(STEP_CHUNK, |n| (n - steps).min(STEP_CHUNK));
         if let Some(w) = self.opts.max_wall_time {
-            // Check the wall time about every 5 % of its budget: at the step rate so far
-            // (a large scene can take a millisecond a step, 2,000 steps would overshoot).
+            // Check the wall time about every 2 % of its budget at the step rate so far, and
+            // at least every 200 steps: a large scene can take milliseconds a step, and the
+            // cost of a step can jump when a stiff contact starts.
             let rate = steps as f64 / wall.max(1e-6);
-            chunk = chunk.min((rate * 0.05 * w).max(10.0) as u64);
+            chunk = chunk.min((rate * 0.02 * w).clamp(10.0, 200.0) as u64);
         }
         self.ida.set_max_num_steps(chunk as usize)?;
         Ok(())
