@@ -237,7 +237,18 @@ fn the_later_modia3d_profile_is_an_option() {
                 .collision(true),
             ),
         )
-        .add_joint(Joint::new("free", "world", "cube", JointKind::free()));
+        .add_joint(Joint::new(
+            "free",
+            "world",
+            "cube",
+            // Above the floor: half inside it would be an initial-penetration error.
+            JointKind::FreeMotion {
+                r: Vector3::new(0.0, 0.0, 0.2),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
     let m = s.build().unwrap();
     let p = &m.contact_pairs()[0];
     let r_star = 1.0 / (1.0 / 0.05 + 1.0 / 0.05);

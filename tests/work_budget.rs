@@ -180,7 +180,7 @@ fn loose_mpr_tolerance_is_rejected() {
     ));
     let e = s.build().unwrap_err().to_string();
     assert!(e.contains("mpr_tolerance"), "{e}");
-    assert!(e.contains("1e-6"), "{e}");
+    assert!(e.contains("1e-9"), "{e}");
 }
 
 /// Output grids of more than 1e7 points, tolerances below 1e-14, runs shorter than 1e-12 s and

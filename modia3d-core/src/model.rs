@@ -68,13 +68,19 @@ impl SceneDesc {
 }
 
 impl Model {
-    /// Compiles both plans of a validated scene. The mass-matrix positivity check comes last:
-    /// it needs the compiled plan and an inverse-dynamics pass at the initial state (see
-    /// `Plan::check_inertia` for why it is not a validation check).
+    /// Compiles both plans of a validated scene. The mass-matrix positivity check and the
+    /// initial penetrations come last: they need the compiled plans and the initial state (see
+    /// `Plan::check_inertia` for why they are not validation checks; `contact/initial.rs`).
     pub(crate) fn compile(valid: ValidScene) -> Result<Model, SceneErrors> {
         let plan = Plan::compile(valid);
         let contact = ContactPlan::compile(&plan.scene, &plan.objects).map_err(SceneErrors)?;
         plan.check_inertia()?;
+        if let Some(cp) = &contact {
+            let deep = crate::contact::initial_penetrations(&plan, cp);
+            if !deep.is_empty() {
+                return Err(SceneErrors(deep));
+            }
+        }
         Ok(Model {
             plan: Arc::new(plan),
             contact: contact.map(Arc::new),

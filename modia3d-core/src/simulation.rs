@@ -518,18 +518,19 @@ impl Simulation {
     }
 
     fn update_stats(&mut self) {
-        let (narrow, aabb) = self
+        let (narrow, aabb, limits) = self
             .ida
             .system()
             .contact()
-            .map(|c| (c.narrow_calls, c.aabb_tests))
-            .unwrap_or((0, 0));
+            .map(|c| (c.narrow_calls, c.aabb_tests, c.narrow_limits))
+            .unwrap_or((0, 0, 0));
         self.result.stats = SimStats {
             solver: self.ida.stats(),
             events: self.result.events.len() as u64,
             root_functions: self.result.stats.root_functions,
             narrow_phase_calls: narrow,
             aabb_tests: aabb,
+            narrow_phase_limits: limits,
             wall_time: self.wall,
         };
     }

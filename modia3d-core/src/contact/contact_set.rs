@@ -9,9 +9,10 @@ use crate::dynamics::forces::add_world_wrench;
 use crate::dynamics::kinematics::point_velocity;
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::{Plan, Workspace};
+use crate::geometry::narrow_phase::Method;
 use crate::geometry::BroadPhase;
 use crate::geometry::{
-    aabb_distance, contact_point, signed_distance, world_aabb, GeometryError, SignedDistance,
+    aabb_distance, contact_point, signed_distance_method, world_aabb, GeometryError, SignedDistance,
 };
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::bounding_volume::BoundingVolume;
@@ -71,6 +72,11 @@ pub struct ContactState {
     pub narrow_calls: u64,
     /// AABB distance tests (broad phase) so far.
     pub aabb_tests: u64,
+    /// Narrow-phase calls that stopped at the MPR/GJK iteration limit so far (the best iterate
+    /// was used; each pair is warned about once, by `tracing::warn!`).
+    pub narrow_limits: u64,
+    /// `limit_warned[p]`: pair `p` has been warned about its iteration limit.
+    limit_warned: Vec<bool>,
     poses: Vec<Isometry3<f64>>,
     aabbs: Vec<crate::geometry::Aabb>,
     /// AABBs loosened by half the margin on every side, for the broad phase.
@@ -91,7 +97,8 @@ fn to_isometry(t: &Transform) -> Isometry3<f64> {
     )
 }
 
-fn shape_pose(cp: &ContactPlan, ws: &Workspace, s: usize) -> Isometry3<f64> {
+/// Pose of shape `s` in world at the workspace state (`position_velocity` done).
+pub(crate) fn shape_pose(cp: &ContactPlan, ws: &Workspace, s: usize) -> Isometry3<f64> {
     let sp = &cp.shapes[s];
     let t = match sp.body {
         Some(b) => ws.world[b].then(&sp.in_body),
@@ -125,6 +132,8 @@ impl ContactState {
             ended: Vec::with_capacity(np),
             narrow_calls: 0,
             aabb_tests: 0,
+            narrow_limits: 0,
+            limit_warned: vec![false; np],
             poses: vec![Isometry3::identity(); ns],
             aabbs: vec![crate::geometry::Aabb::new_invalid(); ns],
             grown: vec![crate::geometry::Aabb::new_invalid(); ns],
@@ -144,7 +153,7 @@ impl ContactState {
     ) -> Result<SignedDistance, ContactError> {
         let pp = &cp.pairs[p];
         self.narrow_calls += 1;
-        signed_distance(
+        let (sd, method) = signed_distance_method(
             &cp.shapes[pp.a].shape,
             &self.poses[pp.a],
             &cp.shapes[pp.b].shape,
@@ -155,7 +164,24 @@ impl ContactState {
             pair: cp.pair_name(&plan.scene, p),
             t,
             source,
-        })
+        })?;
+        if method == Method::IterationLimit {
+            // The iterate is still usable (a lower bound of the distance); say so once per
+            // pair, since a pair that needs more iterations usually does so at every call.
+            self.narrow_limits += 1;
+            if !self.limit_warned[p] {
+                self.limit_warned[p] = true;
+                tracing::warn!(
+                    pair = %cp.pair_name(&plan.scene, p),
+                    t,
+                    max_iterations = cp.narrow.max_iterations,
+                    "the narrow phase stopped at its iteration limit before meeting \
+                     mpr_tolerance; the best iterate is used (raise mpr_max_iterations or \
+                     loosen mpr_tolerance if this repeats)"
+                );
+            }
+        }
+        Ok(sd)
     }
 
     /// Point of application of pair `p`'s force for its narrow-phase result `sd` (poses of the

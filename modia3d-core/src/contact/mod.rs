@@ -1,7 +1,8 @@
 //! Contact stage (`docs/contact-model.md` §2–§4): the collision pairs compiled once from the
 //! scene ([`ContactPlan`], immutable, in `preprocess.rs`), the contact set and per-pair state
 //! ([`ContactState`], mutable, in `contact_set.rs`), the regularisations (`regularise.rs`) and
-//! the elastic response (`response.rs`). Reads the dynamics workspace (poses, velocities) and
+//! the elastic response (`response.rs`); the build-time check of initial penetrations
+//! (`initial.rs`). Reads the dynamics workspace (poses, velocities) and
 //! writes only external forces into it (`ws.f_ext`, through `add_world_wrench`).
 //!
 //! Evaluation modes ([`Mode`]): `Event` (rebuild the contact set, store `δ̇⁻`),
@@ -9,6 +10,7 @@
 //! A scene without candidate pairs has no `ContactPlan` at all, so none of this runs.
 
 mod contact_set;
+mod initial;
 mod preprocess;
 mod regularise;
 mod response;
@@ -16,4 +18,5 @@ mod restitution;
 mod step_guard;
 
 pub use contact_set::{ContactError, ContactState, Mode};
+pub(crate) use initial::initial_penetrations;
 pub use preprocess::ContactPlan;

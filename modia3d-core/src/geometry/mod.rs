@@ -30,7 +30,9 @@ pub use broad_phase::BroadPhase;
 pub use collision_shape::CollisionShape;
 pub use error::GeometryError;
 pub use mesh_file::{convex_hull_from_obj, obj_vertices};
-pub use narrow_phase::{contact_point, signed_distance, NarrowPhaseOptions, SignedDistance};
+pub use narrow_phase::{
+    contact_point, signed_distance, signed_distance_method, NarrowPhaseOptions, SignedDistance,
+};
 pub use shapes::{Axis, Shape, ShapeKind, UnitMassProperties};
 pub use smoothing::{effective_smoothing_radius, DEFAULT_SMOOTHING_RADIUS};
 pub use support::CoreShape;

@@ -28,6 +28,10 @@ pub struct SimStats {
     pub narrow_phase_calls: u64,
     /// Broad-phase AABB distance tests of the collision stage.
     pub aabb_tests: u64,
+    /// Narrow-phase calls that stopped at the MPR/GJK iteration limit
+    /// (`SceneOptions::mpr_max_iterations`) and used their best iterate; each such pair is
+    /// also warned about once (`tracing::warn!`).
+    pub narrow_phase_limits: u64,
     /// Wall-clock time of the integration [s].
     pub wall_time: f64,
 }

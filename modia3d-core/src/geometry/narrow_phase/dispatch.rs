@@ -3,7 +3,7 @@
 
 use super::closed_form::{capsule_capsule, sphere_core, sphere_sphere};
 use super::mpr::mpr_signed_distance;
-use super::{NarrowPhaseOptions, SignedDistance};
+use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
 use crate::geometry::error::GeometryError;
 use crate::geometry::shapes::ShapeKind as K;
@@ -22,18 +22,30 @@ pub fn signed_distance(
     pose_b: &Isometry3<f64>,
     opts: &NarrowPhaseOptions,
 ) -> Result<SignedDistance, GeometryError> {
+    signed_distance_method(a, pose_a, b, pose_b, opts).map(|r| r.0)
+}
+
+/// [`signed_distance`] and the method that produced it ([`Method::ClosedForm`] for the closed
+/// forms; [`Method::IterationLimit`] when MPR or GJK stopped at its iteration limit).
+pub fn signed_distance_method(
+    a: &CollisionShape,
+    pose_a: &Isometry3<f64>,
+    b: &CollisionShape,
+    pose_b: &Isometry3<f64>,
+    opts: &NarrowPhaseOptions,
+) -> Result<(SignedDistance, Method), GeometryError> {
     let r = match (a.kind(), b.kind()) {
-        _ if opts.force_mpr => return mpr_signed_distance(a, pose_a, b, pose_b, opts).map(|r| r.0),
+        _ if opts.force_mpr => return mpr_signed_distance(a, pose_a, b, pose_b, opts),
         (K::Sphere, K::Sphere) => sphere_sphere(a, pose_a, b, pose_b),
         (K::Sphere, K::Box | K::Cylinder | K::Capsule) => sphere_core(a, pose_a, b, pose_b),
         (K::Box | K::Cylinder | K::Capsule, K::Sphere) => {
             sphere_core(b, pose_b, a, pose_a).flipped()
         }
         (K::Capsule, K::Capsule) => capsule_capsule(a, pose_a, b, pose_b),
-        _ => return mpr_signed_distance(a, pose_a, b, pose_b, opts).map(|r| r.0),
+        _ => return mpr_signed_distance(a, pose_a, b, pose_b, opts),
     };
     if r.distance.is_finite() {
-        Ok(r)
+        Ok((r, Method::ClosedForm))
     } else {
         Err(GeometryError::NotFinite)
     }

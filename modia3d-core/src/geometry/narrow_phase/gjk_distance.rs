@@ -32,6 +32,8 @@ pub(super) struct Closest {
     pub point_b: Point3<f64>,
     /// Certified gap `distance − lower bound` [m].
     pub gap: f64,
+    /// GJK ran out of iterations before the gap closed to the tolerance.
+    pub at_limit: bool,
 }
 
 /// A vertex of the simplex in `M = b − a` with its two core points (a's frame).
@@ -245,6 +247,7 @@ pub(super) fn gjk_distance(
     let mut best: Option<(f64, Closest)> = None;
     let mut last_upper = f64::INFINITY;
     let mut restarts = 0;
+    let mut exhausted = true;
     for _ in 0..max_iterations {
         let v = s.reduce()?;
         let upper = v.norm();
@@ -270,10 +273,12 @@ pub(super) fn gjk_distance(
                     point_a: Point3::from(pa),
                     point_b: Point3::from(pb),
                     gap,
+                    at_limit: false,
                 };
                 best = Some((gap, c));
             }
             if gap <= tol {
+                exhausted = false;
                 break;
             }
             if (0..s.n).any(|i| s.v[i].w == w.w) {
@@ -286,8 +291,12 @@ pub(super) fn gjk_distance(
         if stalled {
             // Restart (a few times at most) from the single support point in the direction of
             // the best certified iterate so far.
-            let Some((g, c)) = best.as_ref() else { break };
+            let Some((g, c)) = best.as_ref() else {
+                exhausted = false;
+                break;
+            };
             if *g <= tol || restarts == MAX_RESTARTS {
+                exhausted = false;
                 break;
             }
             restarts += 1;
@@ -300,5 +309,8 @@ pub(super) fn gjk_distance(
             last_upper = f64::INFINITY;
         }
     }
-    best.map(|(_, c)| c)
+    best.map(|(g, mut c)| {
+        c.at_limit = exhausted && g > tol;
+        c
+    })
 }

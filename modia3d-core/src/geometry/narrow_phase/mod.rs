@@ -11,7 +11,7 @@ mod gjk_distance;
 mod mpr;
 
 pub use contact_point::contact_point;
-pub use dispatch::signed_distance;
+pub use dispatch::{signed_distance, signed_distance_method};
 
 use nalgebra::{Point3, Vector3};
 
@@ -53,6 +53,11 @@ pub enum Method {
     MprThenGjk,
     /// MPR hit a degenerate case; parry's GJK/EPA on the cores gave the answer.
     Fallback,
+    /// MPR's refinement or GJK stopped at [`NarrowPhaseOptions::max_iterations`] before
+    /// meeting the tolerance; the best iterate is returned (for MPR a lower bound of the
+    /// signed distance). The collision stage counts these (`SimStats::narrow_phase_limits`)
+    /// and warns once per pair.
+    IterationLimit,
 }
 
 /// Tolerances and switches of the narrow phase.

@@ -85,6 +85,8 @@ enum Portal {
         h: f64,
         a: Point3<f64>,
         b: Point3<f64>,
+        /// Refinement stopped at the iteration limit (the tolerance was not met).
+        at_limit: bool,
     },
     /// A support plane with outward normal `m` has all of `M` strictly on its inner side, so
     /// the origin is outside: the cores are separated (only with `early_exit`).
@@ -163,7 +165,7 @@ pub fn mpr_signed_distance(
                         point_a: pose_a * c.point_a + n * a.margin(),
                         point_b: pose_a * c.point_b - n * b.margin(),
                     },
-                    Method::MprThenGjk,
+                    limited(Method::MprThenGjk, c.at_limit),
                 );
             }
             // Touching within the tolerance: let MPR run to the end.
@@ -171,7 +173,13 @@ pub fn mpr_signed_distance(
         }
     }
     let (mut method, m, h, ca, cb) = match portal {
-        Portal::Done { m, h, a, b } => (Method::Mpr, m, h, a, b),
+        Portal::Done {
+            m,
+            h,
+            a,
+            b,
+            at_limit,
+        } => (limited(Method::Mpr, at_limit), m, h, a, b),
         Portal::Separated { .. } | Portal::Degenerate => {
             return fallback(a, pose_a, b, pose_b).map(|r| (r, Method::Fallback))
         }
@@ -191,7 +199,7 @@ pub fn mpr_signed_distance(
             ca = pose_a * c.point_a;
             cb = pose_a * c.point_b;
             (ra, rb) = (a.margin(), b.margin());
-            method = Method::MprThenGjk;
+            method = limited(Method::MprThenGjk, c.at_limit);
         }
     }
     finite(
@@ -203,6 +211,15 @@ pub fn mpr_signed_distance(
         },
         method,
     )
+}
+
+/// `m`, or [`Method::IterationLimit`] when the algorithm stopped at its iteration limit.
+fn limited(m: Method, at_limit: bool) -> Method {
+    if at_limit {
+        Method::IterationLimit
+    } else {
+        m
+    }
 }
 
 /// The result if it is finite, else `NotFinite`.
@@ -247,6 +264,7 @@ fn mpr_core(
         m,
         a: s.a,
         b: s.b,
+        at_limit: false,
     };
 
     // Phase 1: portal discovery.
@@ -326,7 +344,7 @@ fn mpr_core(
             || (v4.v - v2.v).norm() <= tol
             || (v4.v - v3.v).norm() <= tol;
         if gain <= tol || stuck {
-            return finish(&v1, &v2, &v3, m, m.dot(&v4.v));
+            return finish(&v1, &v2, &v3, m, m.dot(&v4.v), false);
         }
         // Expand: replace the vertex so that the centre ray still passes the new portal.
         let v4v0 = v4.v.cross(&v0.v);
@@ -342,16 +360,16 @@ fn mpr_core(
             v1 = v4;
         }
     }
-    // Iteration limit: −h_M(m) is still a lower bound; return it.
+    // Iteration limit: −h_M(m) is still a lower bound; return it, marked as stopped early.
     match last {
-        Some((m, s)) => finish(&v1, &v2, &v3, m, m.dot(&s.v)),
+        Some((m, s)) => finish(&v1, &v2, &v3, m, m.dot(&s.v), true),
         None => Portal::Degenerate,
     }
 }
 
 /// Result from the final portal: witness points by the barycentric coordinates of the origin's
 /// projection onto the portal plane (clamped into the triangle).
-fn finish(v1: &Sv, v2: &Sv, v3: &Sv, m: Vector3<f64>, h: f64) -> Portal {
+fn finish(v1: &Sv, v2: &Sv, v3: &Sv, m: Vector3<f64>, h: f64, at_limit: bool) -> Portal {
     let p = m * m.dot(&v1.v);
     let [l1, l2, l3] = barycentric_clamped(&p, &v1.v, &v2.v, &v3.v);
     Portal::Done {
@@ -359,6 +377,7 @@ fn finish(v1: &Sv, v2: &Sv, v3: &Sv, m: Vector3<f64>, h: f64) -> Portal {
         h,
         a: Point3::from(v1.a.coords * l1 + v2.a.coords * l2 + v3.a.coords * l3),
         b: Point3::from(v1.b.coords * l1 + v2.b.coords * l2 + v3.b.coords * l3),
+        at_limit,
     }
 }
 

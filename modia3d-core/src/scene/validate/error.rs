@@ -148,6 +148,21 @@ pub enum SceneError {
         /// The second object.
         object2: String,
     },
+    /// Two solids that can collide start deeper inside each other than the contact law can
+    /// push apart (found when the model is built, with the narrow phase at the initial state).
+    #[error("objects `{object1}` and `{object2}` start {depth:.3e} m inside each other{}, deeper than {limit:.3e} m (half the extent of the thinner one): the contact force would throw them apart or stall the solver; move one of them out of the other, or turn collision off for one of them (`Solid::collision(false)`)", if *.coincident { " (their centres coincide)" } else { "" })]
+    InitialPenetration {
+        /// The first object of the pair.
+        object1: String,
+        /// The second object.
+        object2: String,
+        /// Initial penetration depth [m] (minus the signed distance).
+        depth: f64,
+        /// The deepest admissible initial penetration [m].
+        limit: f64,
+        /// The two shapes' centres coincide.
+        coincident: bool,
+    },
     /// A joint spring-damper on a joint without a scalar coordinate.
     #[error("joint spring-damper on `{joint}`: a {kind} joint has no scalar coordinate; use a Revolute or Prismatic joint")]
     NoScalarCoordinate {
