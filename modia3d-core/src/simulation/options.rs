@@ -1,0 +1,193 @@
+//! Run options: [`SimOptions`] with its setters and the range check done before every run
+//! (docs/options.md), and the budget constants of the driver.
+#![deny(clippy::indexing_slicing)]
+
+/// Default [`SimOptions::max_steps`]: IDA steps per run, all restarts included.
+pub const DEFAULT_MAX_STEPS: u64 = 1_000_000;
+/// Largest number of output-grid points of a run (`(stop − start)/interval`).
+pub const MAX_OUTPUT_POINTS: f64 = 1e7;
+/// Chattering guard: this many consecutive events within
+/// [`CHATTER_SPAN`]` · (stop − start)` end the run with [`SimErrorKind::Chattering`].
+pub const CHATTER_EVENTS: usize = 100;
+/// Chattering guard: relative time span (see [`CHATTER_EVENTS`]).
+pub const CHATTER_SPAN: f64 = 1e-6;
+
+/// Options of a simulation run. Build with [`SimOptions::new`] and the setters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimOptions {
+    /// Start time [s] (default 0).
+    pub start_time: f64,
+    /// Stop time [s].
+    pub stop_time: f64,
+    /// Output interval [s]; default: 500 intervals over the run.
+    pub interval: Option<f64>,
+    /// Relative tolerance (default 1e-6).
+    pub rtol: f64,
+    /// Absolute tolerance; default `0.01 · rtol` (the states are in m, rad, m/s, rad/s).
+    pub atol: Option<f64>,
+    /// Largest step [s]; default unlimited.
+    pub max_step: Option<f64>,
+    /// Show a progress bar for [`Model::simulate`] when standard error is a terminal (default
+    /// true; never shown when it is not a terminal, e.g. in tests and CI).
+    pub progress: bool,
+    /// Record per-pair contact signals (penetration, forces, torque, point, normal) at every
+    /// output point (default false: a run pays only for what it asks for).
+    pub contact_results: bool,
+    /// Form IDA's Jacobian by difference quotients coloured by the scene's independent joint
+    /// trees and their current contacts (default true): a scene of many free bodies then costs
+    /// a few residual evaluations per Jacobian instead of one per state. False = IDA's dense
+    /// difference quotients (for comparison; the results agree to the tolerance).
+    pub structured_jacobian: bool,
+    /// Work budget: IDA steps over the whole run, every restart included (default
+    /// [`DEFAULT_MAX_STEPS`]; `None` = unlimited). Reaching it ends the run with
+    /// [`SimErrorKind::WorkBudget`], whose diagnosis names the limiting cause.
+    pub max_steps: Option<u64>,
+    /// Work budget: wall time [s] of the run (default `None` = unlimited); checked every
+    /// few thousand steps and at every output point and event.
+    pub max_wall_time: Option<f64>,
+}
+
+impl SimOptions {
+    /// Options for a run from 0 to `stop_time` [s] with defaults otherwise.
+    pub fn new(stop_time: f64) -> Self {
+        SimOptions {
+            start_time: 0.0,
+            stop_time,
+            interval: None,
+            rtol: 1e-6,
+            atol: None,
+            max_step: None,
+            contact_results: false,
+            progress: true,
+            structured_jacobian: true,
+            max_steps: Some(DEFAULT_MAX_STEPS),
+            max_wall_time: None,
+        }
+    }
+    /// Sets the step budget of the run (`None` = unlimited; see [`SimOptions::max_steps`]).
+    pub fn max_steps(mut self, n: Option<u64>) -> Self {
+        self.max_steps = n;
+        self
+    }
+    /// Sets the wall-time budget [s] of the run (see [`SimOptions::max_wall_time`]).
+    pub fn max_wall_time(mut self, seconds: f64) -> Self {
+        self.max_wall_time = Some(seconds);
+        self
+    }
+    /// Uses (true, the default) or not the coloured Jacobian (see
+    /// [`SimOptions::structured_jacobian`]).
+    pub fn structured_jacobian(mut self, on: bool) -> Self {
+        self.structured_jacobian = on;
+        self
+    }
+    /// Records per-pair contact signals (`"<a>|<b>.f_n"`, … see
+    /// [`SimulationResult::signal`]).
+    pub fn contact_results(mut self, on: bool) -> Self {
+        self.contact_results = on;
+        self
+    }
+    /// Shows (true, the default on a terminal) or hides the progress bar of `simulate`.
+    pub fn progress(mut self, on: bool) -> Self {
+        self.progress = on;
+        self
+    }
+    /// Sets the relative tolerance.
+    pub fn tolerance(mut self, rtol: f64) -> Self {
+        self.rtol = rtol;
+        self
+    }
+    /// Sets the absolute tolerance.
+    pub fn atol(mut self, atol: f64) -> Self {
+        self.atol = Some(atol);
+        self
+    }
+    /// Sets the output interval [s].
+    pub fn interval(mut self, dt: f64) -> Self {
+        self.interval = Some(dt);
+        self
+    }
+    /// Sets the largest step [s] (at least `(stop − start)/max_steps`, so that the run fits
+    /// its step budget).
+    pub fn max_step(mut self, h: f64) -> Self {
+        self.max_step = Some(h);
+        self
+    }
+    /// Sets the start time [s].
+    pub fn start_time(mut self, t0: f64) -> Self {
+        self.start_time = t0;
+        self
+    }
+
+    /// Checks every option against its documented range (see `docs/options.md`):
+    /// - start and stop time finite, `stop − start ≥ 1e-12 s` and `≥ 1e-10·max(|start|, |stop|)`
+    ///   (IDA must be able to tell the two apart by more than its rounding of `t`);
+    /// - `rtol ∈ [1e-14, 1)` (below, the error test asks for less than double rounding);
+    /// - `atol ∈ [1e-16, 1e6]`, finite;
+    /// - output interval > 0 and at most [`MAX_OUTPUT_POINTS`] grid points;
+    /// - `max_steps ≥ 1`; `max_step > 0` and, with a step budget, `≥ (stop − start)/max_steps`
+    ///   (else the run could not end within it);
+    /// - `max_wall_time > 0`, finite.
+    pub(crate) fn check(&self) -> Result<(), String> {
+        let finite = |x: f64| x.is_finite();
+        let (t0, t1) = (self.start_time, self.stop_time);
+        if !finite(t0) || !finite(t1) || t1 <= t0 {
+            return Err(format!(
+                "stop time {t1} s must be finite and after the start time {t0} s"
+            ));
+        }
+        let span = t1 - t0;
+        let min_span = 1e-12f64.max(1e-10 * t0.abs().max(t1.abs()));
+        if span < min_span {
+            return Err(format!(
+                "the run from {t0:?} s to {t1:?} s is shorter than {min_span:e} s: the stop time must be at least 1e-12 s (and 1e-10 of the time values) after the start time"
+            ));
+        }
+        if !(self.rtol >= 1e-14 && self.rtol < 1.0) {
+            return Err(format!(
+                "tolerance {:?} must be in [1e-14, 1): below 1e-14 the error test asks for less than the rounding of f64",
+                self.rtol
+            ));
+        }
+        if let Some(a) = self.atol {
+            if !(1e-16..=1e6).contains(&a) {
+                return Err(format!(
+                    "absolute tolerance {a:?} must be in [1e-16, 1e6] (units of the states: m, rad, m/s, rad/s)"
+                ));
+            }
+        }
+        if let Some(dt) = self.interval {
+            if !(dt > 0.0 && finite(dt)) {
+                return Err(format!("output interval {dt} s must be finite and > 0"));
+            }
+            let points = span / dt;
+            if points > MAX_OUTPUT_POINTS {
+                return Err(format!(
+                    "output interval {dt:?} s gives {points:.3e} output points over {span:?} s, more than the limit of {MAX_OUTPUT_POINTS:e}: choose an interval of at least {:e} s",
+                    span / MAX_OUTPUT_POINTS
+                ));
+            }
+        }
+        if self.max_steps == Some(0) {
+            return Err("max_steps must be >= 1 (or None for no step budget)".into());
+        }
+        if let Some(h) = self.max_step {
+            if h.is_nan() || h <= 0.0 {
+                return Err(format!("max step {h} s must be > 0"));
+            }
+            if let Some(n) = self.max_steps {
+                let h_min = span / n as f64;
+                if h < h_min {
+                    return Err(format!(
+                        "max step {h:?} s needs more than max_steps = {n} steps for the run of {span:?} s: use a max step of at least {h_min:e} s or raise max_steps"
+                    ));
+                }
+            }
+        }
+        if let Some(w) = self.max_wall_time {
+            if !(w > 0.0 && finite(w)) {
+                return Err(format!("max wall time {w} s must be finite and > 0"));
+            }
+        }
+        Ok(())
+    }
+}
