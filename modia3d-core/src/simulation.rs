@@ -490,12 +490,13 @@ impl Simulation {
             }
             _ => {
                 let dae = self.ida.system();
-                diagnosis::stiffest(
+                let stiffest = diagnosis::stiffest(
                     &self.model.plan,
                     dae.contact_plan(),
                     dae.contact(),
                     h_budget,
-                )
+                );
+                diagnosis::limiting(stiffest, self.ida.stats().last_step, h_budget)
             }
         };
         let limiting_state = self

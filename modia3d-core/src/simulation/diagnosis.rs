@@ -59,8 +59,39 @@ pub enum SlowCause {
         /// Its natural period [s].
         period: f64,
     },
+    /// The steps collapsed far below the period of every element (the stiffest one's period
+    /// is more than [`COLLAPSE_RATIO`] steps, or already fits the budget), so no element's
+    /// stiffness explains them: typically a force that is not smooth in the states (a deep or
+    /// grazing contact, narrow-phase noise, a discontinuous user force).
+    StepCollapse {
+        /// The stiffest element's natural period [s] (`NaN` without one).
+        stiffest_period: f64,
+    },
     /// None of the above was found.
     Unknown,
+}
+
+/// A stiff element explains the steps only when its period is within this many of them (a
+/// resolved oscillation takes some tens of steps per period).
+pub const COLLAPSE_RATIO: f64 = 1000.0;
+
+/// `cause` (from [`stiffest`]) unless the steps do not follow from it: the element's period is
+/// more than [`COLLAPSE_RATIO`] last steps `h_last` [s], or it would fit the budget step
+/// `h_budget` [s] as it is (for a contact: the suggested `k_red` is the current one). Then the
+/// cause is a [`SlowCause::StepCollapse`].
+pub(crate) fn limiting(cause: SlowCause, h_last: f64, h_budget: f64) -> SlowCause {
+    let period = match &cause {
+        SlowCause::StiffContact { period, .. } | SlowCause::StiffSpring { period, .. } => *period,
+        _ => return cause,
+    };
+    let fits_budget = period >= 50.0 * h_budget;
+    if (h_last > 0.0 && period > COLLAPSE_RATIO * h_last) || fits_budget {
+        SlowCause::StepCollapse {
+            stiffest_period: period,
+        }
+    } else {
+        cause
+    }
 }
 
 /// The diagnosis carried by [`SimErrorKind::WorkBudget`](super::SimErrorKind::WorkBudget).
@@ -113,6 +144,13 @@ impl std::fmt::Display for WorkDiagnosis {
                 f,
                 "the {element} is the stiffest element (period {period:.3e} s); soften it or \
                  raise max_steps"
+            )?,
+            SlowCause::StepCollapse { stiffest_period } => write!(
+                f,
+                "the steps collapsed far below the period of every element (stiffest \
+                 {stiffest_period:.3e} s): a force that is not smooth in the states — check \
+                 initial overlaps and grazing contacts, keep mpr_tolerance at its default, \
+                 make user forces continuous — or loosen the tolerance"
             )?,
             SlowCause::Unknown => write!(
                 f,
@@ -280,4 +318,40 @@ pub(crate) fn state_name(plan: &Plan, i: usize) -> Option<String> {
         k - off,
         j.name
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn contact(period: f64) -> SlowCause {
+        SlowCause::StiffContact {
+            pair: "a|b".into(),
+            period,
+            suggested_k_red: 0.5,
+        }
+    }
+
+    /// A contact of period 1e-3 s cannot explain steps of 1e-10 s (seen in fuzzed scenes, where
+    /// the diagnosis then suggested the k_red the run already had); one of period 1e-6 s with
+    /// steps of 1e-8 s and a budget step of 1e-7 s can (50 budget steps per period would be
+    /// 5e-6 s); a period that already fits the budget explains nothing either.
+    #[test]
+    fn a_stiff_element_is_the_cause_only_when_its_period_matches_the_steps() {
+        assert_eq!(
+            limiting(contact(1e-3), 1e-10, 1e-7),
+            SlowCause::StepCollapse {
+                stiffest_period: 1e-3
+            }
+        );
+        assert_eq!(limiting(contact(1e-6), 1e-8, 1e-7), contact(1e-6));
+        assert!(matches!(
+            limiting(contact(1e-5), 1e-8, 1e-7),
+            SlowCause::StepCollapse { .. }
+        ));
+        assert_eq!(
+            limiting(SlowCause::Unknown, 1e-10, 1e-7),
+            SlowCause::Unknown
+        );
+    }
 }
