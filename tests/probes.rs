@@ -334,6 +334,25 @@ fn object_and_joint_of_the_same_name_are_rejected() {
             second: "force element",
         }]
     );
+    // Two spring-dampers of one name: their signals would be ambiguous as well.
+    let mut s = free_ball();
+    for _ in 0..2 {
+        s.add_force(ForceElement::SpringDamper {
+            name: "spring".into(),
+            obj1: "world".into(),
+            obj2: "ball".into(),
+            stiffness: 1.0,
+            damping: 0.0,
+            length0: 1.0,
+        });
+    }
+    assert_eq!(
+        scene_errors(&s),
+        vec![SceneError::DuplicateName {
+            kind: "force element",
+            name: "spring".into(),
+        }]
+    );
 }
 
 // ---- 5. JSON palettes -----------------------------------------------------------------------

@@ -292,6 +292,11 @@ impl<'a> Names<'a> {
                     first,
                     second: kind,
                 }),
+                // Two joints of one name are reported above; two spring-dampers here.
+                Some(_) if kind == "force element" => c.errors.push(SceneError::DuplicateName {
+                    kind: "force element",
+                    name: name.to_string(),
+                }),
                 Some(_) => {}
                 None => {
                     seen.insert(name, kind);
