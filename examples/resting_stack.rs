@@ -4,7 +4,7 @@
 //!
 //!     cargo run --release --example resting_stack [-- n t_end k_red]
 
-use modia3d::demo::{fixed_box, world};
+use modia3d::demo;
 use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -15,40 +15,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or(d)
     };
     let (n, t_end, k_red) = (arg(1, 10.0) as usize, arg(2, 10.0), arg(3, 1e-3));
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [1.0, 1.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "Steel",
-    ));
-    for i in 0..n {
-        let name = format!("b{i}");
-        s.add(
-            Object3D::new(&name).solid(
-                Solid::new(Shape::Box {
-                    lengths: Vector3::new(0.1, 0.1, 0.1),
-                })
-                .material("Steel")
-                .collision(true),
-            ),
-        )
-        .add_joint(Joint::new(
-            &format!("{name}.free"),
-            "world",
-            &name,
-            JointKind::FreeMotion {
-                r: Vector3::new(0.0, 0.0, 0.05 + 0.1 * i as f64),
-                rot: FreeRotation::Cardan([0.0; 3]),
-                v: Vector3::zeros(),
-                w: Vector3::zeros(),
-            },
-        ));
-    }
+    let cube = Shape::Box {
+        lengths: Vector3::new(0.1, 0.1, 0.1),
+    };
+    let s = demo::stack(cube, 0.1, [0.0; 3], n, k_red);
     let model = s.build()?;
     let opts = SimOptions::new(t_end).contact_results(true);
     let (res, failure) = match model.simulate(&opts) {

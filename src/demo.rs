@@ -124,6 +124,40 @@ pub fn sphere_on_plane(
     s
 }
 
+/// A steel table (top at z = 0) and `n` free bodies of `shape` (height `h` \[m\] when resting,
+/// orientation `angles`) stacked, each touching the one below (gap 0), at rest.
+pub fn stack(shape: Shape, h: f64, angles: [f64; 3], n: usize, k_red: f64) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions {
+        k_red,
+        ..Default::default()
+    }))
+    .add(fixed_box(
+        "table",
+        [1.0, 1.0, 0.1],
+        [0.0, 0.0, -0.05],
+        "Steel",
+    ));
+    for i in 0..n {
+        let name = format!("b{i}");
+        s.add(
+            Object3D::new(&name).solid(Solid::new(shape.clone()).material("Steel").collision(true)),
+        )
+        .add_joint(Joint::new(
+            &format!("{name}.free"),
+            "world",
+            &name,
+            JointKind::FreeMotion {
+                r: Vector3::new(0.0, 0.0, h / 2.0 + i as f64 * h),
+                rot: FreeRotation::Cardan(angles),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
+    }
+    s
+}
+
 /// The built-in Steel–Steel pair material (`CONTACT_PAIR_MATERIALS`): cor 0.7, μ_k 0.5,
 /// μ_r 0.001.
 pub const STEEL_STEEL: ContactPairMaterial = ContactPairMaterial::new(0.7, 0.5, 0.001);

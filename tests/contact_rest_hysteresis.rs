@@ -7,47 +7,13 @@
 //! 1.1e11 N/m, m·g/k = 7.1e-10 m, below the old band 2ε = 2e-8 m) had 5,918 contact events
 //! in 0.2 s; the same scene now has none after its first contact.
 
-use modia3d::demo::{c_res, fixed_box, world};
+use modia3d::demo::{self, c_res};
 use modia3d::prelude::*;
 
 const G: f64 = 9.81;
 
 fn steel() -> SolidMaterial {
     modia3d::core::scene::builtin_solid_material("Steel").unwrap()
-}
-
-/// A steel table (top at z = 0) and `n` free bodies of `shape` (height `h` [m] when resting,
-/// orientation `angles`) stacked, each touching the one below (gap 0), at rest.
-fn stack(shape: Shape, h: f64, angles: [f64; 3], n: usize, k_red: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [1.0, 1.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "Steel",
-    ));
-    for i in 0..n {
-        let name = format!("b{i}");
-        s.add(
-            Object3D::new(&name).solid(Solid::new(shape.clone()).material("Steel").collision(true)),
-        )
-        .add_joint(Joint::new(
-            &format!("{name}.free"),
-            "world",
-            &name,
-            JointKind::FreeMotion {
-                r: Vector3::new(0.0, 0.0, h / 2.0 + i as f64 * h),
-                rot: FreeRotation::Cardan(angles),
-                v: Vector3::zeros(),
-                w: Vector3::zeros(),
-            },
-        ));
-    }
-    s
 }
 
 fn cube() -> Shape {
@@ -75,7 +41,10 @@ fn delta_static(m: f64, k_red: f64) -> f64 {
 /// between δ = 0 and 2·m·g/k at most; the old hovering was 8e-9 m = 11·m·g/k above the table).
 #[test]
 fn steel_box_on_steel_table_rests_at_default_options() {
-    let res = run(stack(cube(), 0.1, [0.0; 3], 1, 1.0), SimOptions::new(0.2));
+    let res = run(
+        demo::stack(cube(), 0.1, [0.0; 3], 1, 1.0),
+        SimOptions::new(0.2),
+    );
     let m = steel().density * 1e-3;
     let d = delta_static(m, 1.0);
     let z = res.signal("b0.r_abs[2]").unwrap().values();
@@ -103,7 +72,10 @@ fn steel_box_on_steel_table_rests_at_default_options() {
 #[test]
 fn stack_of_ten_steel_boxes_holds() {
     let n = 10;
-    let res = run(stack(cube(), 0.1, [0.0; 3], n, 1e-3), SimOptions::new(10.0));
+    let res = run(
+        demo::stack(cube(), 0.1, [0.0; 3], n, 1e-3),
+        SimOptions::new(10.0),
+    );
     let m = steel().density * 1e-3;
     println!(
         "stack: {} events, {} steps, wall {:.2} s",
@@ -160,7 +132,7 @@ fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
     ];
     for (what, shape, h, volume) in cases {
         let res = run(
-            stack(shape, h, [0.0; 3], 1, 1.0),
+            demo::stack(shape, h, [0.0; 3], 1, 1.0),
             SimOptions::new(0.05).interval(1e-5),
         );
         let f = res.signal("table|b0.f_n").unwrap().values();
@@ -185,7 +157,7 @@ fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
 #[ignore]
 fn steel_box_rests_ten_seconds() {
     let res = run(
-        stack(cube(), 0.1, [0.0; 3], 1, 1.0),
+        demo::stack(cube(), 0.1, [0.0; 3], 1, 1.0),
         SimOptions::new(10.0).max_steps(None),
     );
     println!(
