@@ -5,6 +5,7 @@
 
 pub mod forces;
 pub mod kinematics;
+pub mod loops;
 pub mod mass_matrix;
 pub mod plan;
 pub mod rnea;
