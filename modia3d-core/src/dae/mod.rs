@@ -49,7 +49,7 @@ impl TreeBlocks {
         }
         let mut block_of = vec![0; plan.nq + plan.nv];
         for j in &plan.joints {
-            let blk = of_body[j.body];
+            let blk = of_body[j.body.index()];
             block_of[j.q_offset..j.q_offset + j.coord.nq()].fill(blk);
             let v0 = plan.nq + j.v_offset;
             block_of[v0..v0 + j.coord.nv()].fill(blk);
@@ -58,8 +58,8 @@ impl TreeBlocks {
         for f in &plan.scene.forces {
             if let ValidForce::SpringDamper { obj1, obj2, .. } = f {
                 if let (Some(a), Some(b)) = (plan.objects[*obj1].body, plan.objects[*obj2].body) {
-                    if of_body[a] != of_body[b] {
-                        couplings.push((of_body[a], of_body[b]));
+                    if of_body[a.index()] != of_body[b.index()] {
+                        couplings.push((of_body[a.index()], of_body[b.index()]));
                     }
                 }
             }
@@ -264,7 +264,7 @@ impl DaeSystem for MultibodyDae {
                 .map_err(|e| ResidualError::Fatal(e.to_string()))?;
         }
         kinematics::position_residual(plan, q, v, qd, res_q);
-        rnea::inverse_dynamics(plan, &mut self.ws, vd, &plan.gravity, res_v);
+        rnea::inverse_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;
         }
@@ -314,7 +314,7 @@ impl DaeSystem for MultibodyDae {
             for &p in &cs.active {
                 let pp = &cp.pairs[p as usize];
                 if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {
-                    let (ba, bb) = (tb.of_body[a], tb.of_body[b]);
+                    let (ba, bb) = (tb.of_body[a.index()], tb.of_body[b.index()]);
                     if ba != bb {
                         s.couplings.push((ba, bb));
                     }

@@ -113,7 +113,8 @@ pub(crate) fn check_topology(
     }
     for e in &tree {
         let sj = &joints[e.joint];
-        if e.flipped && matches!(sj.kind, ValidJointKind::FreeMotion { .. }) {
+        let reversible = crate::joints::info(sj.kind.name()).is_none_or(|i| i.reversible);
+        if e.flipped && !reversible {
             errors.push(SceneError::ReversedFreeMotion {
                 joint: sj.name.clone(),
                 obj1: objects[sj.obj1].name.clone(),

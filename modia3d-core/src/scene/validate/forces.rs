@@ -67,6 +67,7 @@ pub(super) fn forces(
                         } else if let Some(valid) = joints.iter().position(|vj| vj.name == *joint) {
                             forces.push(ValidForce::JointSpringDamper {
                                 joint: valid,
+                                coordinate: 0,
                                 stiffness: *stiffness,
                                 damping: *damping,
                                 offset: *offset,

@@ -107,6 +107,18 @@ pub enum ValidJointKind {
     },
 }
 
+impl ValidJointKind {
+    /// The kind's name, as [`crate::JointKind::name`].
+    pub fn name(&self) -> &'static str {
+        match self {
+            ValidJointKind::Fix => "Fix",
+            ValidJointKind::Revolute { .. } => "Revolute",
+            ValidJointKind::Prismatic { .. } => "Prismatic",
+            ValidJointKind::FreeMotion { .. } => "FreeMotion",
+        }
+    }
+}
+
 /// A resolved joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ValidJoint {
@@ -142,6 +154,9 @@ pub enum ValidForce {
     JointSpringDamper {
         /// Joint index.
         joint: usize,
+        /// Index of the coordinate among the kind's scalar coordinates
+        /// (`joints::KindInfo::coordinates`).
+        coordinate: usize,
         /// Stiffness.
         stiffness: f64,
         /// Damping.
