@@ -245,6 +245,8 @@ pub enum ForceIr {
     JointSpringDamper {
         /// The joint.
         joint: NameRef,
+        /// `coordinate = "…"`: the expression and its literal value.
+        coordinate: Option<(Expr, Option<String>)>,
         /// `stiffness`.
         stiffness: Num,
         /// `damping`.

@@ -165,8 +165,9 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
     for inp in &plan.inputs {
         let u = &ws.inputs[inp.offset..inp.offset + inp.len];
         match inp.target {
-            InputTarget::JointForce { joint } => {
-                let (k, f) = (plan.joints[joint].v_offset, u[0]);
+            InputTarget::JointForce { joint, coordinate } => {
+                let j = &plan.joints[joint];
+                let (k, f) = (j.v_offset + j.coord.coordinates()[coordinate].v, u[0]);
                 ws.tau_applied[k] += f;
             }
             // Enforced in the residual (the acceleration row is replaced).

@@ -58,15 +58,19 @@ pub struct ObjectPlan {
 /// What an input drives, with plan indices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum InputTarget {
-    /// Generalised force on tree joint `joint` (1 value).
+    /// Generalised force on a scalar coordinate of tree joint `joint` (1 value).
     JointForce {
         /// The tree joint.
         joint: JointId,
+        /// Index into the kind's scalar coordinates.
+        coordinate: usize,
     },
-    /// Prescribed acceleration of tree joint `joint` (1 value).
+    /// Prescribed acceleration of a scalar coordinate of tree joint `joint` (1 value).
     JointAcceleration {
         /// The tree joint.
         joint: JointId,
+        /// Index into the kind's scalar coordinates.
+        coordinate: usize,
     },
     /// World force then torque on object `object`'s origin (6 values).
     ObjectWrench {
@@ -245,14 +249,16 @@ fn input_layout(
     let mut prescribed = vec![None; nv];
     for inp in &scene.inputs {
         let (target, len) = match inp.kind {
-            ValidInputKind::JointForce(sj) => match tree_joint_of[sj] {
-                Some(joint) => (InputTarget::JointForce { joint }, 1),
-                None => continue, // validated: scalar joints are in the tree
+            ValidInputKind::JointForce(sj, coordinate) => match tree_joint_of[sj] {
+                Some(joint) => (InputTarget::JointForce { joint, coordinate }, 1),
+                None => continue, // validated: joints with scalar coordinates are in the tree
             },
-            ValidInputKind::JointAcceleration(sj) => match tree_joint_of[sj] {
+            ValidInputKind::JointAcceleration(sj, coordinate) => match tree_joint_of[sj] {
                 Some(joint) => {
-                    prescribed[joints[joint.index()].v_offset] = Some(n_inputs);
-                    (InputTarget::JointAcceleration { joint }, 1)
+                    let j = &joints[joint.index()];
+                    let c = j.coord.coordinates()[coordinate];
+                    prescribed[j.v_offset + c.v] = Some(n_inputs);
+                    (InputTarget::JointAcceleration { joint, coordinate }, 1)
                 }
                 None => continue,
             },

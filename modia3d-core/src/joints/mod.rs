@@ -18,9 +18,13 @@
 
 #![cfg_attr(not(feature = "solver"), allow(dead_code))]
 
+pub(crate) mod cylindrical;
 pub(crate) mod free;
+pub(crate) mod planar;
 pub(crate) mod prismatic;
 pub(crate) mod revolute;
+pub(crate) mod spherical;
+pub(crate) mod universal;
 
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{Force, Motion, Transform};
@@ -82,6 +86,10 @@ pub(crate) fn info(name: &str) -> Option<&'static KindInfo> {
         "Revolute" => &revolute::INFO,
         "Prismatic" => &prismatic::INFO,
         "FreeMotion" => &free::INFO,
+        "Spherical" => &spherical::INFO,
+        "Universal" => &universal::INFO,
+        "Cylindrical" => &cylindrical::INFO,
+        "Planar" => &planar::INFO,
         _ => return None,
     })
 }
@@ -106,6 +114,31 @@ pub enum JointCoord {
     /// `(w, x, y, z)` (4); velocities `ω` then `v` of obj2 relative to obj1, both resolved in obj2
     /// ([rad/s], [m/s]).
     Free,
+    /// Ball joint: a quaternion (4) and `ω` resolved in obj2 (3, [rad/s]).
+    Spherical,
+    /// Cardan joint: `phi1` about `axis1` (fixed in obj1), then `phi2` about `axis2` (fixed in
+    /// obj2); unit, perpendicular axes resolved in the joint frame.
+    Universal {
+        /// First axis, fixed in obj1.
+        axis1: Vector3<f64>,
+        /// Second axis, fixed in obj2.
+        axis2: Vector3<f64>,
+    },
+    /// Rotation `phi` about and translation `s` along one unit axis.
+    Cylindrical {
+        /// Unit axis (already negated when traversed from obj2 to obj1).
+        axis: Vector3<f64>,
+    },
+    /// Translations `x`, `y` along `e1`, `e2` (resolved in obj1) and rotation `phi` about
+    /// `normal`.
+    Planar {
+        /// Unit normal of the plane.
+        normal: Vector3<f64>,
+        /// First in-plane axis.
+        e1: Vector3<f64>,
+        /// Second in-plane axis, `normal × e1`.
+        e2: Vector3<f64>,
+    },
 }
 
 impl JointCoord {
@@ -115,6 +148,10 @@ impl JointCoord {
             JointCoord::Revolute { .. } => "Revolute",
             JointCoord::Prismatic { .. } => "Prismatic",
             JointCoord::Free => "FreeMotion",
+            JointCoord::Spherical => "Spherical",
+            JointCoord::Universal { .. } => "Universal",
+            JointCoord::Cylindrical { .. } => "Cylindrical",
+            JointCoord::Planar { .. } => "Planar",
         }
     }
     /// Number of position coordinates.
@@ -122,6 +159,9 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => 1,
             JointCoord::Free => free::NQ,
+            JointCoord::Spherical => spherical::NQ,
+            JointCoord::Universal { .. } | JointCoord::Cylindrical { .. } => 2,
+            JointCoord::Planar { .. } => 3,
         }
     }
     /// Number of velocity coordinates.
@@ -129,6 +169,9 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => 1,
             JointCoord::Free => free::NV,
+            JointCoord::Spherical => spherical::NV,
+            JointCoord::Universal { .. } | JointCoord::Cylindrical { .. } => 2,
+            JointCoord::Planar { .. } => 3,
         }
     }
     /// Its signals (`"<joint>.<name>"`), in state order.
@@ -137,6 +180,10 @@ impl JointCoord {
             JointCoord::Revolute { .. } => revolute::SIGNALS,
             JointCoord::Prismatic { .. } => prismatic::SIGNALS,
             JointCoord::Free => free::SIGNALS,
+            JointCoord::Spherical => spherical::SIGNALS,
+            JointCoord::Universal { .. } => universal::SIGNALS,
+            JointCoord::Cylindrical { .. } => cylindrical::SIGNALS,
+            JointCoord::Planar { .. } => planar::SIGNALS,
         }
     }
     /// Its scalar coordinates.
@@ -146,7 +193,10 @@ impl JointCoord {
     /// Whether `S` depends on `q` (then the bias `c_J = Ṡ q̇` is not zero).
     #[inline]
     pub fn has_bias(&self) -> bool {
-        false
+        matches!(
+            self,
+            JointCoord::Universal { .. } | JointCoord::Planar { .. }
+        )
     }
 }
 
@@ -177,6 +227,49 @@ impl JointCoord {
                 free::initial(r, rot, v, w, q0, v0);
                 JointCoord::Free
             }
+            // Never flipped (not reversible), as FreeMotion.
+            ValidJointKind::Spherical { rot, w } => {
+                spherical::initial(rot, w, q0, v0);
+                JointCoord::Spherical
+            }
+            ValidJointKind::Universal {
+                axis1,
+                axis2,
+                phi1,
+                phi2,
+                w1,
+                w2,
+            } => {
+                q0.extend_from_slice(&[*phi1, *phi2]);
+                v0.extend_from_slice(&[*w1, *w2]);
+                JointCoord::Universal {
+                    axis1: *axis1,
+                    axis2: *axis2,
+                }
+            }
+            ValidJointKind::Cylindrical { axis, phi, s, w, v } => {
+                q0.extend_from_slice(&[*phi, *s]);
+                v0.extend_from_slice(&[*w, *v]);
+                JointCoord::Cylindrical { axis: orient(axis) }
+            }
+            ValidJointKind::Planar {
+                normal,
+                x,
+                y,
+                phi,
+                vx,
+                vy,
+                w,
+            } => {
+                q0.extend_from_slice(&[*x, *y, *phi]);
+                v0.extend_from_slice(&[*vx, *vy, *w]);
+                let (e1, e2) = planar::plane_axes(normal);
+                JointCoord::Planar {
+                    normal: *normal,
+                    e1,
+                    e2,
+                }
+            }
             ValidJointKind::Fix => unreachable!("fix joints are merged"),
         }
     }
@@ -189,6 +282,10 @@ impl JointCoord {
             JointCoord::Revolute { axis } => revolute::transform(axis, q),
             JointCoord::Prismatic { axis } => prismatic::transform(axis, q),
             JointCoord::Free => free::transform(q),
+            JointCoord::Spherical => spherical::transform(q),
+            JointCoord::Universal { axis1, axis2 } => universal::transform(axis1, axis2, q),
+            JointCoord::Cylindrical { axis } => cylindrical::transform(axis, q),
+            JointCoord::Planar { normal, e1, e2 } => planar::transform(normal, e1, e2, q),
         }
     }
 
@@ -196,11 +293,14 @@ impl JointCoord {
     /// velocities (or accelerations: `S(q) v̇`).
     #[inline]
     pub fn motion(&self, q: &[f64], v: &[f64]) -> Motion {
-        let _ = q;
         match self {
             JointCoord::Revolute { axis } => revolute::motion(axis, v),
             JointCoord::Prismatic { axis } => prismatic::motion(axis, v),
             JointCoord::Free => free::motion(v),
+            JointCoord::Spherical => spherical::motion(v),
+            JointCoord::Universal { axis1, axis2 } => universal::motion(axis1, axis2, q, v),
+            JointCoord::Cylindrical { axis } => cylindrical::motion(axis, v),
+            JointCoord::Planar { normal, e1, e2 } => planar::motion(normal, e1, e2, q, v),
         }
     }
 
@@ -208,19 +308,25 @@ impl JointCoord {
     /// `S` depends on `q` ([`Self::has_bias`]); zero for the others.
     #[inline]
     pub fn bias(&self, q: &[f64], v: &[f64]) -> Motion {
-        let _ = (q, v);
-        Motion::zero()
+        match self {
+            JointCoord::Universal { axis1, axis2 } => universal::bias(axis1, axis2, q, v),
+            JointCoord::Planar { normal, e1, e2 } => planar::bias(normal, e1, e2, q, v),
+            _ => Motion::zero(),
+        }
     }
 
     /// The generalised forces `Sᵀ f` of a spatial force `f` transmitted by the joint
     /// (resolved in the child frame) into `tau` (the joint's `nv` entries).
     #[inline]
     pub fn project(&self, q: &[f64], f: &Force, tau: &mut [f64]) {
-        let _ = q;
         match self {
             JointCoord::Revolute { axis } => revolute::project(axis, f, tau),
             JointCoord::Prismatic { axis } => prismatic::project(axis, f, tau),
             JointCoord::Free => free::project(f, tau),
+            JointCoord::Spherical => spherical::project(f, tau),
+            JointCoord::Universal { axis1, axis2 } => universal::project(axis1, axis2, q, f, tau),
+            JointCoord::Cylindrical { axis } => cylindrical::project(axis, f, tau),
+            JointCoord::Planar { normal, e1, e2 } => planar::project(normal, e1, e2, q, f, tau),
         }
     }
 
@@ -228,10 +334,14 @@ impl JointCoord {
     #[inline]
     pub fn position_residual(&self, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
         match self {
-            JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => {
-                res[0] = qd[0] - v[0];
-            }
             JointCoord::Free => free::position_residual(q, v, qd, res),
+            JointCoord::Spherical => spherical::position_residual(q, v, qd, res),
+            // q̇ = v for every kind whose coordinates are all scalar.
+            _ => {
+                for k in 0..res.len() {
+                    res[k] = qd[k] - v[k];
+                }
+            }
         }
     }
 

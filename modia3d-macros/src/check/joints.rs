@@ -113,7 +113,10 @@ impl Checker {
                 }
             }
             "JointSpringDamper" => {
-                let a = self.args(ctor, &["joint", "stiffness", "damping", "offset"]);
+                let a = self.args(
+                    ctor,
+                    &["joint", "coordinate", "stiffness", "damping", "offset"],
+                );
                 let joint = self
                     .required(&a, "joint")
                     .and_then(|e| self.reference(e, Kind::Joint, "joint"));
@@ -121,6 +124,7 @@ impl Checker {
                 let damping = self.num(&a, "damping", false);
                 ForceIr::JointSpringDamper {
                     joint: joint?,
+                    coordinate: a.get("coordinate").map(|e| (e.clone(), lit_str(e))),
                     stiffness: stiffness?,
                     damping,
                     offset: a.get("offset").cloned(),

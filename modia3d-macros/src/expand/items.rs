@@ -450,11 +450,16 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
         }
         ForceIr::JointSpringDamper {
             joint,
+            coordinate,
             stiffness,
             damping,
             offset,
         } => {
             let j = scoped(&joint.path);
+            let co = match coordinate {
+                Some((e, _)) => quote!(::core::option::Option::Some(#to_string(#e))),
+                None => quote!(::core::option::Option::None),
+            };
             let c = &stiffness.expr;
             let d = num_or(damping, quote!(0.0));
             let off = offset
@@ -464,6 +469,7 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
             quote! {
                 #fe::JointSpringDamper {
                     joint: #to_string(#j),
+                    coordinate: #co,
                     stiffness: #c,
                     damping: #d,
                     offset: #off,

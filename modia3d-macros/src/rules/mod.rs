@@ -226,11 +226,13 @@ impl<'a> Probe<'a> {
                     }
                     ForceIr::JointSpringDamper {
                         joint,
+                        coordinate,
                         stiffness,
                         damping,
                         ..
                     } => ForceElement::JointSpringDamper {
                         joint: joint.path.clone(),
+                        coordinate: coordinate.as_ref().and_then(|(_, lit)| lit.clone()),
                         stiffness: self.scalar(&joint.path, stiffness),
                         damping: damping
                             .as_ref()
