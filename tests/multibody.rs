@@ -239,6 +239,7 @@ fn prismatic_spring_damper_matches_closed_form() {
         } else {
             s.add_force(ForceElement::JointSpringDamper {
                 joint: "slide".into(),
+                coordinate: None,
                 stiffness: c,
                 damping: d,
                 offset: 0.0,

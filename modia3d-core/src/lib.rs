@@ -20,6 +20,7 @@ mod dae;
 #[cfg(feature = "solver")]
 mod dynamics;
 pub mod geometry;
+mod joints;
 #[cfg(feature = "solver")]
 mod model;
 #[cfg(feature = "solver")]

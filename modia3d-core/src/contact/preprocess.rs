@@ -3,7 +3,7 @@
 //! `can_collide = false`) and each pair's material and geometry constants. Immutable.
 
 use crate::dynamics::spatial::Transform;
-use crate::dynamics::ObjectPlan;
+use crate::dynamics::{BodyId, ObjectPlan};
 use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape, ShapeKind};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
@@ -13,7 +13,7 @@ pub struct ShapePlan {
     /// Scene object index (the shape frame is the object frame).
     pub object: usize,
     /// Moving body it belongs to; `None` = fixed to the world.
-    pub body: Option<usize>,
+    pub body: Option<BodyId>,
     /// The object frame placed in the body frame (or in world) [m].
     pub in_body: Transform,
     /// The shape, smoothed.

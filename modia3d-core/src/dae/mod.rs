@@ -53,7 +53,7 @@ impl TreeBlocks {
         let m = plan.loops.m();
         let mut block_of = vec![0; plan.nq + plan.nv + 2 * m];
         for j in &plan.joints {
-            let blk = of_body[j.body];
+            let blk = of_body[j.body.index()];
             block_of[j.q_offset..j.q_offset + j.coord.nq()].fill(blk);
             let v0 = plan.nq + j.v_offset;
             block_of[v0..v0 + j.coord.nv()].fill(blk);
@@ -63,7 +63,8 @@ impl TreeBlocks {
         let base = plan.nq + plan.nv;
         for (i, &(c, _)) in plan.loops.kept.iter().enumerate() {
             let cut = &plan.loops.cuts[c];
-            let (b1, b2) = (cut.body1.map(|b| of_body[b]), cut.body2.map(|b| of_body[b]));
+            let tree = |b: Option<crate::dynamics::ids::BodyId>| b.map(|b| of_body[b.index()]);
+            let (b1, b2) = (tree(cut.body1), tree(cut.body2));
             let own = b2.or(b1).unwrap_or(0);
             block_of[base + i] = own;
             block_of[base + m + i] = own;
@@ -76,8 +77,8 @@ impl TreeBlocks {
         for f in &plan.scene.forces {
             if let ValidForce::SpringDamper { obj1, obj2, .. } = f {
                 if let (Some(a), Some(b)) = (plan.objects[*obj1].body, plan.objects[*obj2].body) {
-                    if of_body[a] != of_body[b] {
-                        couplings.push((of_body[a], of_body[b]));
+                    if of_body[a.index()] != of_body[b.index()] {
+                        couplings.push((of_body[a.index()], of_body[b.index()]));
                     }
                 }
             }
@@ -305,7 +306,7 @@ impl DaeSystem for MultibodyDae {
             // wrenches of λ as external forces, then g(q) = 0 and G v = 0.
             let (lambda, mu) = mult.split_at(m);
             self.lw.evaluate(plan, &self.ws);
-            self.lw.stabilised_velocity(plan, &self.ws, v, mu);
+            self.lw.stabilised_velocity(plan, &self.ws, q, v, mu);
             self.lw.apply_forces(plan, &mut self.ws, lambda);
             kinematics::position_residual(plan, q, &self.lw.w, qd, res_q);
             let (res_g, res_gv) = res_c.split_at_mut(m);
@@ -314,7 +315,7 @@ impl DaeSystem for MultibodyDae {
         } else {
             kinematics::position_residual(plan, q, v, qd, res_q);
         }
-        rnea::inverse_dynamics(plan, &mut self.ws, vd, &plan.gravity, res_v);
+        rnea::inverse_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;
         }
@@ -364,7 +365,7 @@ impl DaeSystem for MultibodyDae {
             for &p in &cs.active {
                 let pp = &cp.pairs[p as usize];
                 if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {
-                    let (ba, bb) = (tb.of_body[a], tb.of_body[b]);
+                    let (ba, bb) = (tb.of_body[a.index()], tb.of_body[b.index()]);
                     if ba != bb {
                         s.couplings.push((ba, bb));
                     }

@@ -19,7 +19,12 @@
 //! A cut Revolute (axis `a`) is three translations and `Align {u, a}`, `Align {w, a}` with
 //! `u, w ⊥ a`: unlike `½ vee(R − Rᵀ)` these two rows keep full rank at every angle of the
 //! joint, which a crank's cut joint sweeps through. A Prismatic (axis `a`) is two
-//! translations ⊥ `a` and three rotations; a Fix six rows; a FreeMotion none.
+//! translations ⊥ `a` and three rotations; a Fix six rows; a FreeMotion none; a Spherical the
+//! three translations; a Universal (axes `a1` in obj1, `a2` in obj2) three translations and
+//! `Align {a1, a2}`; a Cylindrical (axis `a`) two translations ⊥ `a` and the two alignments of
+//! `a`; a Planar (normal `n`) the translation along `n` and the two alignments of `n`. These
+//! locked directions are the one thing this module knows per joint kind ([`rows_of`]); the
+//! motion of the tree's coordinates comes from the kinds themselves (`JointCoord::motion`).
 //!
 //! Every row's time derivative is *exactly* `ġ = A·(ω2 − ω1) + B·(v2(P2) − v1(P2))`, with
 //! `A`, `B` world vectors of the row at the current positions (`Translation`: `A = 0`,
@@ -70,9 +75,10 @@
 //! accelerations and multipliers. Restarts (events, input changes) repeat the projection at the
 //! current state with the rows kept at build time.
 
+use super::ids::BodyId;
 use super::kinematics::{position_derivative, position_velocity};
-use super::spatial::{Motion, Transform};
-use super::{JointCoord, Plan, Workspace};
+use super::spatial::Transform;
+use super::{Plan, Workspace};
 use crate::scene::{SceneError, ValidJointKind, ValidScene};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
@@ -136,11 +142,11 @@ pub struct CutPlan {
     /// Index in `ValidScene::joints`.
     pub scene_joint: usize,
     /// Body of obj1 (`None` = fixed to the world).
-    pub body1: Option<usize>,
+    pub body1: Option<BodyId>,
     /// obj1's frame placed in `body1`'s frame (or in world) [m].
     pub in_body1: Transform,
     /// Body of obj2.
-    pub body2: Option<usize>,
+    pub body2: Option<BodyId>,
     /// obj2's frame placed in `body2`'s frame (or in world) [m].
     pub in_body2: Transform,
     /// Every row the joint kind locks.
@@ -209,6 +215,31 @@ pub fn rows_of(kind: &ValidJointKind) -> Vec<Row> {
             r
         }
         ValidJointKind::FreeMotion { .. } => vec![],
+        ValidJointKind::Spherical { .. } => {
+            translations(&[Vector3::x(), Vector3::y(), Vector3::z()])
+        }
+        ValidJointKind::Universal { axis1, axis2, .. } => {
+            let mut r = translations(&[Vector3::x(), Vector3::y(), Vector3::z()]);
+            r.push(Row::Align {
+                u: *axis1,
+                a: *axis2,
+            });
+            r
+        }
+        ValidJointKind::Cylindrical { axis, .. } => {
+            let (u, w) = perpendiculars(axis);
+            let mut r = translations(&[u, w]);
+            r.push(Row::Align { u, a: *axis });
+            r.push(Row::Align { u: w, a: *axis });
+            r
+        }
+        ValidJointKind::Planar { normal, .. } => {
+            let (u, w) = perpendiculars(normal);
+            let mut r = translations(&[*normal]);
+            r.push(Row::Align { u, a: *normal });
+            r.push(Row::Align { u: w, a: *normal });
+            r
+        }
     }
 }
 
@@ -218,7 +249,7 @@ pub fn rows_of(kind: &ValidJointKind) -> Vec<Row> {
 pub fn cut_plans(
     scene: &ValidScene,
     in_ref: &[Transform],
-    cluster_body: &[Option<usize>],
+    cluster_body: &[Option<BodyId>],
 ) -> LoopPlan {
     let cluster = &scene.topology.cluster;
     let cuts = scene
@@ -251,7 +282,7 @@ pub fn cut_plans(
 
 /// Placement in world of a frame `x` of body `b` (`None` = the world) at the workspace state.
 #[inline]
-fn frame(ws: &Workspace, b: Option<usize>, x: &Transform) -> Transform {
+fn frame(ws: &Workspace, b: Option<BodyId>, x: &Transform) -> Transform {
     match b {
         Some(b) => ws.world[b].then(x),
         None => *x,
@@ -291,49 +322,37 @@ fn row_eval(row: &Row, f1: &Transform, f2: &Transform) -> (f64, Vector3<f64>, Ve
 #[inline]
 fn body_point_velocity(
     ws: &Workspace,
-    b: Option<usize>,
+    b: Option<BodyId>,
     p: &Vector3<f64>,
 ) -> (Vector3<f64>, Vector3<f64>) {
     let (v, w) = super::kinematics::point_velocity(ws, b, p);
     (w, v)
 }
 
-/// Column `k` of a joint's motion subspace: the spatial velocity of the moved body (resolved in
-/// its frame, about its origin) for a unit velocity of its `k`-th coordinate.
-#[inline]
-fn motion_column(coord: &JointCoord, k: usize) -> Motion {
-    let z = Vector3::zeros();
-    match coord {
-        JointCoord::Revolute { axis } => Motion { w: *axis, v: z },
-        JointCoord::Prismatic { axis } => Motion { w: z, v: *axis },
-        JointCoord::Free if k < 3 => Motion {
-            w: Vector3::ith(k, 1.0),
-            v: z,
-        },
-        JointCoord::Free => Motion {
-            w: z,
-            v: Vector3::ith(k - 3, 1.0),
-        },
-    }
-}
-
 /// Calls `f(k, ω_k, v_k)` for every velocity coordinate `k` of the joints from body `b` up to the
 /// world, with `ω_k` [rad/s per unit] the world angular velocity and `v_k` the world velocity of
-/// the body's material point at `p` that a unit velocity of `k` causes. No allocation.
+/// the body's material point at `p` that a unit velocity of `k` causes (the joint's motion
+/// subspace column `S(q) e_k`, asked of its kind). `unit` is scratch of at least the largest
+/// joint's `nv`, all zeros (left so). No allocation.
 #[inline]
 fn for_each_column(
     plan: &Plan,
     ws: &Workspace,
-    mut b: Option<usize>,
+    q: &[f64],
+    mut b: Option<BodyId>,
     p: &Vector3<f64>,
+    unit: &mut [f64],
     mut f: impl FnMut(usize, Vector3<f64>, Vector3<f64>),
 ) {
     while let Some(bi) = b {
         let body = &plan.bodies[bi];
         let j = &plan.joints[body.joint];
         let x = &ws.world[bi];
+        let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
         for k in 0..j.coord.nv() {
-            let s = motion_column(&j.coord, k);
+            unit[k] = 1.0;
+            let s = j.coord.motion(qj, &unit[..j.coord.nv()]);
+            unit[k] = 0.0;
             let w = x.rot * s.w;
             let v = x.rot * s.v + w.cross(&(p - x.pos));
             f(j.v_offset + k, w, v);
@@ -341,6 +360,9 @@ fn for_each_column(
         b = body.parent;
     }
 }
+
+/// Largest number of velocities of one joint (FreeMotion's six).
+const MAX_JOINT_NV: usize = 6;
 
 /// Scratch of the loop rows at one state: allocated once per DAE, so the residual allocates
 /// nothing.
@@ -421,17 +443,25 @@ impl LoopWork {
     }
 
     /// `self.w = v + Gᵀ μ` (after [`LoopWork::evaluate`]).
-    pub fn stabilised_velocity(&mut self, plan: &Plan, ws: &Workspace, v: &[f64], mu: &[f64]) {
+    pub fn stabilised_velocity(
+        &mut self,
+        plan: &Plan,
+        ws: &Workspace,
+        q: &[f64],
+        v: &[f64],
+        mu: &[f64],
+    ) {
         self.w.copy_from_slice(v);
         let lp = &plan.loops;
+        let mut unit = [0.0; MAX_JOINT_NV];
         for (c, cut) in lp.cuts.iter().enumerate() {
             let (t, f) = self.cut_sum(lp, c, mu);
             let p = self.p2[c];
             let w = &mut self.w;
-            for_each_column(plan, ws, cut.body2, &p, |k, wk, vk| {
+            for_each_column(plan, ws, q, cut.body2, &p, &mut unit, |k, wk, vk| {
                 w[k] += wk.dot(&t) + vk.dot(&f)
             });
-            for_each_column(plan, ws, cut.body1, &p, |k, wk, vk| {
+            for_each_column(plan, ws, q, cut.body1, &p, &mut unit, |k, wk, vk| {
                 w[k] -= wk.dot(&t) + vk.dot(&f)
             });
         }
@@ -456,9 +486,11 @@ impl LoopWork {
 fn dense_rows(
     plan: &Plan,
     ws: &Workspace,
+    q: &[f64],
     rows: &[(usize, usize)],
 ) -> (DVector<f64>, DMatrix<f64>) {
     let lp = &plan.loops;
+    let mut unit = [0.0; MAX_JOINT_NV];
     let mut g = DVector::zeros(rows.len());
     let mut gm = DMatrix::zeros(rows.len(), plan.nv);
     for (i, &(c, r)) in rows.iter().enumerate() {
@@ -467,10 +499,10 @@ fn dense_rows(
         let f2 = frame(ws, cut.body2, &cut.in_body2);
         let (gi, a, b) = row_eval(&cut.rows[r], &f1, &f2);
         g[i] = gi;
-        for_each_column(plan, ws, cut.body2, &f2.pos, |k, wk, vk| {
+        for_each_column(plan, ws, q, cut.body2, &f2.pos, &mut unit, |k, wk, vk| {
             gm[(i, k)] += a.dot(&wk) + b.dot(&vk)
         });
-        for_each_column(plan, ws, cut.body1, &f2.pos, |k, wk, vk| {
+        for_each_column(plan, ws, q, cut.body1, &f2.pos, &mut unit, |k, wk, vk| {
             gm[(i, k)] -= a.dot(&wk) + b.dot(&vk)
         });
     }
@@ -555,34 +587,15 @@ pub fn choose_dependent(plan: &Plan, gm: &DMatrix<f64>) -> Vec<usize> {
 }
 
 /// Moves the positions `q` by the velocity-space increment `dv` (one value per velocity
-/// coordinate): `q ⊕ dv`, exact for scalar joints; a free joint's position moves by `R dv_lin`
-/// and its quaternion rotates by `dv_ω` (body frame).
+/// coordinate): `q + q̇(q, dv)`, one explicit step of each kind's own kinematics. Exact for
+/// scalar coordinates; for quaternions and the rotated translations of free joints it is off
+/// by O(|dv|²), which keeps Newton's method quadratic (the steps vanish at the solution), and
+/// the quaternion's norm is restored by the kinematic residual's norm term afterwards.
 fn retract(plan: &Plan, q: &mut [f64], dv: &[f64]) {
-    for j in &plan.joints {
-        let (qo, vo) = (j.q_offset, j.v_offset);
-        match j.coord {
-            JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => q[qo] += dv[vo],
-            JointCoord::Free => {
-                let rot = super::spatial::quat_to_matrix(&q[qo + 3..qo + 7]);
-                let d = rot * Vector3::new(dv[vo + 3], dv[vo + 4], dv[vo + 5]);
-                for k in 0..3 {
-                    q[qo + k] += d[k];
-                }
-                let quat = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
-                    q[qo + 3],
-                    q[qo + 4],
-                    q[qo + 5],
-                    q[qo + 6],
-                ));
-                let step = nalgebra::UnitQuaternion::from_scaled_axis(Vector3::new(
-                    dv[vo],
-                    dv[vo + 1],
-                    dv[vo + 2],
-                ));
-                let n = quat * step;
-                q[qo + 3..qo + 7].copy_from_slice(&[n.w, n.i, n.j, n.k]);
-            }
-        }
+    let mut qd = vec![0.0; plan.nq];
+    position_derivative(plan, q, dv, &mut qd);
+    for (x, d) in q.iter_mut().zip(&qd) {
+        *x += d;
     }
 }
 
@@ -623,9 +636,11 @@ fn failure(lp: &LoopPlan, rows: &[(usize, usize)], g: &DVector<f64>) -> LoopFail
     }
 }
 
-/// Projects `q`, `v` onto the constraints with the kept rows: Newton's method on the dependent
-/// coordinates until `g = 0`, then `G v = 0` for the dependent velocities. Returns the dependent
-/// velocity coordinates. Allocates; initial values and restarts only.
+/// Projects `q`, `v` onto the constraints with the kept rows: Levenberg–Marquardt steps on the
+/// dependent coordinates until `g = 0` (plain Newton steps once close; the damping lets a rough
+/// guess, where `G` restricted to them is nearly singular, still reach the loop), then
+/// `G v = 0` for the dependent velocities. Returns the dependent velocity coordinates.
+/// Allocates; initial values and restarts only.
 pub fn project(
     plan: &Plan,
     ws: &mut Workspace,
@@ -635,34 +650,43 @@ pub fn project(
     let lp = &plan.loops;
     let zero_v = vec![0.0; plan.nv];
     position_velocity(plan, ws, q, &zero_v);
-    let (mut g, mut gm) = dense_rows(plan, ws, &lp.kept);
+    let (mut g, mut gm) = dense_rows(plan, ws, q, &lp.kept);
     let dep = choose_dependent(plan, &gm);
-    let norm = |g: &DVector<f64>| g.amax();
+    let cost = |g: &DVector<f64>| g.norm_squared();
+    let mut damping = 1e-6;
     let mut it = 0;
-    while !dep.is_empty() && norm(&g) > 1e-14 && it < MAX_NEWTON {
+    while !dep.is_empty() && g.amax() > 1e-14 && it < MAX_NEWTON {
         it += 1;
         let gd = gm.select_columns(&dep);
-        let Some(step) = gd.lu().solve(&(-&g)) else {
-            break;
-        };
+        let jtj = gd.transpose() * &gd;
+        let rhs = -(gd.transpose() * &g);
         let mut accepted = false;
-        let mut alpha = 1.0;
-        for _ in 0..30 {
+        for _ in 0..40 {
+            let scale = jtj.diagonal().amax().max(1e-300);
+            let mut a = jtj.clone();
+            for i in 0..dep.len() {
+                a[(i, i)] += damping * scale;
+            }
+            let Some(step) = a.lu().solve(&rhs) else {
+                damping *= 10.0;
+                continue;
+            };
             let mut dv = vec![0.0; plan.nv];
             for (s, &k) in step.iter().zip(&dep) {
-                dv[k] = alpha * s;
+                dv[k] = *s;
             }
             let mut qn = q.to_vec();
             retract(plan, &mut qn, &dv);
             position_velocity(plan, ws, &qn, &zero_v);
-            let (gn, gmn) = dense_rows(plan, ws, &lp.kept);
-            if norm(&gn) < norm(&g) {
+            let (gn, gmn) = dense_rows(plan, ws, &qn, &lp.kept);
+            if cost(&gn) < cost(&g) {
                 q.copy_from_slice(&qn);
                 (g, gm) = (gn, gmn);
+                damping = (damping * 0.1).max(1e-15);
                 accepted = true;
                 break;
             }
-            alpha *= 0.5;
+            damping *= 10.0;
         }
         if !accepted {
             break; // no descent: the loop does not close from here
@@ -671,8 +695,8 @@ pub fn project(
     // Every row, the dropped redundant ones included, must vanish.
     let all = all_rows(lp);
     position_velocity(plan, ws, q, &zero_v);
-    let (g_all, _) = dense_rows(plan, ws, &all);
-    if norm(&g_all) > CLOSE_TOLERANCE {
+    let (g_all, _) = dense_rows(plan, ws, q, &all);
+    if g_all.amax() > CLOSE_TOLERANCE {
         return Err(failure(lp, &all, &g_all));
     }
     if dep.is_empty() {
@@ -704,7 +728,7 @@ pub fn assemble_initial(plan: &mut Plan) -> Result<(), SceneError> {
     // (least-squares) rows: redundancy is structural, so both ranks agree except at a
     // singular position.
     position_velocity(plan, &mut ws, &q, &zero_v);
-    let (_, gm) = dense_rows(plan, &ws, &all);
+    let (_, gm) = dense_rows(plan, &ws, &q, &all);
     let keep = rank_rows(&gm);
     plan.loops.kept = keep.iter().map(|&i| all[i]).collect();
     plan.loops.dropped = all
@@ -729,7 +753,8 @@ pub fn assemble_initial(plan: &mut Plan) -> Result<(), SceneError> {
     Ok(())
 }
 
-/// `joint.coordinate` names of velocity coordinates (`crank.w`, `free.v[1]`, …).
+/// Names of velocity coordinates: the joint's scalar coordinate (`crank.phi`, `slide.s`), else
+/// its velocity signal with an index (`ball.w[1]` for a quaternion kind).
 pub fn independent_names(plan: &Plan, coords: &[usize]) -> Vec<String> {
     coords
         .iter()
@@ -738,13 +763,20 @@ pub fn independent_names(plan: &Plan, coords: &[usize]) -> Vec<String> {
                 .joints
                 .iter()
                 .find(|j| k >= j.v_offset && k < j.v_offset + j.coord.nv())?;
-            Some(match j.coord {
-                JointCoord::Revolute { .. } => format!("{}.phi", j.name),
-                JointCoord::Prismatic { .. } => format!("{}.s", j.name),
-                JointCoord::Free if k - j.v_offset < 3 => {
-                    format!("{}.w[{}]", j.name, k - j.v_offset)
-                }
-                JointCoord::Free => format!("{}.v[{}]", j.name, k - j.v_offset - 3),
+            let i = k - j.v_offset;
+            if let Some(c) = j.coord.coordinates().iter().find(|c| c.v == i) {
+                return Some(format!("{}.{}", j.name, c.name));
+            }
+            let spec = j.coord.signals().iter().find(|s| {
+                matches!(s.source, crate::joints::Source::V(off) if i >= off && i < off + s.dim)
+            })?;
+            let crate::joints::Source::V(off) = spec.source else {
+                return None;
+            };
+            Some(if spec.dim == 1 {
+                format!("{}.{}", j.name, spec.name)
+            } else {
+                format!("{}.{}[{}]", j.name, spec.name, i - off)
             })
         })
         .collect()
@@ -766,7 +798,7 @@ pub fn gdot_v(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) -> DVector<
     let gv_at = |ws: &mut Workspace, s: f64| {
         let qs: Vec<f64> = q.iter().zip(&qd).map(|(a, b)| a + s * b).collect();
         position_velocity(plan, ws, &qs, v);
-        let (_, gm) = dense_rows(plan, ws, &lp.kept);
+        let (_, gm) = dense_rows(plan, ws, &qs, &lp.kept);
         gm * DVector::from_column_slice(v)
     };
     let plus = gv_at(ws, h);
@@ -777,7 +809,7 @@ pub fn gdot_v(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) -> DVector<
 /// The dense `G` (kept rows) at `q`. Allocates.
 pub fn constraint_jacobian(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatrix<f64> {
     position_velocity(plan, ws, q, &vec![0.0; plan.nv]);
-    dense_rows(plan, ws, &plan.loops.kept).1
+    dense_rows(plan, ws, q, &plan.loops.kept).1
 }
 
 /// Force [N] on obj2 and torque [N·m] on obj2 of cut `c` for its multipliers (kept rows of the

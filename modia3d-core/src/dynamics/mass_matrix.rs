@@ -37,7 +37,7 @@ pub fn tree_mass_matrices(
         for g in groups.iter().filter(|g| c < g.len()) {
             e[g[c]] = 1.0;
         }
-        super::rnea::inverse_dynamics(plan, ws, &e, &Vector3::zeros(), &mut col);
+        super::rnea::inverse_dynamics(plan, ws, q, &e, &Vector3::zeros(), &mut col);
         for (g, m) in groups.iter().zip(&mut blocks).filter(|(g, _)| c < g.len()) {
             for (r, &i) in g.iter().enumerate() {
                 m[(r, c)] = col[i];
@@ -129,7 +129,7 @@ pub fn consistent_accelerations_with(
     applied_forces(plan, ws, t, q, v);
     extra(plan, ws);
     let mut bias = vec![0.0; nv];
-    super::rnea::inverse_dynamics(plan, ws, &vec![0.0; nv], &plan.gravity, &mut bias);
+    super::rnea::inverse_dynamics(plan, ws, q, &vec![0.0; nv], &plan.gravity, &mut bias);
     let mut vd = vec![0.0; nv];
     for (k, p) in plan.prescribed.iter().enumerate() {
         if let Some(i) = p {
@@ -270,7 +270,7 @@ mod tests {
         let mut max_err = 0.0f64;
         for k in 0..nv {
             e[k] = 1.0;
-            rnea::inverse_dynamics(plan, &mut ws, &e, &Vector3::zeros(), &mut col);
+            rnea::inverse_dynamics(plan, &mut ws, q, &e, &Vector3::zeros(), &mut col);
             e[k] = 0.0;
             for i in 0..nv {
                 max_err = max_err.max((m[(i, k)] - col[i]).abs());

@@ -10,7 +10,8 @@ mod mesh;
 mod plot;
 mod threejs;
 
-use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
+use crate::dynamics::{kinematics, Plan, Workspace};
+use crate::joints::Source;
 use crate::model::Model;
 use crate::solver::IdaStats;
 use std::io::Write;
@@ -320,20 +321,18 @@ impl SimulationResult {
         &self.model.plan
     }
 
-    /// `joint.coordinate` names of every tree joint's states.
+    /// `joint.quantity` names of every tree joint's signals (its kind's, in state order).
     fn joint_signal_names(&self) -> impl Iterator<Item = String> + '_ {
         self.model.plan.joints.iter().flat_map(|j| {
-            let sfx: &'static [&'static str] = match j.coord {
-                JointCoord::Revolute { .. } => &["phi", "w"],
-                JointCoord::Prismatic { .. } => &["s", "v"],
-                JointCoord::Free => &["r", "q", "w", "v"],
-            };
-            sfx.iter().map(move |s| format!("{}.{s}", j.name))
+            j.coord
+                .signals()
+                .iter()
+                .map(move |s| format!("{}.{}", j.name, s.name))
         })
     }
 
-    /// Names of all signals: joint coordinates (`rev.phi`, `rev.w`; `slide.s`, `slide.v`;
-    /// `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
+    /// Names of all signals: joint coordinates (each kind's, e.g. `rev.phi`, `rev.w`;
+    /// `slide.s`, `slide.v`; `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
     /// `obj.w_abs`, `obj.R_abs`).
     pub fn signal_names(&self) -> Vec<String> {
         let mut names = vec![];
@@ -435,32 +434,25 @@ impl SimulationResult {
             data,
         };
         if let Some(j) = plan.joint_index(owner).and_then(|ji| plan.joints.get(ji)) {
-            let (off, dim, unit) = match (j.coord, field) {
-                (JointCoord::Revolute { .. }, "phi") => (j.q_offset, 1, "rad"),
-                (JointCoord::Revolute { .. }, "w") => (nq + j.v_offset, 1, "rad/s"),
-                (JointCoord::Prismatic { .. }, "s") => (j.q_offset, 1, "m"),
-                (JointCoord::Prismatic { .. }, "v") => (nq + j.v_offset, 1, "m/s"),
-                (JointCoord::Free, "r") => (j.q_offset, 3, "m"),
-                (JointCoord::Free, "q") => (j.q_offset + 3, 4, "1"),
-                (JointCoord::Free, "w") => (nq + j.v_offset, 3, "rad/s"),
-                (JointCoord::Free, "v") => {
-                    // der(r), resolved in obj1: rotate the body-frame velocity.
-                    let mut data = Vec::with_capacity(3 * nt);
-                    let (q, o) = (j.q_offset + 3, nq + j.v_offset + 3);
-                    for y in self.states_iter() {
-                        let rot = crate::dynamics::spatial::quat_to_matrix(y.get(q..q + 4)?);
-                        let v_body = nalgebra::Vector3::from_column_slice(y.get(o..o + 3)?);
-                        data.extend_from_slice((rot * v_body).as_slice());
-                    }
-                    return Some(make("m/s", 3, data));
-                }
-                _ => return None,
-            };
-            let mut data = Vec::with_capacity(dim * nt);
+            let spec = j.coord.signals().iter().find(|s| s.name == field)?;
+            let (q_range, v_range) = (
+                j.q_offset..j.q_offset + j.coord.nq(),
+                nq + j.v_offset..nq + j.v_offset + j.coord.nv(),
+            );
+            let mut data = Vec::with_capacity(spec.dim * nt);
             for y in self.states_iter() {
-                data.extend_from_slice(y.get(off..off + dim)?);
+                let off = match spec.source {
+                    Source::Q(k) => j.q_offset + k,
+                    Source::V(k) => nq + j.v_offset + k,
+                    Source::Derived => {
+                        let (qj, vj) = (y.get(q_range.clone())?, y.get(v_range.clone())?);
+                        j.coord.derived_signal(field, qj, vj, &mut data)?;
+                        continue;
+                    }
+                };
+                data.extend_from_slice(y.get(off..off + spec.dim)?);
             }
-            return Some(make(unit, dim, data));
+            return Some(make(spec.unit, spec.dim, data));
         }
         let o = plan.object_index(owner)?;
         let body = plan.objects.get(o)?.body;

@@ -148,11 +148,21 @@ pub(crate) fn check_topology(
     two_parents(objects, joints, &on_loop, errors);
     for e in &tree {
         let sj = &joints[e.joint];
-        if e.flipped && matches!(sj.kind, ValidJointKind::FreeMotion { .. }) {
-            errors.push(SceneError::ReversedFreeMotion {
-                joint: sj.name.clone(),
-                obj1: objects[sj.obj1].name.clone(),
-                obj2: objects[sj.obj2].name.clone(),
+        let reversible = crate::joints::info(sj.kind.name()).is_none_or(|i| i.reversible);
+        if e.flipped && !reversible {
+            let (joint, obj1, obj2) = (
+                sj.name.clone(),
+                objects[sj.obj1].name.clone(),
+                objects[sj.obj2].name.clone(),
+            );
+            errors.push(match sj.kind.name() {
+                "FreeMotion" => SceneError::ReversedFreeMotion { joint, obj1, obj2 },
+                kind => SceneError::ReversedJoint {
+                    joint,
+                    kind,
+                    obj1,
+                    obj2,
+                },
             });
         }
     }

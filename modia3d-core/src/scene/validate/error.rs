@@ -136,6 +136,19 @@ pub enum SceneError {
         /// Its obj2.
         obj2: String,
     },
+    /// A joint that cannot be traversed from obj2 to obj1 (Spherical, Universal, Planar: its
+    /// coordinates are defined from obj1's side) whose obj1 lies on the far side of the world.
+    #[error("{kind} joint `{joint}`: obj1 `{obj1}` must lie on the world side of obj2 `{obj2}`; swap obj1 and obj2 (and, for a Universal joint, axis1 and axis2)")]
+    ReversedJoint {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: &'static str,
+        /// Its obj1.
+        obj1: String,
+        /// Its obj2.
+        obj2: String,
+    },
     /// A collision-enabled solid without a shape.
     #[error("solid `{object}` takes part in collisions but has no shape: give it a shape or set `collision` to false")]
     CollisionWithoutShape {
@@ -175,13 +188,23 @@ pub enum SceneError {
         /// The two shapes' centres coincide.
         coincident: bool,
     },
-    /// A joint spring-damper on a joint without a scalar coordinate.
-    #[error("joint spring-damper on `{joint}`: a {kind} joint has no scalar coordinate; use a Revolute or Prismatic joint")]
+    /// A joint spring-damper or joint input on a joint without a scalar coordinate.
+    #[error("joint spring-damper or input on `{joint}`: a {kind} joint has no scalar coordinate; use a joint with one (Revolute, Prismatic, Cylindrical, Universal, Planar)")]
     NoScalarCoordinate {
         /// The joint.
         joint: String,
         /// Its kind.
         kind: &'static str,
+    },
+    /// A joint spring-damper or joint input that names no coordinate of a joint with several.
+    #[error("{referrer}: a {kind} joint has the coordinates {coordinates}; name one (`coordinate = \"…\"`)")]
+    AmbiguousCoordinate {
+        /// The spring-damper or input, in words.
+        referrer: String,
+        /// The joint's kind.
+        kind: &'static str,
+        /// Its coordinates, listed.
+        coordinates: String,
     },
 }
 
