@@ -27,7 +27,7 @@ model! {
     /// The squeezer with the test set's data (SI units; no gravity): masses `m1`…`m7` [kg],
     /// inertias `i1`…`i7` about the centres of mass [kg·m²], pivots A, B and the spring's anchor
     /// C [m], link dimensions [m], spring stiffness `c0` [N/m] and free length `l0` [m], drive
-    /// torque `mom` [N·m]; the consistent initial angles of the test set.
+    /// torque `mom` [N·m]; the consistent initial angles of the test set (rounded to f64).
     pub AndrewsSqueezer(
         m1: f64 = 0.04325, m2: f64 = 0.00365, m3: f64 = 0.02373, m4: f64 = 0.00706,
         m5: f64 = 0.07050, m6: f64 = 0.00706, m7: f64 = 0.05498,
@@ -41,13 +41,13 @@ model! {
         tb: f64 = 0.00916, u: f64 = 0.04, ua: f64 = 0.01228, ub: f64 = 0.00449,
         zf: f64 = 0.02, zt: f64 = 0.04, fa: f64 = 0.01421,
         c0: f64 = 4530.0, l0: f64 = 0.07785, mom: f64 = 0.033,
-        beta0: f64 = -0.0617138900142764496358948458001,
+        beta0: f64 = -0.06171389001427645,
         theta0: f64 = 0.0,
-        gamma0: f64 = 0.455279819163070380255912382449,
-        phi0: f64 = 0.222668390165885884674473185609,
-        delta0: f64 = 0.487364979543842550225598953530,
-        omega0: f64 = -0.222668390165885884674473185609,
-        epsilon0: f64 = 1.23054744454982119249735015568
+        gamma0: f64 = 0.45527981916307037,
+        phi0: f64 = 0.22266839016588588,
+        delta0: f64 = 0.48736497954384256,
+        omega0: f64 = -0.22266839016588588,
+        epsilon0: f64 = 1.2305474445498212
     ) {
         world  = Object3D(feature = Scene(gravity = [0.0, 0.0, 0.0])),
         pivot_a = Object3D(parent = world, translation = [xa, ya, 0.0]),

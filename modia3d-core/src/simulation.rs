@@ -329,7 +329,7 @@ impl Simulation {
             // ∝ 1/h²) defeats Newton's method (Andrews' squeezer fails at t = 0 so); a first
             // step of 1e-6 of the run is cut by the error test if too large.
             init_step: (plan.loops.m() > 0)
-                .then(|| LOOP_FIRST_STEP * (opts.stop_time - opts.start_time)),
+                .then_some(LOOP_FIRST_STEP * (opts.stop_time - opts.start_time)),
             ..IdaOptions::default()
         };
         record(&mut dae, &mut result, t0, &y0, opts.contact_results);
