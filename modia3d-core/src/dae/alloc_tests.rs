@@ -92,18 +92,20 @@ fn residual_roots_and_events_do_not_allocate() {
 fn residual_of_a_closed_loop_does_not_allocate() {
     use crate::dynamics::loops::LoopPlan;
     let bar = |name: &str, l: f64| {
-        Object3D::new(name)
-            .translation([l / 2.0, 0.0, 0.0])
-            .solid(
-                Solid::new(Shape::Box {
-                    lengths: Vector3::new(l, 0.01, 0.01),
-                })
-                .material("Steel"),
-            )
+        Object3D::new(name).translation([l / 2.0, 0.0, 0.0]).solid(
+            Solid::new(Shape::Box {
+                lengths: Vector3::new(l, 0.01, 0.01),
+            })
+            .material("Steel"),
+        )
     };
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(Object3D::new("pivot").parent("world").translation([0.3, 0.0, 0.0]));
+        .add(
+            Object3D::new("pivot")
+                .parent("world")
+                .translation([0.3, 0.0, 0.0]),
+        );
     for (link, l) in [("crank", 0.1), ("coupler", 0.3), ("rocker", 0.1)] {
         s.add(Object3D::new(link))
             .add(bar(&format!("{link}_bar"), l).parent(link))

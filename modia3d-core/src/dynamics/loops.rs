@@ -63,7 +63,8 @@
 //!
 //! # Assembly and redundant rows
 //!
-//! At build time ([`assemble_initial`]) the rows are ranked by pivoted Gram–Schmidt on `G(q0)`:
+//! At build time ([`assemble_initial`]) the rows are ranked by pivoted Gram–Schmidt on `G` at a
+//! generic position next to `q0` (so a start at a dead centre is not mistaken for redundancy):
 //! rows that add less than [`RANK_TOLERANCE`] of the largest row's norm are redundant (a planar
 //! four-bar of spatial revolutes has 5 rows of rank 2) and dropped, so `G` has full row rank and
 //! the iteration matrix is regular; the dropped rows are named in the model's loop report and
@@ -724,11 +725,16 @@ pub fn assemble_initial(plan: &mut Plan) -> Result<(), SceneError> {
     let all = all_rows(&plan.loops);
     let zero_v = vec![0.0; plan.nv];
     let (mut q, mut v) = (plan.q0.clone(), plan.v0.clone());
-    // Rank at the user's approximate positions, confirmed after a first closing of all
-    // (least-squares) rows: redundancy is structural, so both ranks agree except at a
-    // singular position.
-    position_velocity(plan, &mut ws, &q, &zero_v);
-    let (_, gm) = dense_rows(plan, &ws, &q, &all);
+    // Redundancy is structural: rank the rows at a generic position near the user's (q0
+    // moved by a fixed pseudo-random 0.01 in every velocity direction), so that a start at a
+    // singular position (a dead centre) does not pass for a redundant row.
+    let dv: Vec<f64> = (0..plan.nv)
+        .map(|k| 0.01 * (1.7 * k as f64 + 0.3).sin())
+        .collect();
+    let mut q_generic = q.clone();
+    retract(plan, &mut q_generic, &dv);
+    position_velocity(plan, &mut ws, &q_generic, &zero_v);
+    let (_, gm) = dense_rows(plan, &ws, &q_generic, &all);
     let keep = rank_rows(&gm);
     plan.loops.kept = keep.iter().map(|&i| all[i]).collect();
     plan.loops.dropped = all
