@@ -330,13 +330,21 @@ fn spatial_loop_hitting_a_wall_keeps_its_constraints_through_events() {
     assert_eq!(model.loops()[0].rows, 3, "a spherical cut: three rows");
     let (rtol, atol) = (1e-6, 1e-8);
     let mut sim = model
-        .simulation(&SimOptions::new(2.0).tolerance(rtol).atol(atol).interval(0.01))
+        .simulation(
+            &SimOptions::new(2.0)
+                .tolerance(rtol)
+                .atol(atol)
+                .interval(0.01),
+        )
         .unwrap();
     sim.advance_to(2.0).unwrap();
     let a = sim.output("coupler_tip.r_abs").unwrap();
     let b = sim.output("rocker_tip.r_abs").unwrap();
     let gap = (0..3).map(|i| (a[i] - b[i]).abs()).fold(0.0, f64::max);
     let events = sim.result().events.len();
-    assert!(events >= 20, "{events} events (10 impacts: start and end each)");
+    assert!(
+        events >= 20,
+        "{events} events (10 impacts: start and end each)"
+    );
     assert!(gap <= 10.0 * atol, "gap {gap:e} m after {events} events");
 }
