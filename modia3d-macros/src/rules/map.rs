@@ -220,7 +220,7 @@ impl<'a> Mapper<'a> {
                         new(
                             o2.span,
                             format!(
-                                "object `{object}` has two parents: it is already obj2 of joint `{first}` (hint: an object is moved by one joint only; swap obj1 and obj2, or join another object)"
+                                "object `{object}` has two parents: it is already obj2 of joint `{first}` (hint: an object is moved by one joint only, unless the joints close a loop; swap obj1 and obj2, or join another object)"
                             ),
                         ),
                     );

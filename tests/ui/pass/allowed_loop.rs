@@ -1,5 +1,6 @@
 //! A closed chain of moving joints is accepted: `slide` closes the loop world → body → frame →
-//! world and becomes a cut joint (enforced by constraints when the model is built).
+//! world and becomes a cut joint (enforced by constraints when the model is built); `cut = true`
+//! marks it as the one to cut.
 use modia3d::prelude::*;
 
 model! {
@@ -8,7 +9,7 @@ model! {
         body = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
         frame = Object3D(parent = body, translation = [0.0, 0.0, 1.0]),
         rev = Revolute(obj1 = world, obj2 = body),
-        slide = Prismatic(obj1 = frame, obj2 = world),
+        slide = Prismatic(obj1 = frame, obj2 = world, cut = true),
     }
 }
 

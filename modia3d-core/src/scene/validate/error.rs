@@ -59,7 +59,7 @@ pub enum SceneError {
         objects: Vec<String>,
     },
     /// An object moved by more than one joint.
-    #[error("object `{object}` has two parents: it is obj2 of joints {}; an object can be moved by one joint only", list(.joints))]
+    #[error("object `{object}` has two parents: it is obj2 of joints {}, and they do not close a loop; an object can be moved by one joint only, unless its joints are part of a closed loop", list(.joints))]
     TwoParents {
         /// The object.
         object: String,
