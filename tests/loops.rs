@@ -326,7 +326,7 @@ mod rssr_obstacle;
 /// rocker's tips stays within 10·atol (atol 1e-8 m): the restarts do not break the loop.
 #[test]
 fn spatial_loop_hitting_a_wall_keeps_its_constraints_through_events() {
-    let model = rssr_obstacle::rssr(-0.09).build().unwrap();
+    let model = rssr_obstacle::Rssr::default().build().unwrap();
     assert_eq!(model.loops()[0].rows, 3, "a spherical cut: three rows");
     let (rtol, atol) = (1e-6, 1e-8);
     let mut sim = model

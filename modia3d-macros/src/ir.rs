@@ -201,6 +201,17 @@ pub enum JointKindIr {
         /// `Var(init)` of the velocity.
         velocity: Option<Expr>,
     },
+    /// `Spherical`, `Universal`, `Cylindrical`, `Planar` (`vocab::general_joint`): the axes
+    /// and the `Var(init)` of the initial values that were given, by key.
+    General {
+        /// The constructor.
+        ctor: String,
+        /// Axis keys with their axes.
+        axes: Vec<(&'static str, JointAxis)>,
+        /// Initial-value keys with their `Var(init)`, and whether the key takes a 3-vector or a
+        /// rotation.
+        inits: Vec<(&'static str, bool, Expr)>,
+    },
     /// `FreeMotion` with the `Var(init)` of `r`, `rot`, `v`, `w`.
     Free {
         /// Initial position.
@@ -266,10 +277,10 @@ pub enum ForceIr {
 /// An input.
 #[derive(Clone, Debug)]
 pub enum InputIr {
-    /// `JointForce(joint)`.
-    JointForce(NameRef),
-    /// `JointAcceleration(joint)`.
-    JointAcceleration(NameRef),
+    /// `JointForce(joint, coordinate)`: the coordinate's expression and literal value.
+    JointForce(NameRef, Option<(Expr, Option<String>)>),
+    /// `JointAcceleration(joint, coordinate)`.
+    JointAcceleration(NameRef, Option<(Expr, Option<String>)>),
     /// `ObjectWrench(object)`.
     ObjectWrench(NameRef),
 }

@@ -65,14 +65,18 @@ use proc_macro::TokenStream;
 /// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false`, `cut = false` (prefer this joint as the one that closes its kinematic loop: it becomes a cut joint, enforced by constraints) |
 /// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide`, `cut` |
 /// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide`, `cut` |
+/// | `Spherical` | `obj1*`, `obj2*`, `rot = Var(init = …)` (Cardan angles or a `UnitQuaternion<f64>`), `w = Var(init = [f64; 3])` (rad/s, resolved in obj2), `can_collide`, `cut` |
+/// | `Universal` | `obj1*`, `obj2*`, `axis1*` (fixed in obj1), `axis2*` (fixed in obj2, perpendicular to `axis1`; each as `axis`), `phi1`, `phi2` (rad), `w1`, `w2` (rad/s) as `Var(init = …)`, `can_collide`, `cut` |
+/// | `Cylindrical` | `obj1*`, `obj2*`, `axis = 3`, `phi` (rad), `s` (m), `w` (rad/s), `v` (m/s) as `Var(init = …)`, `can_collide`, `cut` |
+/// | `Planar` | `obj1*`, `obj2*`, `normal = 3` (as `axis`), `x`, `y` (m, resolved in obj1 along the plane axes: normal z → x, y; x → y, z; y → z, x), `phi` (rad), `vx`, `vy` (m/s), `w` (rad/s) as `Var(init = …)`, `can_collide`, `cut` |
 /// | `Fix` | `obj1*`, `obj2*`, `can_collide`, `cut` |
 /// | `SpringDamper` | `obj1*`, `obj2*`, `stiffness*` (N/m), `damping = 0` (N·s/m), `length0 = 0` (m) |
-/// | `JointSpringDamper` | `joint*` (reference to a Revolute or Prismatic), `stiffness*`, `damping = 0`, `offset = 0` |
+/// | `JointSpringDamper` | `joint*` (a joint with scalar coordinates), `coordinate` (`"phi2"`, `"s"`, …; needed on a joint with several), `stiffness*`, `damping = 0`, `offset = 0` |
 /// | `ObjectForce` | `object*`, `law*`: a closure `move \|t: f64, m: &ObjectMotion\| -> Wrench` |
 /// | `SolidMaterial` | `density*` (kg/m³), `young_modulus*` (N/m²), `poisson_ratio*` — a material of this block |
 /// | `ContactPair` | `material1*`, `material2*` (`"Steel"`, a block material `wood` or `"wood"`, or a `&str`/`String` expression), `cor*` ([0, 1]), `mu_k*`, `mu_r*` (≥ 0), `v_min` (m/s), `w_min` (rad/s) (`f64` or `Option<f64>`; default: the scene's) — a contact-pair material (`SceneDesc::add_contact_pair`) |
-/// | `JointForce` | `joint*` (a Revolute or Prismatic) — an input: generalised force, 1 value (N·m or N) |
-/// | `JointAcceleration` | `joint*` (a Revolute or Prismatic) — an input: prescribed acceleration, 1 value (rad/s² or m/s²) |
+/// | `JointForce` | `joint*` (a joint with scalar coordinates), `coordinate` (as for `JointSpringDamper`) — an input: generalised force, 1 value (N·m or N) |
+/// | `JointAcceleration` | `joint*`, `coordinate` (as for `JointForce`) — an input: prescribed acceleration, 1 value (rad/s² or m/s²) |
 /// | `ObjectWrench` | `object*` — an input: world force and torque at the object's origin, 6 values |
 /// | any other type | a sub-assembly: `arm1 = Arm(parent = base, length = 0.5)` |
 ///
@@ -132,11 +136,13 @@ use proc_macro::TokenStream;
 /// same code `SceneDesc::build` runs — so it reports, on the literal's token: values out of
 /// range (dimensions, masses, material data, damping, scene options, contact pairs), unknown
 /// solid materials, solids without a mass or with `collision = true` but no material, parent
-/// cycles, objects moved by two joints, joints with identical ends, kinematic loops, inputs and
-/// joint spring-dampers on joints without a scalar coordinate, a joint driven twice, and two
+/// cycles, objects moved by two joints, joints with identical ends, zero joint axes, Universal
+/// axes that are not perpendicular, kinematic loops, inputs and joint spring-dampers on joints
+/// without a scalar coordinate or with an unknown or (on a joint with several) missing
+/// `coordinate`, a joint driven twice, and two
 /// contact materials that can meet without a pair entry (only in a model without
 /// sub-assemblies, with literal contact detection and literal pair names; solids on one rigid
-/// body or on the two bodies of a Revolute/Prismatic without `can_collide` never meet). Errors
+/// body or on the two bodies of a joint other than FreeMotion without `can_collide` never meet). Errors
 /// that concern stand-ins are left to `build()`; so is "not connected to the world" while
 /// other errors are reported. Via rustc: unknown parts of sub-assemblies, unknown sub-assembly
 /// parameters and type mismatches of values.

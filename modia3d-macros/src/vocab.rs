@@ -9,6 +9,10 @@ pub const COMPONENTS: &[&str] = &[
     "Revolute",
     "Prismatic",
     "FreeMotion",
+    "Spherical",
+    "Universal",
+    "Cylindrical",
+    "Planar",
     "SpringDamper",
     "JointSpringDamper",
     "ObjectForce",
@@ -108,8 +112,86 @@ pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
         "Fix" => &["obj1", "obj2", "can_collide", "cut"],
         "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide", "cut"],
         "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide", "cut"],
+        "Spherical" => &["obj1", "obj2", "rot", "w", "can_collide", "cut"],
+        "Universal" => &[
+            "obj1",
+            "obj2",
+            "axis1",
+            "axis2",
+            "phi1",
+            "phi2",
+            "w1",
+            "w2",
+            "can_collide",
+            "cut",
+        ],
+        "Cylindrical" => &[
+            "obj1",
+            "obj2",
+            "axis",
+            "phi",
+            "s",
+            "w",
+            "v",
+            "can_collide",
+            "cut",
+        ],
+        "Planar" => &[
+            "obj1",
+            "obj2",
+            "normal",
+            "x",
+            "y",
+            "phi",
+            "vx",
+            "vy",
+            "w",
+            "can_collide",
+            "cut",
+        ],
         _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide", "cut"],
     }
+}
+
+/// Axis keys with their default Modia axis, and initial-value keys with whether they take a
+/// vector (see [`general_joint`]).
+pub type GeneralJoint = (
+    &'static [(&'static str, Option<i64>)],
+    &'static [(&'static str, bool)],
+);
+
+/// A joint kind beyond Fix/Revolute/Prismatic/FreeMotion: its axis keys with their default Modia
+/// axis (`None`: required), and its initial-value keys with the type they take (`true`: a
+/// 3-vector or rotation, `false`: a number). The keys are the `JointKind` variant's fields.
+pub fn general_joint(ctor: &str) -> Option<GeneralJoint> {
+    Some(match ctor {
+        "Spherical" => (&[], &[("rot", true), ("w", true)]),
+        "Universal" => (
+            &[("axis1", None), ("axis2", None)],
+            &[
+                ("phi1", false),
+                ("phi2", false),
+                ("w1", false),
+                ("w2", false),
+            ],
+        ),
+        "Cylindrical" => (
+            &[("axis", Some(3))],
+            &[("phi", false), ("s", false), ("w", false), ("v", false)],
+        ),
+        "Planar" => (
+            &[("normal", Some(3))],
+            &[
+                ("x", false),
+                ("y", false),
+                ("phi", false),
+                ("vx", false),
+                ("vy", false),
+                ("w", false),
+            ],
+        ),
+        _ => return None,
+    })
 }
 
 /// Keys that are easy to guess wrong, with the key meant.
@@ -153,7 +235,8 @@ impl Kind {
     pub fn of_builtin(ctor: &str) -> Option<Kind> {
         Some(match ctor {
             "Object3D" => Kind::Object,
-            "Fix" | "Revolute" | "Prismatic" | "FreeMotion" => Kind::Joint,
+            "Fix" | "Revolute" | "Prismatic" | "FreeMotion" | "Spherical" | "Universal"
+            | "Cylindrical" | "Planar" => Kind::Joint,
             "SpringDamper" | "JointSpringDamper" | "ObjectForce" => Kind::Force,
             "SolidMaterial" => Kind::Material,
             "ContactPair" => Kind::ContactPair,

@@ -88,6 +88,80 @@ fn add_body(d: &mut SceneDesc, k: usize, b: &BodySpec) {
                 },
             ));
         }
+        joint @ (JointSpec::Spherical { .. }
+        | JointSpec::Universal { .. }
+        | JointSpec::Cylindrical { .. }
+        | JointSpec::Planar { .. }) => {
+            let (kind, can_collide) = match *joint {
+                JointSpec::Spherical {
+                    rot,
+                    w,
+                    can_collide,
+                } => (
+                    JointKind::Spherical {
+                        rot: FreeRotation::Cardan(rot),
+                        w: Vector3::from(w),
+                    },
+                    can_collide,
+                ),
+                JointSpec::Universal {
+                    axis1,
+                    axis2,
+                    phi,
+                    w,
+                    can_collide,
+                } => {
+                    let mut k = JointKind::universal(axis1, axis2);
+                    if let JointKind::Universal {
+                        phi1, phi2, w1, w2, ..
+                    } = &mut k
+                    {
+                        (*phi1, *phi2, *w1, *w2) = (phi[0], phi[1], w[0], w[1]);
+                    }
+                    (k, can_collide)
+                }
+                JointSpec::Cylindrical {
+                    axis,
+                    q,
+                    v,
+                    can_collide,
+                } => {
+                    let mut k = JointKind::cylindrical(axis);
+                    if let JointKind::Cylindrical {
+                        phi, s, w, v: vs, ..
+                    } = &mut k
+                    {
+                        (*phi, *s, *w, *vs) = (q[0], q[1], v[0], v[1]);
+                    }
+                    (k, can_collide)
+                }
+                JointSpec::Planar {
+                    normal,
+                    q,
+                    v,
+                    can_collide,
+                } => {
+                    let mut k = JointKind::planar(normal);
+                    if let JointKind::Planar {
+                        x,
+                        y,
+                        phi,
+                        vx,
+                        vy,
+                        w,
+                        ..
+                    } = &mut k
+                    {
+                        (*x, *y, *phi, *vx, *vy, *w) = (q[0], q[1], q[2], v[0], v[1], v[2]);
+                    }
+                    (k, can_collide)
+                }
+                _ => unreachable!("matched above"),
+            };
+            let m = mount(d);
+            d.add(Object3D::new(&name).solid(solid));
+            d.add_joint(Joint::new(&jname, &m, &name, kind).can_collide(can_collide));
+        }
         joint => {
             // Fix, Revolute or Prismatic at the mount frame.
             let (kind, x, dx, can_collide) = match *joint {

@@ -128,6 +128,50 @@ pub enum JointSpec {
         /// The joined bodies may collide.
         can_collide: bool,
     },
+    /// Spherical at the mount frame: Cardan angles [rad], angular velocity in the body [rad/s].
+    Spherical {
+        /// Cardan angles [rad].
+        rot: [f64; 3],
+        /// Angular velocity [rad/s].
+        w: [f64; 3],
+        /// The joined bodies may collide.
+        can_collide: bool,
+    },
+    /// Universal about Modia axes `axis1` (mount) and `axis2` (body), perpendicular.
+    Universal {
+        /// ±1..3.
+        axis1: i64,
+        /// ±1..3, not along `axis1`.
+        axis2: i64,
+        /// Initial angles [rad].
+        phi: [f64; 2],
+        /// Initial rates [rad/s].
+        w: [f64; 2],
+        /// The joined bodies may collide.
+        can_collide: bool,
+    },
+    /// Cylindrical along Modia axis `axis`: angle [rad], position [m], their rates.
+    Cylindrical {
+        /// ±1..3.
+        axis: i64,
+        /// Initial angle [rad] and position [m].
+        q: [f64; 2],
+        /// Initial rates [rad/s], [m/s].
+        v: [f64; 2],
+        /// The joined bodies may collide.
+        can_collide: bool,
+    },
+    /// Planar with normal along Modia axis `normal`: x, y [m], phi [rad] and their rates.
+    Planar {
+        /// ±1..3.
+        normal: i64,
+        /// Initial x, y [m], phi [rad].
+        q: [f64; 3],
+        /// Initial rates [m/s, m/s, rad/s].
+        v: [f64; 3],
+        /// The joined bodies may collide.
+        can_collide: bool,
+    },
     /// A Fix joint at the mount frame.
     Fix,
     /// Rigidly attached (parent link) at the mount frame, no joint.
@@ -373,7 +417,7 @@ fn gen_joint(r: &mut Rng, scale: f64, parent_is_world: bool, spread: f64) -> Joi
             r.log_uniform(1e-3, 10.0)
         }
     };
-    match r.below(10) {
+    match r.below(14) {
         0..=4 => {
             let (sp, d) = (speed(r), unit(r));
             let p = offset(r, scale, parent_is_world, spread);
@@ -398,6 +442,42 @@ fn gen_joint(r: &mut Rng, scale: f64, parent_is_world: bool, spread: f64) -> Joi
             can_collide: r.chance(0.3),
         },
         8 => JointSpec::Fix,
+        10 => JointSpec::Spherical {
+            rot: r.vec3(3.2),
+            w: r.vec3(10.0),
+            can_collide: r.chance(0.3),
+        },
+        11 => {
+            let a1: i64 = r.pick(&[1, 2, 3]);
+            let a2 = a1 % 3 + 1;
+            JointSpec::Universal {
+                axis1: a1 * r.pick(&[1, -1]),
+                axis2: a2 * r.pick(&[1, -1]),
+                phi: [r.uniform(-3.2, 3.2), r.uniform(-1.2, 1.2)],
+                w: [r.uniform(-10.0, 10.0), r.uniform(-10.0, 10.0)],
+                can_collide: r.chance(0.3),
+            }
+        }
+        12 => JointSpec::Cylindrical {
+            axis: r.pick(&[1, 2, 3, -1, -2, -3]),
+            q: [r.uniform(-3.2, 3.2), r.uniform(-scale, scale)],
+            v: [r.uniform(-10.0, 10.0), r.uniform(-10.0, 10.0) * r.unit()],
+            can_collide: r.chance(0.3),
+        },
+        13 => JointSpec::Planar {
+            normal: r.pick(&[1, 2, 3, -1, -2, -3]),
+            q: [
+                r.uniform(-scale, scale),
+                r.uniform(-scale, scale),
+                r.uniform(-3.2, 3.2),
+            ],
+            v: [
+                r.uniform(-10.0, 10.0) * r.unit(),
+                r.uniform(-10.0, 10.0) * r.unit(),
+                r.uniform(-10.0, 10.0),
+            ],
+            can_collide: r.chance(0.3),
+        },
         _ => JointSpec::Attached,
     }
 }

@@ -18,6 +18,7 @@
 
 use crate::contact::{ContactPlan, ContactState};
 use crate::dynamics::{BodyId, ObjectId, Plan};
+use crate::joints::Source;
 use crate::results::Event;
 use crate::scene::ValidForce;
 
@@ -110,7 +111,7 @@ pub struct WorkDiagnosis {
     /// What limited the steps.
     pub cause: SlowCause,
     /// The state with the largest weighted local error at the last step, e.g.
-    /// ``"velocity 5 of joint `ball.free` (object `ball`)"``.
+    /// ``"velocity `rev.w` of joint `rev` (object `arm`)"`` (the joint signal holding it; else its index, ``"velocity 5 of joint `ball.free` (object `ball`)"``).
     pub limiting_state: Option<String>,
 }
 
@@ -327,11 +328,23 @@ pub(crate) fn state_name(plan: &Plan, i: usize) -> Option<String> {
         .and_then(|&o| plan.objects.get(o))
         .map(|o| o.name.clone())
         .unwrap_or_default();
-    Some(format!(
-        "{kind} {} of joint `{}` (object `{object}`)",
-        k - off,
-        j.name
-    ))
+    // The kind's signal that holds this component, e.g. `uj.phi2` or `ball.q[3]`.
+    let at = k - off;
+    let signal = j.coord.signals().iter().find_map(|s| {
+        let start = match s.source {
+            Source::Q(o) if i < plan.nq => o,
+            Source::V(o) if i >= plan.nq => o,
+            _ => return None,
+        };
+        (start..start + s.dim).contains(&at).then(|| match s.dim {
+            1 => format!("`{}.{}`", j.name, s.name),
+            _ => format!("`{}.{}[{}]`", j.name, s.name, at - start),
+        })
+    });
+    Some(match signal {
+        Some(sig) => format!("{kind} {sig} of joint `{}` (object `{object}`)", j.name),
+        None => format!("{kind} {at} of joint `{}` (object `{object}`)", j.name),
+    })
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@ use super::{lit_bool, lit_int, lit_str, lit_vec3, Checker};
 use crate::ast::Ctor;
 use crate::ir::{ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
 use crate::names::{did_you_mean, hint};
-use crate::vocab::{joint_keys, Kind, PAIR_KEYS};
+use crate::vocab::{general_joint, joint_keys, Kind, PAIR_KEYS};
 use proc_macro2::Ident;
 use quote::ToTokens;
 use syn::spanned::Spanned;
@@ -32,6 +32,34 @@ impl Checker {
         }
     }
 
+    /// A joint axis `key`: absent (the default Modia axis, if any), a literal ±1..3, an `i64`
+    /// expression or a `[x, y, z]` vector; an out-of-range literal is an error on its token.
+    fn joint_axis(
+        &mut self,
+        key: &str,
+        e: Option<&Expr>,
+        default: Option<i64>,
+    ) -> Option<JointAxis> {
+        match e {
+            None => default.map(|d| JointAxis::Index(None, d)),
+            Some(Expr::Array(arr)) => {
+                let e = Expr::Array(arr.clone());
+                Some(JointAxis::Vector(arr.clone(), lit_vec3(&e)))
+            }
+            Some(e) => match lit_int(e) {
+                Some(i) if (1..=3).contains(&i.abs()) => Some(JointAxis::Index(Some(e.clone()), i)),
+                Some(i) => {
+                    self.err(
+                        e.span(),
+                        format!("`{key}` must be ±1, ±2 or ±3 (±x, ±y, ±z), found `{i}`"),
+                    );
+                    None
+                }
+                None => Some(JointAxis::Expr(e.clone())),
+            },
+        }
+    }
+
     pub(super) fn joint(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
         let kind_name = ctor.name().to_string();
         let a = self.args(ctor, joint_keys(&kind_name));
@@ -48,26 +76,7 @@ impl Checker {
             "Revolute" | "Prismatic" => {
                 let revolute = kind_name == "Revolute";
                 let (pos, vel) = if revolute { ("phi", "w") } else { ("s", "v") };
-                let axis = match a.get("axis") {
-                    None => Some(JointAxis::Index(None, 3)),
-                    Some(Expr::Array(arr)) => {
-                        let e = Expr::Array(arr.clone());
-                        Some(JointAxis::Vector(arr.clone(), lit_vec3(&e)))
-                    }
-                    Some(e) => match lit_int(e) {
-                        Some(i) if (1..=3).contains(&i.abs()) => {
-                            Some(JointAxis::Index(Some(e.clone()), i))
-                        }
-                        Some(i) => {
-                            self.err(
-                                e.span(),
-                                format!("`axis` must be ±1, ±2 or ±3 (±x, ±y, ±z), found `{i}`"),
-                            );
-                            None
-                        }
-                        None => Some(JointAxis::Expr(e.clone())),
-                    },
-                };
+                let axis = self.joint_axis("axis", a.get("axis"), Some(3));
                 let position = a.get(pos).and_then(|p| self.var(pos, p));
                 let velocity = a.get(vel).and_then(|v| self.var(vel, v));
                 axis.map(|axis| JointKindIr::Scalar {
@@ -75,6 +84,37 @@ impl Checker {
                     axis,
                     position,
                     velocity,
+                })
+            }
+            k if general_joint(k).is_some() => {
+                let (axis_keys, init_keys) = general_joint(k)?;
+                let mut axes = vec![];
+                let mut ok = true;
+                for &(key, default) in axis_keys {
+                    let e = match default {
+                        None => self.required(&a, key),
+                        Some(_) => a.get(key),
+                    };
+                    if default.is_none() && e.is_none() {
+                        ok = false;
+                        continue;
+                    }
+                    match self.joint_axis(key, e, default) {
+                        Some(ax) => axes.push((key, ax)),
+                        None => ok = false,
+                    }
+                }
+                let inits = init_keys
+                    .iter()
+                    .filter_map(|&(key, vector)| {
+                        let e = a.get(key)?;
+                        Some((key, vector, self.var(key, e)?))
+                    })
+                    .collect();
+                ok.then(|| JointKindIr::General {
+                    ctor: k.to_string(),
+                    axes,
+                    inits,
                 })
             }
             _ => {
@@ -161,13 +201,14 @@ impl Checker {
                 .and_then(|e| self.reference(e, Kind::Object, "object"))?;
             InputIr::ObjectWrench(o)
         } else {
-            let a = self.args(ctor, &["joint"]);
+            let a = self.args(ctor, &["joint", "coordinate"]);
             let e = self.required(&a, "joint")?;
             let j = self.reference(e, Kind::Joint, "joint")?;
+            let coordinate = a.get("coordinate").map(|e| (e.clone(), lit_str(e)));
             if cname == "JointForce" {
-                InputIr::JointForce(j)
+                InputIr::JointForce(j, coordinate)
             } else {
-                InputIr::JointAcceleration(j)
+                InputIr::JointAcceleration(j, coordinate)
             }
         };
         Some(Item::Input {

@@ -75,13 +75,15 @@ pub fn item(it: &Item) -> TokenStream {
                     let o = scoped(&o.path);
                     quote!(#i::object_wrench(#n, #o))
                 }
-                InputIr::JointForce(j) => {
+                InputIr::JointForce(j, c) | InputIr::JointAcceleration(j, c) => {
                     let j = scoped(&j.path);
-                    quote!(#i::joint_force(#n, #j))
-                }
-                InputIr::JointAcceleration(j) => {
-                    let j = scoped(&j.path);
-                    quote!(#i::joint_acceleration(#n, #j))
+                    let f = if matches!(input, InputIr::JointForce(..)) {
+                        quote!(joint_force)
+                    } else {
+                        quote!(joint_acceleration)
+                    };
+                    let c = c.as_ref().map(|(e, _)| quote!(.coordinate(#e)));
+                    quote!(#i::#f(#n, #j) #c)
                 }
             };
             quote!(#scene.add_input(#v);)
@@ -400,6 +402,41 @@ fn joint_kind(k: &JointKindIr) -> (TokenStream, TokenStream) {
                 }
             };
             (kind, quote!(#pos #vel))
+        }
+        JointKindIr::General { ctor, axes, inits } => {
+            let (axis_keys, init_keys) = crate::vocab::general_joint(ctor).unwrap_or((&[], &[]));
+            let ctor = format_ident!("{}", ctor);
+            let mut fields = vec![];
+            for (key, _) in axis_keys {
+                let field = format_ident!("{}", key);
+                let value = match axes.iter().find(|(k, _)| k == key).map(|(_, a)| a) {
+                    Some(JointAxis::Vector(arr, _)) => quote!(#v3(#arr)),
+                    Some(JointAxis::Index(Some(e), _) | JointAxis::Expr(e)) => {
+                        quote!(#jk::axis_from_index(#e).unwrap_or_default())
+                    }
+                    Some(JointAxis::Index(None, d)) => {
+                        quote!(#jk::axis_from_index(#d).unwrap_or_default())
+                    }
+                    None => quote!(::core::default::Default::default()),
+                };
+                fields.push(quote!(#field: #value));
+            }
+            for (key, vector) in init_keys {
+                let field = format_ident!("{}", key);
+                let init = inits.iter().find(|(k, ..)| k == key).map(|(_, _, e)| e);
+                let value = match (init, *key, vector) {
+                    (Some(e), "rot", _) => quote!(::modia3d::__private::free_rotation(#e)),
+                    (None, "rot", _) => {
+                        quote!(::modia3d::__private::free_rotation([0.0, 0.0, 0.0]))
+                    }
+                    (Some(e), _, true) => quote!(#v3(#e)),
+                    (None, _, true) => quote!(#v3([0.0, 0.0, 0.0])),
+                    (Some(e), _, false) => quote!(#e),
+                    (None, _, false) => quote!(0.0),
+                };
+                fields.push(quote!(#field: #value));
+            }
+            (quote!(#jk::#ctor { #(#fields),* }), quote!())
         }
         JointKindIr::Free { r, rot, v, w } => {
             let zero = quote!([0.0, 0.0, 0.0]);

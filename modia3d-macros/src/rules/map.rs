@@ -326,12 +326,12 @@ impl<'a> Mapper<'a> {
                         ..
                     } => Some(("JointSpringDamper", joint, *slot)),
                     Item::Input {
-                        input: InputIr::JointForce(j),
+                        input: InputIr::JointForce(j, _),
                         slot,
                         ..
                     } => Some(("JointForce", j, *slot)),
                     Item::Input {
-                        input: InputIr::JointAcceleration(j),
+                        input: InputIr::JointAcceleration(j, _),
                         slot,
                         ..
                     } => Some(("JointAcceleration", j, *slot)),
@@ -341,7 +341,7 @@ impl<'a> Mapper<'a> {
                     slot,
                     new(
                         r.span,
-                        format!("`{ctor}` needs a Revolute or Prismatic joint, but `{joint}` is a {kind} (hint: it has no single coordinate to drive)"),
+                        format!("`{ctor}` needs a joint with a scalar coordinate (Revolute, Prismatic, Cylindrical, Universal, Planar), but `{joint}` is a {kind} (hint: its rotation is a quaternion, with no single coordinate to drive)"),
                     ),
                 ))
             }
@@ -352,7 +352,7 @@ impl<'a> Mapper<'a> {
                 let drives = |it: &'a Item| match it {
                     Item::Input {
                         name,
-                        input: InputIr::JointAcceleration(j),
+                        input: InputIr::JointAcceleration(j, _),
                         slot,
                     } => Some((name, j, *slot)),
                     _ => None,
@@ -373,6 +373,42 @@ impl<'a> Mapper<'a> {
                     new(
                         r.span,
                         format!("joint `{name}` already has a prescribed acceleration: input `{first}` (hint: one `JointAcceleration` per joint)"),
+                    ),
+                ))
+            }
+            E::AmbiguousCoordinate {
+                referrer,
+                kind,
+                coordinates,
+            } => {
+                let (r, _, slot) = self.coordinate_user(referrer, None)?;
+                Some((
+                    slot,
+                    new(
+                        r.span,
+                        format!("`{}` is a {kind} joint with the coordinates {coordinates} (hint: name one: `coordinate = \"…\"`)", r.path),
+                    ),
+                ))
+            }
+            E::Unknown {
+                referrer,
+                kind: "joint coordinate",
+                name,
+                hint,
+            } => {
+                if is_stand_in(name) {
+                    return None;
+                }
+                let (r, span, slot) = self.coordinate_user(referrer, Some(name))?;
+                let h = hint
+                    .as_ref()
+                    .map(|h| format!(" (hint: did you mean `{h}`?)"))
+                    .unwrap_or_default();
+                Some((
+                    slot,
+                    new(
+                        span,
+                        format!("joint `{}` has no coordinate `{name}`{h}", r.path),
                     ),
                 ))
             }
@@ -409,6 +445,45 @@ impl<'a> Mapper<'a> {
             .nth(*n + skip);
         *n += 1;
         hit
+    }
+
+    /// The spring-damper (`spring-damper on joint `j``) or input (`input `name``) the core
+    /// names in `referrer` whose literal coordinate is `coordinate` (`None`: not given): its
+    /// joint reference, the span of its coordinate (else of the joint) and its error slot.
+    fn coordinate_user(
+        &self,
+        referrer: &str,
+        coordinate: Option<&str>,
+    ) -> Option<(&'a NameRef, Span, u32)> {
+        let who = first_name(referrer)?;
+        if is_stand_in(who) {
+            return None;
+        }
+        let spring = referrer.starts_with("spring-damper");
+        let fits = |c: &'a Option<(syn::Expr, Option<String>)>| match (c, coordinate) {
+            (None, None) => Some(None),
+            (Some((e, Some(lit))), Some(want)) if lit == want => Some(Some(e)),
+            _ => None,
+        };
+        let found = self.ir.items.iter().find_map(|it| match it {
+            Item::Force {
+                force:
+                    ForceIr::JointSpringDamper {
+                        joint, coordinate, ..
+                    },
+                slot,
+                ..
+            } if spring && joint.path == who => fits(coordinate).map(|e| (joint, e, *slot)),
+            Item::Input {
+                name,
+                input: InputIr::JointForce(j, c) | InputIr::JointAcceleration(j, c),
+                slot,
+            } if !spring && *name == who => fits(c).map(|e| (j, e, *slot)),
+            _ => None,
+        })?;
+        let (r, e, slot) = found;
+        let span = e.map_or(r.span, syn::spanned::Spanned::span);
+        Some((r, span, slot))
     }
 
     /// How a colliding solid's contact material is written in a `ContactPair(…)`, and its

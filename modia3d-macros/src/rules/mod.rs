@@ -31,6 +31,80 @@ const STAND_IN: f64 = 0.5;
 /// sub-assemblies; both are stand-ins).
 const STAND_IN_MATERIAL: &str = "__modia3d_stand_in";
 
+/// An input with its coordinate name, if given (literal, or a stand-in).
+fn coordinate(i: Input, c: &Option<(syn::Expr, Option<String>)>) -> Input {
+    match c {
+        Some(c) => i.coordinate(&stand_in_coordinate(c)),
+        None => i,
+    }
+}
+
+/// A coordinate's literal name, or a stand-in (errors about it are dropped).
+fn stand_in_coordinate((_, lit): &(syn::Expr, Option<String>)) -> String {
+    lit.clone().unwrap_or_else(|| STAND_IN_MATERIAL.to_string())
+}
+
+/// A literal axis, else `None` (known only at run time).
+fn literal_axis(a: &JointAxis) -> Option<Vector3<f64>> {
+    match a {
+        JointAxis::Index(_, i) => JointKind::axis_from_index(*i),
+        JointAxis::Vector(_, Some(v)) => Some(Vector3::from(*v)),
+        _ => None,
+    }
+}
+
+/// The kind of a `Spherical`, `Universal`, `Cylindrical` or `Planar` with its literal axes;
+/// an axis known only at run time is a stand-in the rules accept (for a Universal joint one
+/// perpendicular to the other axis). Initial values do not take part in the scene rules
+/// beyond being finite: zeros.
+fn general_joint(ctor: &str, axes: &[(&'static str, JointAxis)]) -> JointKind {
+    let axis = |key: &str| {
+        axes.iter()
+            .find(|(k, _)| *k == key)
+            .and_then(|(_, a)| literal_axis(a))
+    };
+    match ctor {
+        "Spherical" => JointKind::spherical(),
+        "Universal" => {
+            let (a1, a2) = match (axis("axis1"), axis("axis2")) {
+                (Some(a1), Some(a2)) => (a1, a2),
+                (Some(a1), None) => (
+                    a1,
+                    a1.cross(&Vector3::x())
+                        .try_normalize(0.0)
+                        .unwrap_or_else(|| a1.cross(&Vector3::y())),
+                ),
+                (None, Some(a2)) => (
+                    a2.cross(&Vector3::x())
+                        .try_normalize(0.0)
+                        .unwrap_or_else(|| a2.cross(&Vector3::y())),
+                    a2,
+                ),
+                (None, None) => (Vector3::z(), Vector3::x()),
+            };
+            let mut k = JointKind::universal(3, 1);
+            if let JointKind::Universal { axis1, axis2, .. } = &mut k {
+                (*axis1, *axis2) = (a1, a2);
+            }
+            k
+        }
+        "Cylindrical" => {
+            let mut k = JointKind::cylindrical(3);
+            if let (JointKind::Cylindrical { axis: a, .. }, Some(v)) = (&mut k, axis("axis")) {
+                *a = v;
+            }
+            k
+        }
+        _ => {
+            let mut k = JointKind::planar(3);
+            if let (JointKind::Planar { normal, .. }, Some(v)) = (&mut k, axis("normal")) {
+                *normal = v;
+            }
+            k
+        }
+    }
+}
+
 pub(crate) fn is_stand_in(name: &str) -> bool {
     name.contains('.') || name.starts_with("__modia3d")
 }
@@ -181,6 +255,7 @@ impl<'a> Probe<'a> {
                 let kind = match kind {
                     JointKindIr::Fix => JointKind::Fix,
                     JointKindIr::Free { .. } => JointKind::free(),
+                    JointKindIr::General { ctor, axes, .. } => general_joint(ctor, axes),
                     JointKindIr::Scalar { revolute, axis, .. } => {
                         let k = match axis {
                             JointAxis::Index(_, i) => *i,
@@ -237,7 +312,7 @@ impl<'a> Probe<'a> {
                         ..
                     } => ForceElement::JointSpringDamper {
                         joint: joint.path.clone(),
-                        coordinate: coordinate.as_ref().and_then(|(_, lit)| lit.clone()),
+                        coordinate: coordinate.as_ref().map(stand_in_coordinate),
                         stiffness: self.scalar(&joint.path, stiffness),
                         damping: damping
                             .as_ref()
@@ -254,8 +329,10 @@ impl<'a> Probe<'a> {
             Item::Input { name, input, .. } => {
                 let n = name.to_string();
                 self.desc.add_input(match input {
-                    InputIr::JointForce(j) => Input::joint_force(&n, &j.path),
-                    InputIr::JointAcceleration(j) => Input::joint_acceleration(&n, &j.path),
+                    InputIr::JointForce(j, c) => coordinate(Input::joint_force(&n, &j.path), c),
+                    InputIr::JointAcceleration(j, c) => {
+                        coordinate(Input::joint_acceleration(&n, &j.path), c)
+                    }
                     InputIr::ObjectWrench(o) => Input::object_wrench(&n, obj(o)),
                 });
             }
