@@ -97,14 +97,23 @@ fn to_isometry(t: &Transform) -> Isometry3<f64> {
     )
 }
 
-/// Pose of shape `s` in world at the workspace state (`position_velocity` done).
+/// Pose of shape `s` in world at the workspace state (`position_velocity` done). A sphere
+/// (`ShapePlan::round`) gets its position and the identity rotation: its core is a point at
+/// the frame origin, so every query (narrow phase, contact point, AABB) depends on the
+/// position alone, and the rotation matrix → quaternion conversion is skipped.
 pub(crate) fn shape_pose(cp: &ContactPlan, ws: &Workspace, s: usize) -> Isometry3<f64> {
     let sp = &cp.shapes[s];
-    let t = match sp.body {
-        Some(b) => ws.world[b].then(&sp.in_body),
-        None => sp.in_body,
-    };
-    to_isometry(&t)
+    match sp.body {
+        Some(b) if sp.round => {
+            let x = &ws.world[b];
+            Isometry3::from_parts(
+                Translation3::from(x.pos + x.rot * sp.in_body.pos),
+                UnitQuaternion::identity(),
+            )
+        }
+        Some(b) => to_isometry(&ws.world[b].then(&sp.in_body)),
+        None => to_isometry(&sp.in_body),
+    }
 }
 
 impl ContactState {
@@ -125,7 +134,7 @@ impl ContactState {
             response: PairResponse::default(),
         };
         let ns = cp.shapes.len();
-        ContactState {
+        let mut cs = ContactState {
             pairs: vec![zero; np],
             active: Vec::with_capacity(np),
             started: Vec::with_capacity(np),
@@ -141,6 +150,26 @@ impl ContactState {
             near_shapes: Vec::with_capacity(np),
             near: Vec::with_capacity(np),
             in_near: vec![false; np],
+        };
+        // Shapes fixed to the world: pose and boxes once (the evaluations update moving ones).
+        for (s, sp) in cp.shapes.iter().enumerate() {
+            if sp.body.is_none() {
+                cs.poses[s] = to_isometry(&sp.in_body);
+                cs.aabbs[s] = world_aabb(&sp.shape, &cs.poses[s]);
+                cs.grown[s] = BoundingVolume::loosened(&cs.aabbs[s], 0.5 * cp.margin);
+            }
+        }
+        cs
+    }
+
+    /// Poses of the two shapes of pair `p` at the workspace state (fixed shapes keep theirs).
+    #[inline]
+    fn update_pair_poses(&mut self, cp: &ContactPlan, ws: &Workspace, p: usize) {
+        let pp = &cp.pairs[p];
+        for s in [pp.a, pp.b] {
+            if cp.shapes[s].body.is_some() {
+                self.poses[s] = shape_pose(cp, ws, s);
+            }
         }
     }
 
@@ -213,9 +242,7 @@ impl ContactState {
             Mode::Continuous => {
                 for k in 0..self.active.len() {
                     let p = self.active[k] as usize;
-                    let pp = &cp.pairs[p];
-                    self.poses[pp.a] = shape_pose(cp, ws, pp.a);
-                    self.poses[pp.b] = shape_pose(cp, ws, pp.b);
+                    self.update_pair_poses(cp, ws, p);
                     let sd = self.narrow(plan, cp, p, t)?;
                     let point = self.point(cp, p, &sd);
                     let ps = &mut self.pairs[p];
@@ -226,7 +253,7 @@ impl ContactState {
                 Ok(())
             }
             Mode::ZeroCrossing | Mode::Event => {
-                for s in 0..cp.shapes.len() {
+                for &s in &cp.moving {
                     self.poses[s] = shape_pose(cp, ws, s);
                     self.aabbs[s] = world_aabb(&cp.shapes[s].shape, &self.poses[s]);
                     self.grown[s] = BoundingVolume::loosened(&self.aabbs[s], 0.5 * cp.margin);

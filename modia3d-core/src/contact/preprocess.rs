@@ -22,6 +22,10 @@ pub struct ShapePlan {
     pub contact_material: String,
     /// `c = E / (1 − ν²)` [N/m²].
     pub c: f64,
+    /// The shape is a sphere: a point core at the shape frame's origin swept by its radius, so
+    /// its geometry depends on the frame's position only (`contact_set.rs` places it without
+    /// its rotation).
+    pub round: bool,
 }
 
 /// A candidate pair with its constants (fixed when the scene is compiled; the damping factor
@@ -73,6 +77,9 @@ pub struct ContactPlan {
     pub exact_restitution: bool,
     /// Narrow-phase options.
     pub narrow: NarrowPhaseOptions,
+    /// Shapes on moving bodies (the others' poses and boxes are computed once, in
+    /// `ContactState::new`).
+    pub moving: Vec<usize>,
     /// Candidate pair index of each shape pair `(a, b)`, `a < b` (the broad phase's filter).
     pub pair_of: std::collections::HashMap<(u32, u32), u32>,
     /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
@@ -136,6 +143,7 @@ impl ContactPlan {
                 shape: cs,
                 contact_material: cm.clone(),
                 c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
+                round: matches!(shape, Shape::Sphere { .. }),
             });
         }
         // Which solids can meet: the scene's contact rules (`scene/contact_rules.rs`), which
@@ -198,7 +206,11 @@ impl ContactPlan {
                 .iter()
                 .map(|s| s.shape.bounding_radius())
                 .fold(f64::INFINITY, f64::min);
+        let moving = (0..shapes.len())
+            .filter(|&s| shapes[s].body.is_some())
+            .collect();
         Ok(Some(ContactPlan {
+            moving,
             step_guard: super::step_guard::StepGuard::new(&shapes, &pairs),
             pair_of,
             margin,
