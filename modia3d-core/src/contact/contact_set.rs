@@ -190,12 +190,19 @@ impl ContactState {
     /// keep theirs).
     #[inline]
     fn update_pair_poses(&mut self, cp: &ContactPlan, ws: &Workspace, p: usize) {
-        let pp = self.slots[p].plan;
-        for s in [pp.a, pp.b] {
+        let (a, b) = self.shapes_of(p);
+        for s in [a, b] {
             if cp.shapes[s].body.is_some() {
                 self.poses[s] = shape_pose(cp, ws, s);
             }
         }
+    }
+
+    /// Shape indices of the pair in slot `p`.
+    #[inline]
+    fn shapes_of(&self, p: usize) -> (usize, usize) {
+        let pp = &self.slots[p].plan;
+        (pp.a, pp.b)
     }
 
     fn narrow(
@@ -205,38 +212,48 @@ impl ContactState {
         p: usize,
         t: f64,
     ) -> Result<SignedDistance, ContactError> {
-        let pp = self.slots[p].plan;
+        let (a, b) = self.shapes_of(p);
         self.narrow_calls += 1;
-        let (sd, method) = signed_distance_method(
-            &cp.shapes[pp.a].shape,
-            &self.poses[pp.a],
-            &cp.shapes[pp.b].shape,
-            &self.poses[pp.b],
+        let r = signed_distance_method(
+            &cp.shapes[a].shape,
+            &self.poses[a],
+            &cp.shapes[b].shape,
+            &self.poses[b],
             &cp.narrow,
-        )
-        .map_err(|source| ContactError {
-            pair: cp.pair_name(&plan.scene, &pp),
-            t,
-            source,
-        })?;
-        if method == Method::IterationLimit {
-            // The iterate is still usable (a lower bound of the distance); say so once per
-            // pair, since a pair that needs more iterations usually does so at every call.
-            self.narrow_limits += 1;
-            let k = key(pp.a, pp.b);
-            if !self.limit_warned.contains(&k) {
-                self.limit_warned.push(k);
-                tracing::warn!(
-                    pair = %cp.pair_name(&plan.scene, &pp),
-                    t,
-                    max_iterations = cp.narrow.max_iterations,
-                    "the narrow phase stopped at its iteration limit before meeting \
-                     mpr_tolerance; the best iterate is used (raise mpr_max_iterations or \
-                     loosen mpr_tolerance if this repeats)"
-                );
+        );
+        match r {
+            Ok((sd, Method::IterationLimit)) => {
+                self.limit_reached(plan, cp, p, t);
+                Ok(sd)
             }
+            Ok((sd, _)) => Ok(sd),
+            Err(source) => Err(ContactError {
+                pair: cp.pair_name(&plan.scene, &self.slots[p].plan),
+                t,
+                source,
+            }),
         }
-        Ok(sd)
+    }
+
+    /// The narrow phase of slot `p` stopped at its iteration limit: the iterate is still
+    /// usable (a lower bound of the distance); say so once per pair, since a pair that needs
+    /// more iterations usually does so at every call.
+    #[cold]
+    fn limit_reached(&mut self, plan: &Plan, cp: &ContactPlan, p: usize, t: f64) {
+        self.narrow_limits += 1;
+        let pp = &self.slots[p].plan;
+        let k = key(pp.a, pp.b);
+        if !self.limit_warned.contains(&k) {
+            self.limit_warned.push(k);
+            tracing::warn!(
+                pair = %cp.pair_name(&plan.scene, pp),
+                t,
+                max_iterations = cp.narrow.max_iterations,
+                "the narrow phase stopped at its iteration limit before meeting \
+                 mpr_tolerance; the best iterate is used (raise mpr_max_iterations or \
+                 loosen mpr_tolerance if this repeats)"
+            );
+        }
     }
 
     /// Point of application of the force of the pair in slot `p` for its narrow-phase result
@@ -344,8 +361,8 @@ impl ContactState {
                 }
                 for k in 0..self.near.len() {
                     let p = self.near[k] as usize;
-                    let pp = self.slots[p].plan;
-                    let da = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
+                    let (a, b) = self.shapes_of(p);
+                    let da = aabb_distance(&self.aabbs[a], &self.aabbs[b]);
                     // The AABB distance is a lower bound of the shapes' distance; above the
                     // end level 2ε it decides nothing (see `Hysteresis`), below it the narrow
                     // phase gives the exact value the contact-set decision needs.
