@@ -67,7 +67,8 @@ pub struct PairState {
 /// A pair the broad phase reported near, or one in the contact set.
 #[derive(Clone, Debug)]
 pub struct PairSlot {
-    /// Id of the pair ([`ContactPlan::pair_id`]).
+    /// Id of the pair ([`ContactPlan::pair_id`]), set when the pair enters the contact set
+    /// (it costs a scan of one row of shapes, so the root functions never compute it).
     pub id: u32,
     /// The pair and its constants.
     pub plan: PairPlan,
@@ -279,7 +280,7 @@ impl ContactState {
         }
         let slot = PairSlot {
             plan: cp.pair(a, b)?,
-            id: cp.pair_id(a, b)? as u32,
+            id: u32::MAX,
             state: PairState::APART,
             seen: 0,
             used: true,
@@ -430,6 +431,7 @@ impl ContactState {
                 } else {
                     damping_factor(c, dd, pp.v_min, cp.d_max)
                 };
+                sl.id = cp.pair_id(pp.a, pp.b).map_or(u32::MAX, |i| i as u32);
                 self.started.push(sl.id);
             } else if !now && ps.in_contact {
                 self.ended.push(sl.id);
