@@ -7,7 +7,7 @@
 //! time and result queries only).
 
 use crate::dynamics::spatial::Transform;
-use crate::dynamics::ObjectPlan;
+use crate::dynamics::{BodyId, ObjectPlan};
 use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
@@ -17,7 +17,7 @@ pub struct ShapePlan {
     /// Scene object index (the shape frame is the object frame).
     pub object: usize,
     /// Moving body it belongs to; `None` = fixed to the world.
-    pub body: Option<usize>,
+    pub body: Option<BodyId>,
     /// The object frame placed in the body frame (or in world) [m].
     pub in_body: Transform,
     /// The shape, smoothed.

@@ -25,7 +25,7 @@ pub struct StepGuard {
     thinnest_pair: f64,
     /// `(body, R)` for every moving body with a collision shape: R [m] bounds the distance of
     /// its shapes' points from the body origin, so `|v| + |ω| R` bounds their speed.
-    reach: Vec<(usize, f64)>,
+    reach: Vec<(crate::dynamics::BodyId, f64)>,
 }
 
 impl StepGuard {
@@ -57,7 +57,7 @@ impl StepGuard {
                 }
             }
         }
-        let mut reach: Vec<(usize, f64)> = vec![];
+        let mut reach: Vec<(crate::dynamics::BodyId, f64)> = vec![];
         for s in shapes {
             let Some(body) = s.body else { continue };
             let b = local(s);
