@@ -111,11 +111,9 @@ impl Model {
         let Some(cp) = self.contact.as_deref() else {
             return vec![];
         };
-        cp.pairs
-            .iter()
-            .enumerate()
-            .map(|(p, pp)| ContactPairInfo {
-                name: cp.pair_name(&self.plan.scene, p),
+        cp.candidate_pairs()
+            .map(|pp| ContactPairInfo {
+                name: cp.pair_name(&self.plan.scene, &pp),
                 cor: pp.cor,
                 mu_k: pp.mu_k,
                 mu_r: pp.mu_r,

@@ -150,7 +150,8 @@ impl MultibodyDae {
         };
         let names = |v: &[u32]| -> Vec<String> {
             v.iter()
-                .map(|&p| cp.pair_name(&self.plan.scene, p as usize))
+                .filter_map(|&p| cp.pair_by_id(p as usize))
+                .map(|pp| cp.pair_name(&self.plan.scene, &pp))
                 .collect()
         };
         (names(&cs.started), names(&cs.ended))
@@ -362,8 +363,7 @@ impl DaeSystem for MultibodyDae {
         s.n_blocks = tb.fixed.n_blocks;
         s.couplings.clone_from(&tb.fixed.couplings);
         if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) {
-            for &p in &cs.active {
-                let pp = &cp.pairs[p as usize];
+            for (_, pp, _) in cs.active_pairs() {
                 if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {
                     let (ba, bb) = (tb.of_body[a.index()], tb.of_body[b.index()]);
                     if ba != bb {

@@ -229,7 +229,13 @@ impl SimulationResult {
         let Some(rec) = self.contacts.as_mut() else {
             return;
         };
-        for ps in &cs.pairs {
+        let Some(cp) = self.model.contact.as_deref() else {
+            return;
+        };
+        // Pairs without a state are apart (the contact set only holds near pairs).
+        let apart = crate::contact::PairState::APART;
+        for pp in cp.candidate_pairs() {
+            let ps = cs.state_of(pp.a, pp.b).unwrap_or(&apart);
             let r = &ps.response;
             let on = ps.in_contact;
             rec.data.push(if on { 1.0 } else { 0.0 });
@@ -244,8 +250,9 @@ impl SimulationResult {
     /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
     pub fn contact_pairs(&self) -> Vec<String> {
         match &self.model.contact {
-            Some(cp) => (0..cp.pairs.len())
-                .map(|p| cp.pair_name(&self.model.plan.scene, p))
+            Some(cp) => cp
+                .candidate_pairs()
+                .map(|pp| cp.pair_name(&self.model.plan.scene, &pp))
                 .collect(),
             None => vec![],
         }
@@ -264,7 +271,7 @@ impl SimulationResult {
             "normal" => (12, 3, "1"),
             _ => return None,
         };
-        let np = self.model.contact.as_ref()?.pairs.len();
+        let np = self.model.contact.as_ref()?.n_pairs;
         let stride = np * PAIR_VALUES;
         let base = p * PAIR_VALUES + off;
         let mut data = Vec::with_capacity(dim * self.time.len());

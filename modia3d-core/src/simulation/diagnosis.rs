@@ -219,10 +219,7 @@ pub(crate) fn stiffest(
     let mut best = SlowCause::Unknown;
     let mut best_t = f64::INFINITY;
     if let (Some(cs), Some(cp)) = (cs, cp) {
-        for &p in &cs.active {
-            let (Some(pp), Some(ps)) = (cp.pairs.get(p as usize), cs.pairs.get(p as usize)) else {
-                continue;
-            };
+        for (_, pp, ps) in cs.active_pairs() {
             let body = |s: usize| cp.shapes.get(s).and_then(|s| s.body);
             let delta = ps.response.penetration;
             let k = cp.k_red * pp.c_res * pp.c_geo * pp.n_geo * delta.powf(pp.n_geo - 1.0);
@@ -232,7 +229,7 @@ pub(crate) fn stiffest(
                 best_t = t;
                 let target = 50.0 * h_budget;
                 best = SlowCause::StiffContact {
-                    pair: cp.pair_name(&plan.scene, p as usize),
+                    pair: cp.pair_name(&plan.scene, pp),
                     period: t,
                     suggested_k_red: cp.k_red * (t / target).powi(2).min(1.0),
                 };
