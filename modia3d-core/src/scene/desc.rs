@@ -527,7 +527,7 @@ impl Joint {
             cut: false,
         }
     }
-    /// Marks this joint as the one to cut when it closes a kinematic loop (see [`Joint::cut`]).
+    /// Marks this joint as the one to cut when it closes a kinematic loop (see the field `cut`).
     pub fn cut(mut self, on: bool) -> Self {
         self.cut = on;
         self
