@@ -14,6 +14,7 @@ use crate::results::{SimStats, SimulationResult};
 use crate::solver::{Atol, Ida, IdaError, IdaOptions, SolveStatus};
 use std::time::Instant;
 
+mod contact_phases;
 mod diagnosis;
 mod options;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
@@ -214,6 +215,10 @@ pub struct Simulation {
     call_started: Instant,
     /// Progress bar of a one-shot run on a terminal.
     progress: Option<indicatif::ProgressBar>,
+    /// Scratch of `measure_step`: the pairs in the contact set.
+    active_scratch: Vec<usize>,
+    /// Scratch of `measure_step`: (penetration, f_n) per pair and sample.
+    sample_scratch: Vec<[(f64, f64); contact_phases::SAMPLES]>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -265,6 +270,7 @@ impl Simulation {
             structured_jacobian: opts.structured_jacobian,
             ..IdaOptions::default()
         };
+        result.phase_event(&dae, t0);
         record(&mut dae, &mut result, t0, &y0, opts.contact_results);
         let ida = match Ida::new(dae, t0, &y0, &yp0, &ida_opts) {
             Ok(ida) => ida,
@@ -285,6 +291,8 @@ impl Simulation {
             wall: 0.0,
             call_started: started,
             progress: None,
+            active_scratch: Vec::new(),
+            sample_scratch: Vec::new(),
         };
         sim.wall = started.elapsed().as_secs_f64();
         sim.update_stats();
@@ -375,6 +383,7 @@ impl Simulation {
         loop {
             self.check_budget()?;
             self.guard_step()?;
+            let t_prev = self.time();
             let solved = self.ida.solve(target, true);
             if let Some(f) = self.ida.system_mut().take_user_fault() {
                 return Err(f.into());
@@ -386,9 +395,14 @@ impl Simulation {
             let (SolveStatus::Reached { t }
             | SolveStatus::StopTime { t }
             | SolveStatus::Root { t }) = status;
+            self.measure_step(t_prev, t)?;
             self.record_grid(t0, dt, t.min(target - eps))?;
             match status {
                 SolveStatus::Root { t } => self.event(t)?,
+                SolveStatus::Reached { t } if self.opts.output_steps && t < target - eps => {
+                    let y = self.ida.y().to_vec();
+                    record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
+                }
                 _ if t >= target - eps => {
                     let y = self.ida.y().to_vec();
                     record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
@@ -546,6 +560,7 @@ impl Simulation {
         let dae = self.ida.system_mut();
         let changed = dae.handle_event(t, &y)?;
         let (started, ended) = dae.event_pairs();
+        self.result.phase_event(self.ida.system(), t);
         if !changed && t <= self.last_event_t {
             self.stalled += 1;
             if self.stalled > 20 {

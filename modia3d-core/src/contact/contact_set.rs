@@ -47,8 +47,10 @@ pub struct PairState {
     pub in_contact: bool,
     /// Last `z_AB` [m] (AABB distance while the boxes are apart, signed distance otherwise).
     pub z: f64,
-    /// Penetration velocity at contact start `δ̇⁻` [m/s].
+    /// Penetration velocity at contact start `δ̇⁻` [m/s] (> 0 approaching).
     pub delta_dot_minus: f64,
+    /// Penetration velocity at the last contact end `δ̇⁺` [m/s] (< 0 separating).
+    pub delta_dot_plus: f64,
     /// Damping factor `d` [s/m] fixed at contact start.
     pub d: f64,
     /// Last narrow-phase result (valid when the boxes overlapped).
@@ -115,6 +117,7 @@ impl ContactState {
             in_contact: false,
             z: f64::INFINITY,
             delta_dot_minus: 0.0,
+            delta_dot_plus: 0.0,
             d: 0.0,
             geometry: SignedDistance {
                 distance: f64::INFINITY,
@@ -290,6 +293,7 @@ impl ContactState {
         for k in 0..self.active.len() {
             let p = self.active[k] as usize;
             if !self.in_near[p] {
+                self.pairs[p].delta_dot_plus = self.normal_speed(cp, ws, p);
                 self.pairs[p].in_contact = false;
                 self.pairs[p].response = PairResponse::default();
                 self.ended.push(p as u32);
@@ -300,17 +304,13 @@ impl ContactState {
             let p = self.near[k] as usize;
             let pp = &cp.pairs[p];
             let now = self.pairs[p].z < cp.hysteresis_band().decide;
-            let point = if now && !self.pairs[p].in_contact {
-                self.point(cp, p, &self.pairs[p].geometry)
+            let dd = if now != self.pairs[p].in_contact {
+                self.normal_speed(cp, ws, p)
             } else {
-                Vector3::zeros()
+                0.0
             };
             let ps = &mut self.pairs[p];
             if now && !ps.in_contact {
-                let sd = &ps.geometry;
-                let (v1, _) = point_velocity(ws, cp.shapes[pp.a].body, &point);
-                let (v2, _) = point_velocity(ws, cp.shapes[pp.b].body, &point);
-                let dd = -(v2 - v1).dot(&sd.normal);
                 ps.delta_dot_minus = dd;
                 let c = cor_reg(cp.profile, pp.cor, cp.cor_min, dd, pp.v_min);
                 ps.d = if cp.exact_restitution {
@@ -320,6 +320,7 @@ impl ContactState {
                 };
                 self.started.push(p as u32);
             } else if !now && ps.in_contact {
+                ps.delta_dot_plus = dd;
                 self.ended.push(p as u32);
                 ps.response = PairResponse::default();
             }
@@ -328,6 +329,17 @@ impl ContactState {
                 self.active.push(p as u32);
             }
         }
+    }
+
+    /// Penetration velocity `δ̇ = −(v_b − v_a)·n` [m/s] of pair `p` at its contact point (from
+    /// the last narrow-phase result; > 0 approaching), at the workspace velocities.
+    fn normal_speed(&self, cp: &ContactPlan, ws: &Workspace, p: usize) -> f64 {
+        let pp = &cp.pairs[p];
+        let sd = &self.pairs[p].geometry;
+        let point = self.point(cp, p, sd);
+        let (v1, _) = point_velocity(ws, cp.shapes[pp.a].body, &point);
+        let (v2, _) = point_velocity(ws, cp.shapes[pp.b].body, &point);
+        -(v2 - v1).dot(&sd.normal)
     }
 
     /// The two root functions from the last `z` values [m]: `z_1` = max over pairs in contact

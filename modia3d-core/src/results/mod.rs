@@ -4,6 +4,7 @@
 #![deny(clippy::indexing_slicing)]
 
 mod animation;
+mod contacts;
 mod gltf;
 mod html;
 mod mesh;
@@ -13,6 +14,8 @@ mod threejs;
 use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
 use crate::model::Model;
 use crate::solver::IdaStats;
+pub use contacts::ContactPhase;
+use contacts::PhaseBook;
 use std::io::Write;
 
 /// Counters of a run.
@@ -127,6 +130,22 @@ pub enum ResultError {
         /// Why, with a hint.
         reason: String,
     },
+    /// A contact signal or the contact phases were asked for, but the run did not record them.
+    #[error("{what} needs the contact results of the run: simulate with `SimOptions::contact_results(true)` (`SimOptions::new(stop).contact_results(true)`)")]
+    ContactResultsOff {
+        /// What was asked for, e.g. ``signal `ball|table.f_n` ``.
+        what: String,
+    },
+    /// No collision pair of that name (in either order).
+    #[error("no collision pair `{pair}` (in either order){}; the pairs are: {known}", match .hint { Some(h) => format!(" (hint: did you mean `{h}`?)"), None => String::new() })]
+    UnknownPair {
+        /// The name asked for.
+        pair: String,
+        /// A close existing pair name.
+        hint: Option<String>,
+        /// The first few pair names (see `contact_pairs()`).
+        known: String,
+    },
     /// Writing a file failed.
     #[error("cannot write `{path}`: {source}")]
     Io {
@@ -157,6 +176,8 @@ pub struct SimulationResult {
     /// Events in time order.
     pub events: Vec<Event>,
     contacts: Option<ContactRecord>,
+    /// Contact phases (with `contact_results`).
+    phases: Option<PhaseBook>,
 }
 
 #[derive(Clone, Copy)]
@@ -176,13 +197,91 @@ impl SimulationResult {
             stats: SimStats::default(),
             events: vec![],
             contacts: None,
+            phases: None,
         }
     }
 
     pub(crate) fn enable_contact_record(&mut self) {
-        if self.model.contact.is_some() {
+        if let Some(cp) = &self.model.contact {
             self.contacts = Some(ContactRecord::default());
+            self.phases = Some(PhaseBook::new(cp.pairs.len()));
         }
+    }
+
+    pub(crate) fn phases(&self) -> Option<&PhaseBook> {
+        self.phases.as_ref()
+    }
+
+    pub(crate) fn phases_mut(&mut self) -> Option<&mut PhaseBook> {
+        self.phases.as_mut()
+    }
+
+    /// Opens and closes contact phases after an event at `t` [s] (or the initial contact set).
+    pub(crate) fn phase_event(&mut self, dae: &crate::dae::MultibodyDae, t: f64) {
+        let (Some(book), Some(cs), Some(cp)) =
+            (self.phases.as_mut(), dae.contact(), dae.contact_plan())
+        else {
+            return;
+        };
+        let scene = &self.model.plan.scene;
+        book.event(t, cs, |p| cp.pair_name(scene, p));
+    }
+
+    /// Every contact phase of the run in the order the phases started: per pair and stretch
+    /// of contact its start and end time, impact and exit speed, effective restitution,
+    /// maximum penetration and normal force, and its normal and tangential impulse, measured
+    /// on the solver's steps (not the output grid; see [`ContactPhase`] for the sign
+    /// convention). Needs [`SimOptions::contact_results`](crate::SimOptions::contact_results);
+    /// without it an error names the option. A scene without collision pairs has none.
+    pub fn contacts(&self) -> Result<&[ContactPhase], ResultError> {
+        match (&self.phases, &self.model.contact) {
+            (Some(book), _) => Ok(&book.phases),
+            (None, None) => Ok(&[]),
+            (None, Some(_)) => Err(ResultError::ContactResultsOff {
+                what: "contacts()".into(),
+            }),
+        }
+    }
+
+    /// The contact phases of one pair, named in either order (`"a|b"` or `"b|a"`); in the
+    /// reversed order the vector impulses are those on the first-named object (see
+    /// [`ContactPhase`]).
+    pub fn contact_phases(&self, pair: &str) -> Result<Vec<ContactPhase>, ResultError> {
+        let (stored, reversed) = self.resolve_pair(pair).ok_or_else(|| {
+            let names = self.contact_pairs();
+            let mut known = names.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
+            if names.len() > 8 {
+                known.push_str(", …");
+            }
+            ResultError::UnknownPair {
+                pair: pair.to_string(),
+                hint: crate::scene::did_you_mean(pair, names.iter().map(|s| s.as_str())),
+                known,
+            }
+        })?;
+        Ok(self
+            .contacts()?
+            .iter()
+            .filter(|ph| ph.pair == stored)
+            .map(|ph| {
+                if reversed {
+                    ph.reversed(pair)
+                } else {
+                    ph.clone()
+                }
+            })
+            .collect())
+    }
+
+    /// The stored name of a pair given in either order, and whether it was reversed.
+    fn resolve_pair(&self, pair: &str) -> Option<(String, bool)> {
+        let names = self.contact_pairs();
+        if names.iter().any(|n| n == pair) {
+            return Some((pair.to_string(), false));
+        }
+        let (a, b) = pair.split_once('|')?;
+        let swapped = format!("{b}|{a}");
+        names.contains(&swapped).then_some((swapped, true))
     }
 
     pub(crate) fn push_contacts(&mut self, cs: &crate::contact::ContactState) {
@@ -213,7 +312,11 @@ impl SimulationResult {
 
     fn contact_signal(&self, owner: &str, field: &str) -> Option<Signal> {
         let rec = self.contacts.as_ref()?;
-        let p = self.contact_pairs().iter().position(|n| n == owner)?;
+        let (stored, reversed) = self.resolve_pair(owner)?;
+        let p = self.contact_pairs().iter().position(|n| *n == stored)?;
+        // Named `b|a`: normal and forces as seen from the other side (normal from b to a,
+        // forces and torque on a), i.e. the vectors change sign.
+        let flip = reversed && matches!(field, "friction_force" | "rolling_torque" | "normal");
         let (off, dim, unit) = match field {
             "in_contact" => (0, 1, "1"),
             "penetration" => (1, 1, "m"),
@@ -230,7 +333,12 @@ impl SimulationResult {
         let mut data = Vec::with_capacity(dim * self.time.len());
         for k in 0..self.time.len() {
             let at = k * stride + base;
-            data.extend_from_slice(rec.data.get(at..at + dim)?);
+            let values = rec.data.get(at..at + dim)?;
+            if flip {
+                data.extend(values.iter().map(|x| -x));
+            } else {
+                data.extend_from_slice(values);
+            }
         }
         Some(Signal {
             name: format!("{owner}.{field}"),
@@ -328,7 +436,10 @@ impl SimulationResult {
     /// With [`crate::SimOptions::contact_results`], per collision pair `"<a>|<b>"` (see
     /// [`Self::contact_pairs`]; normal from `a` to `b`, forces and torque on `b`, all in world):
     /// `in_contact` (1/0), `penetration` [m], `f_n` [N], `friction_force` [N],
-    /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact.
+    /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact. A pair
+    /// may be named in either order: as `"<b>|<a>"` the normal points from `b` to `a` and the
+    /// friction force and rolling torque are those on `a` (the vectors change sign). A contact
+    /// signal of a run without `contact_results` is [`ResultError::ContactResultsOff`].
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
             name: name.to_string(),
@@ -347,8 +458,13 @@ impl SimulationResult {
         let (owner, field) = base
             .rsplit_once('.')
             .ok_or_else(|| unknown("expected `<joint or object>.<quantity>`".into()))?;
-        let full = self
-            .full_signal(owner, field)
+        let full = self.full_signal(owner, field);
+        if full.is_none() && self.contacts.is_none() && self.resolve_pair(owner).is_some() {
+            return Err(ResultError::ContactResultsOff {
+                what: format!("signal `{name}`"),
+            });
+        }
+        let full = full
             .or_else(|| self.contact_signal(owner, field))
             .ok_or_else(|| {
                 let names = self.signal_names();

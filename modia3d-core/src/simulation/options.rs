@@ -33,6 +33,10 @@ pub struct SimOptions {
     /// Record per-pair contact signals (penetration, forces, torque, point, normal) at every
     /// output point (default false: a run pays only for what it asks for).
     pub contact_results: bool,
+    /// Also record an output point after every solver step (default false), so that contacts
+    /// shorter than the output interval show in the signals and plots; events are always
+    /// recorded.
+    pub output_steps: bool,
     /// Form IDA's Jacobian by difference quotients coloured by the scene's independent joint
     /// trees and their current contacts (default true): a scene of many free bodies then costs
     /// a few residual evaluations per Jacobian instead of one per state. False = IDA's dense
@@ -58,6 +62,7 @@ impl SimOptions {
             atol: None,
             max_step: None,
             contact_results: false,
+            output_steps: false,
             progress: true,
             structured_jacobian: true,
             max_steps: Some(DEFAULT_MAX_STEPS),
@@ -84,6 +89,12 @@ impl SimOptions {
     /// [`SimulationResult::signal`]).
     pub fn contact_results(mut self, on: bool) -> Self {
         self.contact_results = on;
+        self
+    }
+    /// Records an output point after every solver step as well (see
+    /// [`SimOptions::output_steps`]).
+    pub fn output_steps(mut self, on: bool) -> Self {
+        self.output_steps = on;
         self
     }
     /// Shows (true, the default on a terminal) or hides the progress bar of `simulate`.
