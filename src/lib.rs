@@ -208,8 +208,8 @@ pub mod prelude {
         Feature, ForceElement, ForceFn, FreeRotation, Input, InputError, InputKind, Joint,
         JointKind, MassSpec, MaterialPalette, MaterialRef, Model, Object3D, ObjectMotion,
         ResultError, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Shape, Signal,
-        SimError, SimErrorKind, SimOptions, SimStats, Simulation, SimulationResult, Solid,
-        SolidMaterial, Wrench,
+        SimError, SimErrorKind, SimOptions, SimStats, SimWarning, Simulation, SimulationResult,
+        Solid, SolidMaterial, Wrench,
     };
     pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};

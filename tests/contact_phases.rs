@@ -44,6 +44,19 @@ fn vz_at_event(res: &SimulationResult, t: f64) -> f64 {
     res.signal("ball.v_abs[2]").unwrap().at(k).unwrap()[0]
 }
 
+/// A run with contact results recorded at every solver step (and a 10 ms grid).
+fn run_with_steps() -> SimulationResult {
+    drop_model()
+        .simulate(
+            &SimOptions::new(0.12)
+                .tolerance(1e-8)
+                .interval(0.01)
+                .contact_results(true)
+                .output_steps(true),
+        )
+        .unwrap()
+}
+
 /// Largest penetration δ_m of the Hertz contact of a mass `m` hitting a fixed half-space at
 /// `v` under gravity `g` (normal against gravity): the energy balance
 /// `½ m v² + m g δ_m = (2/5) K δ_m^{5/2}`, solved by Newton from the gravity-free value.
@@ -132,15 +145,7 @@ fn impact_phase_from_a_coarse_grid() {
 /// Pair names work in both orders; reversed, the vectors are those on the first-named object.
 #[test]
 fn pair_lookup_in_both_orders() {
-    let res = drop_model()
-        .simulate(
-            &SimOptions::new(0.12)
-                .tolerance(1e-8)
-                .interval(0.01)
-                .contact_results(true)
-                .output_steps(true),
-        )
-        .unwrap();
+    let res = run_with_steps();
     let ab = res.signal("ball|plane.f_n").unwrap();
     let ba = res.signal("plane|ball.f_n").unwrap();
     assert_eq!(ab.data, ba.data);
@@ -170,4 +175,48 @@ fn missing_contact_results_is_named() {
     }
     let err = res.contacts().unwrap_err().to_string();
     assert!(err.contains("contact_results(true)"), "{err}");
+}
+
+/// `write_csv_signals` of chosen signals, contact signals (in either pair order) and
+/// components included, reads back equal to the signals (17 significant digits round-trip an
+/// f64 exactly); the default `write_csv` includes the contact signals of the run.
+#[test]
+fn csv_of_chosen_signals_reads_back_equal() {
+    let res = run_with_steps();
+    let names = ["plane|ball.f_n", "ball.r_abs[2]", "ball|plane.normal"];
+    let path = std::env::temp_dir().join(format!("modia3d-phases-{}.csv", std::process::id()));
+    res.write_csv_signals(&path, &names).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    assert_eq!(
+        header,
+        [
+            "time [s]",
+            "plane|ball.f_n [N]",
+            "ball.r_abs[2] [m]",
+            "ball|plane.normal[0] [1]",
+            "ball|plane.normal[1] [1]",
+            "ball|plane.normal[2] [1]"
+        ]
+    );
+    assert_eq!(lines.len(), 1 + res.time().len());
+    let rows: Vec<Vec<f64>> = lines[1..]
+        .iter()
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let column = |i: usize| rows.iter().map(|r| r[i]).collect::<Vec<f64>>();
+    assert_eq!(column(0), res.time());
+    assert_eq!(column(1), res.signal("plane|ball.f_n").unwrap().values());
+    assert_eq!(column(2), res.signal("ball.r_abs[2]").unwrap().values());
+    let n = res.signal("ball|plane.normal").unwrap();
+    for k in 0..3 {
+        assert_eq!(column(3 + k), n.component(k));
+    }
+    // An unknown name fails before anything is written.
+    assert!(res.write_csv_signals(&path, &["ball.nope"]).is_err());
+    res.write_csv(&path).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    std::fs::remove_file(&path).ok();
+    assert!(text.lines().next().unwrap().contains("ball|plane.f_n [N]"));
 }

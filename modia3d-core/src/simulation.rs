@@ -17,6 +17,7 @@ use std::time::Instant;
 mod contact_phases;
 mod diagnosis;
 mod options;
+mod warnings;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
 pub use options::{SimOptions, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_MAX_STEPS, MAX_OUTPUT_POINTS};
 
@@ -215,6 +216,8 @@ pub struct Simulation {
     call_started: Instant,
     /// Progress bar of a one-shot run on a terminal.
     progress: Option<indicatif::ProgressBar>,
+    /// Warnings found at the start of the run (`warnings::start_warnings`).
+    start_warnings: Vec<crate::results::SimWarning>,
     /// Scratch of `measure_step`: the pairs in the contact set.
     active_scratch: Vec<usize>,
     /// Scratch of `measure_step`: (penetration, f_n) per pair and sample.
@@ -271,6 +274,11 @@ impl Simulation {
             ..IdaOptions::default()
         };
         result.phase_event(&dae, t0);
+        let start_warnings = warnings::start_warnings(model, dae.contact());
+        for w in &start_warnings {
+            tracing::warn!(t = t0, "{w}");
+        }
+        result.warnings.clone_from(&start_warnings);
         record(&mut dae, &mut result, t0, &y0, opts.contact_results);
         let ida = match Ida::new(dae, t0, &y0, &yp0, &ida_opts) {
             Ok(ida) => ida,
@@ -293,6 +301,7 @@ impl Simulation {
             progress: None,
             active_scratch: Vec::new(),
             sample_scratch: Vec::new(),
+            start_warnings,
         };
         sim.wall = started.elapsed().as_secs_f64();
         sim.update_stats();
@@ -331,10 +340,26 @@ impl Simulation {
         let outcome = self.advance(t);
         self.wall += started.elapsed().as_secs_f64();
         self.update_stats();
+        self.update_warnings();
         outcome.map_err(|kind| SimError {
             kind,
             partial: Box::new(self.result.clone()),
         })
+    }
+
+    /// The start warnings and those of the run so far; new ones are traced.
+    fn update_warnings(&mut self) {
+        let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
+        let interval = self.opts.interval.unwrap_or((t1 - t0) / 500.0);
+        let run = warnings::run_warnings(&self.result, t1 - t0, interval, self.opts.output_steps);
+        let mut all = self.start_warnings.clone();
+        for w in run {
+            if !self.result.warnings.contains(&w) {
+                tracing::warn!(t = self.time(), "{w}");
+            }
+            all.push(w);
+        }
+        self.result.warnings = all;
     }
 
     fn update_stats(&mut self) {

@@ -4,12 +4,15 @@
 #![deny(clippy::indexing_slicing)]
 
 mod animation;
+#[cfg(feature = "arrow")]
+mod arrow;
 mod contacts;
 mod gltf;
 mod html;
 mod mesh;
 mod plot;
 mod threejs;
+mod warnings;
 
 use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
 use crate::model::Model;
@@ -17,6 +20,7 @@ use crate::solver::IdaStats;
 pub use contacts::ContactPhase;
 use contacts::PhaseBook;
 use std::io::Write;
+pub use warnings::SimWarning;
 
 /// Counters of a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -39,6 +43,39 @@ pub struct SimStats {
     pub wall_time: f64,
 }
 
+impl std::fmt::Display for SimStats {
+    /// A few readable lines: steps and their last size and order, the work per kind, events
+    /// and the collision stage's counters, the wall time.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = &self.solver;
+        writeln!(
+            f,
+            "steps: {} (last step {:.3e} s, order {}), error-test failures: {}",
+            s.steps, s.last_step, s.last_order, s.error_test_failures
+        )?;
+        writeln!(
+            f,
+            "residuals: {} (+ {} for Jacobians), Jacobians: {}, Newton iterations: {} ({} convergence failures)",
+            s.residual_evals,
+            s.residual_evals_for_jacobian,
+            s.jacobian_evals,
+            s.nonlinear_iterations,
+            s.nonlinear_convergence_failures
+        )?;
+        writeln!(
+            f,
+            "events: {}, root functions: {} ({} evaluations)",
+            self.events, self.root_functions, s.root_evals
+        )?;
+        writeln!(
+            f,
+            "collision: {} narrow-phase calls ({} at the iteration limit), {} AABB tests",
+            self.narrow_phase_calls, self.narrow_phase_limits, self.aabb_tests
+        )?;
+        write!(f, "wall time: {:.3} s", self.wall_time)
+    }
+}
+
 /// An event: a located root at which the integration restarted.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Event {
@@ -55,6 +92,24 @@ pub struct Event {
 /// Values recorded per pair and output point: in_contact, penetration, f_n, friction (3),
 /// rolling torque (3), point (3), normal (3).
 const PAIR_VALUES: usize = 15;
+
+/// The contact signal fields of a pair, in the order of [`PAIR_VALUES`].
+const CONTACT_FIELDS: [&str; 7] = [
+    "in_contact",
+    "penetration",
+    "f_n",
+    "friction_force",
+    "rolling_torque",
+    "point",
+    "normal",
+];
+
+/// One column of an export: a time or signal component with its unit.
+struct Column {
+    name: String,
+    unit: &'static str,
+    values: Vec<f64>,
+}
 
 /// Per-pair contact signals at the output points (only when asked for).
 #[derive(Clone, Debug, Default)]
@@ -146,6 +201,18 @@ pub enum ResultError {
         /// The first few pair names (see `contact_pairs()`).
         known: String,
     },
+    /// A time outside the recorded output points.
+    #[error("signal `{name}` at t = {t} s: outside the recorded time [{start}, {end}] s")]
+    OutOfRange {
+        /// The signal.
+        name: String,
+        /// The time asked for [s].
+        t: f64,
+        /// First recorded time [s].
+        start: f64,
+        /// Last recorded time [s].
+        end: f64,
+    },
     /// Writing a file failed.
     #[error("cannot write `{path}`: {source}")]
     Io {
@@ -175,6 +242,10 @@ pub struct SimulationResult {
     pub stats: SimStats,
     /// Events in time order.
     pub events: Vec<Event>,
+    /// What the run found suspicious without failing (initial penetrations, unit slips,
+    /// solids that can never meet, chattering contacts, contacts the output grid missed);
+    /// each is also traced with `tracing::warn!`.
+    pub warnings: Vec<SimWarning>,
     contacts: Option<ContactRecord>,
     /// Contact phases (with `contact_results`).
     phases: Option<PhaseBook>,
@@ -196,6 +267,7 @@ impl SimulationResult {
             states: vec![],
             stats: SimStats::default(),
             events: vec![],
+            warnings: vec![],
             contacts: None,
             phases: None,
         }
@@ -401,30 +473,23 @@ impl SimulationResult {
         })
     }
 
-    /// Names of all signals: joint coordinates (`rev.phi`, `rev.w`; `slide.s`, `slide.v`;
-    /// `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
-    /// `obj.w_abs`, `obj.R_abs`).
+    /// Names of the signals that can change: joint coordinates (`rev.phi`, `rev.w`;
+    /// `slide.s`, `slide.v`; `free.r`, `free.q`, `free.w`, `free.v`), motions of the objects
+    /// that move (`obj.r_abs`, `obj.v_abs`, `obj.w_abs`, `obj.R_abs`) and, when recorded, the
+    /// contact signals. The constant motions of fixed objects (the world and everything rigidly
+    /// attached to it) are left out of the list but stay readable by name
+    /// (`signal("table.r_abs")`).
     pub fn signal_names(&self) -> Vec<String> {
         let mut names = vec![];
         names.extend(self.joint_signal_names());
-        for o in &self.model.plan.objects {
+        for o in self.model.plan.objects.iter().filter(|o| o.body.is_some()) {
             for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
                 names.push(format!("{}.{s}", o.name));
             }
         }
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
-                for f in [
-                    "in_contact",
-                    "penetration",
-                    "f_n",
-                    "friction_force",
-                    "rolling_torque",
-                    "point",
-                    "normal",
-                ] {
-                    names.push(format!("{p}.{f}"));
-                }
+                names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
             }
         }
         names
@@ -491,6 +556,84 @@ impl SimulationResult {
                 full.dim
             ))),
         }
+    }
+
+    /// The value of signal `name` (any name [`Self::signal`] accepts) at time `t` [s], between
+    /// the output points by a cubic through the four nearest output points of the same
+    /// event-free stretch (never across an event, where derivatives jump): exact at output
+    /// points and events, and with [`SimOptions::output_steps`](crate::SimOptions::output_steps)
+    /// the output points are the solver's steps, so the interpolation error is below the
+    /// solver's for orders up to 3. `t` outside the recorded time is an error.
+    pub fn signal_at(&self, name: &str, t: f64) -> Result<Vec<f64>, ResultError> {
+        let s = self.signal(name)?;
+        let time = &self.time;
+        let (Some(&first), Some(&last)) = (time.first(), time.last()) else {
+            return Err(ResultError::OutOfRange {
+                name: name.into(),
+                t,
+                start: f64::NAN,
+                end: f64::NAN,
+            });
+        };
+        if !(t >= first && t <= last) {
+            return Err(ResultError::OutOfRange {
+                name: name.into(),
+                t,
+                start: first,
+                end: last,
+            });
+        }
+        // Exact at a recorded point (the last one recorded at that time: after an event).
+        if let Some(k) = time.iter().rposition(|&x| x == t) {
+            return Ok(s.at(k).unwrap_or(&[]).to_vec());
+        }
+        // The event-free stretch around t: from the last event before t to the first after.
+        let lo = self
+            .events
+            .iter()
+            .map(|e| e.t)
+            .filter(|&e| e < t)
+            .fold(first, f64::max);
+        let hi = self
+            .events
+            .iter()
+            .map(|e| e.t)
+            .filter(|&e| e > t)
+            .fold(last, f64::min);
+        // Nodes: distinct times in [lo, hi], the four nearest to t.
+        let mut nodes: Vec<usize> = vec![];
+        for (k, &x) in time.iter().enumerate() {
+            if x < lo || x > hi {
+                continue;
+            }
+            match nodes.last() {
+                Some(&j) if time.get(j) == Some(&x) => {
+                    if let Some(l) = nodes.last_mut() {
+                        *l = k;
+                    }
+                }
+                _ => nodes.push(k),
+            }
+        }
+        let at = nodes.partition_point(|&k| time.get(k).is_some_and(|&x| x < t));
+        let from = at.saturating_sub(2).min(nodes.len().saturating_sub(4));
+        let chosen = nodes.get(from..(from + 4).min(nodes.len())).unwrap_or(&[]);
+        let mut out = vec![0.0; s.dim];
+        for &i in chosen {
+            let ti = time.get(i).copied().unwrap_or(t);
+            let w: f64 = chosen
+                .iter()
+                .filter(|&&j| j != i)
+                .map(|&j| {
+                    let tj = time.get(j).copied().unwrap_or(t);
+                    (t - tj) / (ti - tj)
+                })
+                .product();
+            for (o, v) in out.iter_mut().zip(s.at(i).unwrap_or(&[])) {
+                *o += w * v;
+            }
+        }
+        Ok(out)
     }
 
     fn full_signal(&self, owner: &str, field: &str) -> Option<Signal> {
@@ -563,40 +706,82 @@ impl SimulationResult {
         Some(make(unit, dim, data))
     }
 
-    /// Writes time and every joint coordinate and object position (`r_abs`) as CSV with a
-    /// header of signal names and units.
-    pub fn write_csv(&self, path: impl AsRef<std::path::Path>) -> Result<(), ResultError> {
-        let path = path.as_ref();
-        let io = |source| ResultError::Io {
-            path: path.display().to_string(),
-            source,
-        };
-        let mut names: Vec<String> = vec![];
-        names.extend(self.joint_signal_names());
+    /// The signals [`Self::write_csv`] writes by default: every joint coordinate, the
+    /// positions `r_abs` of moving objects and, when recorded, every contact signal.
+    pub fn default_export_signals(&self) -> Vec<String> {
+        let mut names: Vec<String> = self.joint_signal_names().collect();
         for o in &self.model.plan.objects {
             if o.body.is_some() {
                 names.push(format!("{}.r_abs", o.name));
             }
         }
-        let signals: Vec<Signal> = names
-            .iter()
-            .map(|n| self.signal(n))
-            .collect::<Result<_, _>>()?;
-        let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
-        let mut header = vec!["time [s]".to_string()];
-        for s in &signals {
-            if s.dim == 1 {
-                header.push(format!("{} [{}]", s.name, s.unit));
-            } else {
-                header.extend((0..s.dim).map(|i| format!("{}[{i}] [{}]", s.name, s.unit)));
+        if self.contacts.is_some() {
+            for p in self.contact_pairs() {
+                names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
             }
         }
-        writeln!(out, "{}", header.join(",")).map_err(io)?;
-        for (k, t) in self.time.iter().enumerate() {
-            let mut row = vec![format!("{t:.17e}")];
-            for s in &signals {
-                row.extend(s.at(k).unwrap_or(&[]).iter().map(|x| format!("{x:.17e}")));
+        names
+    }
+
+    /// The columns of an export of `names`: time first, then one per signal component
+    /// (`name` for a scalar, `name[i]` otherwise), each with its unit and values.
+    fn columns<S: AsRef<str>>(&self, names: &[S]) -> Result<Vec<Column>, ResultError> {
+        let mut cols = vec![Column {
+            name: "time".into(),
+            unit: "s",
+            values: self.time.clone(),
+        }];
+        for n in names {
+            let s = self.signal(n.as_ref())?;
+            for i in 0..s.dim {
+                cols.push(Column {
+                    name: if s.dim == 1 {
+                        s.name.clone()
+                    } else {
+                        format!("{}[{i}]", s.name)
+                    },
+                    unit: s.unit,
+                    values: s.component(i),
+                });
             }
+        }
+        Ok(cols)
+    }
+
+    /// Writes time and every joint coordinate, moving object position (`r_abs`) and, with
+    /// `contact_results`, contact signal as CSV (see [`Self::default_export_signals`] and
+    /// [`Self::write_csv_signals`]).
+    pub fn write_csv(&self, path: impl AsRef<std::path::Path>) -> Result<(), ResultError> {
+        self.write_csv_signals(path, &self.default_export_signals())
+    }
+
+    /// Writes time and the signals `names` (any name [`Self::signal`] accepts, contact signals
+    /// and components like `"ball.r_abs[2]"` included) as CSV: a header `name [unit]` per
+    /// column (`name[i] [unit]` per component of a vector), then one row per output point,
+    /// values with 17 significant digits (they read back exactly). An unknown name is an
+    /// error before the file is created.
+    pub fn write_csv_signals<S: AsRef<str>>(
+        &self,
+        path: impl AsRef<std::path::Path>,
+        names: &[S],
+    ) -> Result<(), ResultError> {
+        let path = path.as_ref();
+        let io = |source| ResultError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        let cols = self.columns(names)?;
+        let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+        let header: Vec<String> = cols
+            .iter()
+            .map(|c| format!("{} [{}]", c.name, c.unit))
+            .collect();
+        writeln!(out, "{}", header.join(",")).map_err(io)?;
+        for k in 0..self.time.len() {
+            let row: Vec<String> = cols
+                .iter()
+                .map(|c| format!("{:.17e}", c.values.get(k).copied().unwrap_or(f64::NAN)))
+                .collect();
             writeln!(out, "{}", row.join(",")).map_err(io)?;
         }
         out.flush().map_err(io)

@@ -1,0 +1,217 @@
+//! Driver: the checks behind `SimulationResult::warnings` ([`SimWarning`]). At the start of a
+//! run: collision solids that can never meet, unit slips (sizes and masses far from the
+//! scene's others), initial penetrations deeper than the smoothing radius. After each
+//! `advance_to`: chattering contacts and contact phases the output grid missed. Reads the
+//! model, the initial contact set and the recorded result; allocates freely (not a hot path).
+
+use crate::contact::ContactState;
+use crate::model::Model;
+use crate::results::{SimWarning, SimulationResult};
+use crate::scene::{colliding_objects, CollisionFilter};
+
+/// A moving collision solid this many times larger than the median of the others is a
+/// suspected unit slip (a length in mm where m was meant is 1000 times too large; a billiard
+/// ball on its table is 1/44 of it, a marble on a floor smaller still).
+pub const SIZE_RATIO: f64 = 50.0;
+/// A body this many times heavier or lighter than the median of the others.
+pub const MASS_RATIO: f64 = 1e6;
+/// Chattering: this many contact-set changes of one pair ...
+pub const CHATTER_WARN_EVENTS: usize = 20;
+/// ... within this fraction of the run's duration.
+pub const CHATTER_WARN_SPAN: f64 = 1e-3;
+
+/// The median of `values` without entry `k`.
+fn median_of_others(values: &[f64], k: usize) -> Option<f64> {
+    let others = values
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != k)
+        .map(|(_, &x)| x)
+        .collect();
+    median(others)
+}
+
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let hi = v.get(n / 2).copied()?;
+    Some(if n % 2 == 0 {
+        0.5 * (hi + v.get(n / 2 - 1).copied().unwrap_or(hi))
+    } else {
+        hi
+    })
+}
+
+/// Warnings about the model and its initial state `cs` (the contact set at the start time).
+pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<SimWarning> {
+    let mut out = never_collide(model);
+    out.extend(scale_outliers(model));
+    if let (Some(cs), Some(cp)) = (cs, model.contact.as_deref()) {
+        let radius = model.plan.scene.options.smoothing_radius;
+        for &p in &cs.active {
+            let depth = cs.pairs.get(p as usize).map_or(0.0, |ps| -ps.z);
+            if depth > radius {
+                out.push(SimWarning::InitialPenetration {
+                    pair: cp.pair_name(&model.plan.scene, p as usize),
+                    depth,
+                    radius,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Collision solids on bodies that a joint with `can_collide = false` keeps apart.
+fn never_collide(model: &Model) -> Vec<SimWarning> {
+    let scene = &model.plan.scene;
+    let objects = colliding_objects(scene);
+    let filter = CollisionFilter::new(scene);
+    let mut out = vec![];
+    for (i, &a) in objects.iter().enumerate() {
+        for &b in objects.iter().skip(i + 1) {
+            let Some(j) = filter.excluded_by(a, b) else {
+                continue;
+            };
+            let name = |o: usize| scene.objects.get(o).map(|x| x.name.clone());
+            if let (Some(a), Some(b), Some(joint)) = (
+                name(a),
+                name(b),
+                scene.joints.get(j).map(|j| j.name.clone()),
+            ) {
+                out.push(SimWarning::NeverCollide { a, b, joint });
+            }
+        }
+    }
+    out
+}
+
+/// Moving collision solids far larger than the others, bodies far heavier or lighter.
+fn scale_outliers(model: &Model) -> Vec<SimWarning> {
+    let mut out = vec![];
+    let plan = &model.plan;
+    if let Some(cp) = model.contact.as_deref() {
+        let sizes: Vec<f64> = cp
+            .shapes
+            .iter()
+            .map(|s| 2.0 * s.shape.local_half_extents().max())
+            .collect();
+        for (k, s) in cp.shapes.iter().enumerate() {
+            let (Some(_), Some(&size)) = (s.body, sizes.get(k)) else {
+                continue;
+            };
+            if let Some(m) =
+                median_of_others(&sizes, k).filter(|&m| m > 0.0 && size > SIZE_RATIO * m)
+            {
+                out.push(SimWarning::ScaleOutlier {
+                    object: plan
+                        .scene
+                        .objects
+                        .get(s.object)
+                        .map_or_else(String::new, |o| o.name.clone()),
+                    quantity: "size",
+                    value: size,
+                    median: m,
+                    ratio: size / m,
+                    unit: "m",
+                    what: "collision solids",
+                });
+            }
+        }
+    }
+    let masses: Vec<f64> = plan.bodies.iter().map(|b| b.inertia.mass).collect();
+    for (k, b) in plan.bodies.iter().enumerate() {
+        let Some(&mass) = masses.get(k) else { continue };
+        let Some(m) = median_of_others(&masses, k).filter(|&m| m > 0.0) else {
+            continue;
+        };
+        let ratio = mass / m;
+        if !(1.0 / MASS_RATIO..=MASS_RATIO).contains(&ratio) {
+            let object = b
+                .objects
+                .first()
+                .and_then(|&o| plan.objects.get(o))
+                .map_or_else(String::new, |o| o.name.clone());
+            out.push(SimWarning::ScaleOutlier {
+                object,
+                quantity: "mass",
+                value: mass,
+                median: m,
+                ratio,
+                unit: "kg",
+                what: "bodies",
+            });
+        }
+    }
+    out
+}
+
+/// Warnings about the run recorded in `result` so far: chattering pairs and contact phases
+/// with no output point inside (unless every step is an output point).
+pub(super) fn run_warnings(
+    result: &SimulationResult,
+    span: f64,
+    interval: f64,
+    output_steps: bool,
+) -> Vec<SimWarning> {
+    let mut out = vec![];
+    let time = result.time();
+    for pair in result.contact_pairs() {
+        let changes: Vec<(f64, bool)> = result
+            .events
+            .iter()
+            .flat_map(|e| {
+                let s = e
+                    .started
+                    .iter()
+                    .filter(|p| **p == pair)
+                    .map(|_| (e.t, true));
+                let x = e.ended.iter().filter(|p| **p == pair).map(|_| (e.t, false));
+                s.chain(x).collect::<Vec<_>>()
+            })
+            .collect();
+        // Chattering: CHATTER_WARN_EVENTS changes within CHATTER_WARN_SPAN of the run.
+        let window = CHATTER_WARN_EVENTS.saturating_sub(1);
+        if let Some((first, last)) = changes
+            .iter()
+            .zip(changes.iter().skip(window))
+            .find(|(a, b)| b.0 - a.0 <= CHATTER_WARN_SPAN * span)
+        {
+            out.push(SimWarning::Chattering {
+                pair: pair.clone(),
+                events: CHATTER_WARN_EVENTS,
+                span: last.0 - first.0,
+                t: first.0,
+            });
+        }
+        if output_steps {
+            continue;
+        }
+        // Phases with no output point strictly inside (start, end).
+        let mut start = None;
+        let (mut missed, mut shortest) = (0, f64::INFINITY);
+        for &(t, started) in &changes {
+            match (started, start) {
+                (true, _) => start = Some(t),
+                (false, Some(t0)) => {
+                    let k = time.partition_point(|&x| x <= t0);
+                    if time.get(k).is_none_or(|&x| x >= t) {
+                        missed += 1;
+                        shortest = shortest.min(t - t0);
+                    }
+                    start = None;
+                }
+                (false, None) => {}
+            }
+        }
+        if missed > 0 {
+            out.push(SimWarning::MissedContacts {
+                pair,
+                phases: missed,
+                shortest,
+                interval,
+            });
+        }
+    }
+    out
+}
