@@ -24,7 +24,7 @@ fn explicit(mass: f64, inertia: Matrix3<f64>) -> Solid {
 }
 
 /// Kinetic + potential energy of solids whose centre of mass is at their object origin:
-/// (object name, mass [kg], inertia about the centre of mass in the object frame [kg·m²]).
+/// (object name, mass \[kg\], inertia about the centre of mass in the object frame [kg·m²]).
 fn energy(res: &SimulationResult, parts: &[(&str, f64, Matrix3<f64>)], g: f64) -> Vec<f64> {
     let n = res.time().len();
     let mut e = vec![0.0; n];

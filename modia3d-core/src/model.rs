@@ -41,7 +41,7 @@ pub struct ContactPairInfo {
     pub w_min: f64,
     /// Combined elastic modulus `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
     pub c_res: f64,
-    /// Geometry coefficient `μ_geo` [m] (1 for the linear law).
+    /// Geometry coefficient `μ_geo` \[m\] (1 for the linear law).
     pub mu_geo: f64,
     /// Geometry coefficient `c_geo` [m^(1/2)] (1 for the linear law).
     pub c_geo: f64,
@@ -56,7 +56,7 @@ pub struct BodyInfo {
     pub joint: String,
     /// Its objects, in declaration order.
     pub objects: Vec<String>,
-    /// Combined mass [kg].
+    /// Combined mass \[kg\].
     pub mass: f64,
 }
 
@@ -117,7 +117,7 @@ impl Model {
     }
 
     /// The moving bodies, parents first: the objects rigidly attached to each other that one
-    /// joint moves, with their combined mass [kg].
+    /// joint moves, with their combined mass \[kg\].
     pub fn bodies(&self) -> Vec<BodyInfo> {
         self.plan
             .bodies

@@ -30,7 +30,7 @@ pub enum SimErrorKind {
     /// No consistent initial accelerations (singular mass matrix).
     #[error("no consistent accelerations at t = {t} s: the mass matrix is singular; check the masses and inertias of moving bodies")]
     Inconsistent {
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
     },
     /// A user closure (an `ObjectForce` force law) panicked; the panic was caught at the call.
@@ -38,7 +38,7 @@ pub enum SimErrorKind {
     UserPanic {
         /// The element whose closure panicked, e.g. ``ObjectForce on `ball` (force element 0)``.
         element: String,
-        /// Time [s] passed to the closure.
+        /// Time \[s\] passed to the closure.
         t: f64,
         /// The panic payload as text.
         message: String,
@@ -48,9 +48,9 @@ pub enum SimErrorKind {
     NonFiniteForce {
         /// The element, e.g. ``ObjectForce on `ball` (force element 0)``.
         element: String,
-        /// Time [s] passed to the law.
+        /// Time \[s\] passed to the law.
         t: f64,
-        /// The force returned [N], resolved in world.
+        /// The force returned \[N\], resolved in world.
         force: [f64; 3],
         /// The torque returned [N·m], resolved in world.
         torque: [f64; 3],
@@ -72,15 +72,15 @@ pub enum SimErrorKind {
         pair: String,
         /// Number of events in the span.
         events: usize,
-        /// Their time span [s].
+        /// Their time span \[s\].
         span: f64,
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
     },
     /// Events follow each other without progress in time (a chattering contact).
     #[error("{count} events at t = {t} s without the contact set changing or time advancing: a contact chatters; raise the hysteresis or loosen the tolerance")]
     EventLoop {
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
         /// Events without progress.
         count: u32,
@@ -106,7 +106,7 @@ impl From<UserFault> for SimErrorKind {
     }
 }
 
-/// The error of [`MultibodyDae::consistent_derivative`] at time `t` [s].
+/// The error of [`MultibodyDae::consistent_derivative`] at time `t` \[s\].
 fn derivative_error(e: DerivativeError, t: f64) -> SimErrorKind {
     match e {
         DerivativeError::Singular => SimErrorKind::Inconsistent { t },
@@ -205,7 +205,7 @@ pub struct Simulation {
     k_grid: u64,
     /// Scratch for interpolated output points (length n once used).
     y_out: Vec<f64>,
-    /// The step limit IDA has now [s] (`None`: unlimited).
+    /// The step limit IDA has now \[s\] (`None`: unlimited).
     h_max: Option<f64>,
     /// Inputs changed since the last restart: the next step restarts IDA.
     inputs_changed: bool,
@@ -308,7 +308,7 @@ impl Simulation {
         Ok(sim)
     }
 
-    /// Current time [s].
+    /// Current time \[s\].
     pub fn time(&self) -> f64 {
         self.ida.t()
     }
@@ -331,7 +331,7 @@ impl Simulation {
         self.result
     }
 
-    /// Integrates with error control to `t` [s] (at most the stop time), handling events and
+    /// Integrates with error control to `t` \[s\] (at most the stop time), handling events and
     /// recording output points. On failure the error carries the results up to the failure; the
     /// simulation can then only be [`reset`](Self::reset).
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
@@ -462,7 +462,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Records the output-grid points up to `t_end` [s] (within the last step) from IDA's
+    /// Records the output-grid points up to `t_end` \[s\] (within the last step) from IDA's
     /// interpolating polynomial.
     fn record_grid(&mut self, t0: f64, dt: f64, t_end: f64) -> Result<(), SimErrorKind> {
         let contacts = self.opts.contact_results;
@@ -486,7 +486,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Moves the progress bar (a one-shot run on a terminal) to `t` [s].
+    /// Moves the progress bar (a one-shot run on a terminal) to `t` \[s\].
     fn show_progress(&self, t: f64) {
         if let Some(bar) = &self.progress {
             let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
@@ -645,7 +645,7 @@ impl Simulation {
     }
 
     /// Sets input `name` to `values` (1 value for joint inputs, 6 for an object wrench: force
-    /// [N] then torque [N·m], resolved in world). Takes effect from the current time on.
+    /// \[N\] then torque [N·m], resolved in world). Takes effect from the current time on.
     pub fn set_input(&mut self, name: &str, values: &[f64]) -> Result<(), InputError> {
         let Some(inp) = self.model.plan.inputs.iter().find(|i| i.name == name) else {
             return Err(InputError::Unknown {

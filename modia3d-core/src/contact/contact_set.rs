@@ -34,7 +34,7 @@ pub enum Mode {
 pub struct ContactError {
     /// Pair name `"a|b"`.
     pub pair: String,
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// The geometry error.
     pub source: GeometryError,
@@ -45,7 +45,7 @@ pub struct ContactError {
 pub struct PairState {
     /// Member of the contact set.
     pub in_contact: bool,
-    /// Last `z_AB` [m] (AABB distance while the boxes are apart, signed distance otherwise).
+    /// Last `z_AB` \[m\] (AABB distance while the boxes are apart, signed distance otherwise).
     pub z: f64,
     /// Penetration velocity at contact start `δ̇⁻` [m/s] (> 0 approaching).
     pub delta_dot_minus: f64,
@@ -342,7 +342,7 @@ impl ContactState {
         -(v2 - v1).dot(&sd.normal)
     }
 
-    /// The two root functions from the last `z` values [m]: `z_1` = max over pairs in contact
+    /// The two root functions from the last `z` values \[m\]: `z_1` = max over pairs in contact
     /// of `z − 2ε` (−42 if none), `z_2` = min over the others of `z`, where pairs the broad
     /// phase does not report count as `margin` apart (so `z_2 ≤ margin`). See [`Hysteresis`].
     pub fn roots(&self, cp: &ContactPlan) -> (f64, f64) {
@@ -365,7 +365,7 @@ impl ContactState {
     }
 }
 
-/// The levels of the contact-set hysteresis, in values of `z_AB` [m] (signed distance:
+/// The levels of the contact-set hysteresis, in values of `z_AB` \[m\] (signed distance:
 /// negative = penetrating), for `ε` = [`SceneOptions::hysteresis`](crate::scene::SceneOptions):
 ///
 /// | level | `z_AB` | meaning |
@@ -390,11 +390,11 @@ impl ContactState {
 /// has the full argument and the measurements.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hysteresis {
-    /// Level [m] at which a contact starts (0: touching).
+    /// Level \[m\] at which a contact starts (0: touching).
     pub start: f64,
-    /// Level [m] that decides membership at an event (ε).
+    /// Level \[m\] that decides membership at an event (ε).
     pub decide: f64,
-    /// Level [m] at which a contact ends (2ε).
+    /// Level \[m\] at which a contact ends (2ε).
     pub end: f64,
 }
 

@@ -14,7 +14,7 @@ pub struct ShapePlan {
     pub object: usize,
     /// Moving body it belongs to; `None` = fixed to the world.
     pub body: Option<usize>,
-    /// The object frame placed in the body frame (or in world) [m].
+    /// The object frame placed in the body frame (or in world) \[m\].
     pub in_body: Transform,
     /// The shape, smoothed.
     pub shape: CollisionShape,
@@ -44,7 +44,7 @@ pub struct PairPlan {
     pub w_min: f64,
     /// `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
     pub c_res: f64,
-    /// `μ_geo` [m] (1 for two non-spheres in the 2019 profile).
+    /// `μ_geo` \[m\] (1 for two non-spheres in the 2019 profile).
     pub mu_geo: f64,
     /// `c_geo` [m^(1/2)] or 1.
     pub c_geo: f64,
@@ -65,7 +65,7 @@ pub struct ContactPlan {
     pub d_max: f64,
     /// `cor` of very slow impacts [-].
     pub cor_min: f64,
-    /// Hysteresis ε [m].
+    /// Hysteresis ε \[m\].
     pub hysteresis: f64,
     /// Contact law variant.
     pub profile: ContactProfile,
@@ -75,7 +75,7 @@ pub struct ContactPlan {
     pub narrow: NarrowPhaseOptions,
     /// Candidate pair index of each shape pair `(a, b)`, `a < b` (the broad phase's filter).
     pub pair_of: std::collections::HashMap<(u32, u32), u32>,
-    /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
+    /// Broad-phase margin \[m\]: pairs whose AABBs are more than this apart on some axis are not
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
     /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
     pub margin: f64,
@@ -262,7 +262,7 @@ fn geometry_coefficients(
     }
 }
 
-/// Contact radius [m] of a shape in the later Modia3D profile and whether it counts as flat.
+/// Contact radius \[m\] of a shape in the later Modia3D profile and whether it counts as flat.
 fn contact_radius(s: &Shape) -> (f64, bool) {
     match s {
         Shape::Sphere { diameter } | Shape::Capsule { diameter, .. } => (0.5 * diameter, false),

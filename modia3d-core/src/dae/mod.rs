@@ -96,7 +96,7 @@ impl MultibodyDae {
     pub fn plan(&self) -> &Plan {
         &self.plan
     }
-    /// The largest step [s] after which no collision shape can have passed through another
+    /// The largest step \[s\] after which no collision shape can have passed through another
     /// unseen, at the body velocities and accelerations of the last evaluation
     /// (`contact/step_guard.rs`); `None` without candidate pairs or when nothing that can
     /// collide moves.
@@ -139,7 +139,7 @@ impl MultibodyDae {
         self.root_error.take()
     }
 
-    /// Event mode (docs/contact-model.md §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
+    /// Event mode (docs/contact-model.md §4) at time `t` \[s\] and state `y`: recomputes every `z_AB`, rebuilds
     /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
     /// nothing without collision pairs.
     pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
@@ -165,7 +165,7 @@ impl MultibodyDae {
         cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
     }
 
-    /// Derivative `y'` consistent with `y` at time `t` [s], contact forces of the current set
+    /// Derivative `y'` consistent with `y` at time `t` \[s\], contact forces of the current set
     /// included; an error if the mass matrix is singular there, the narrow phase fails or a
     /// user force law panics or returns a non-finite wrench.
     pub fn consistent_derivative(

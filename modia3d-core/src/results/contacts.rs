@@ -25,10 +25,10 @@ use nalgebra::Vector3;
 pub struct ContactPhase {
     /// The pair `"a|b"` (as in [`SimulationResult::contact_pairs`](super::SimulationResult::contact_pairs)).
     pub pair: String,
-    /// Time the pair entered the contact set [s] (the shapes touch; the start of the run for a
+    /// Time the pair entered the contact set \[s\] (the shapes touch; the start of the run for a
     /// pair in contact initially).
     pub start: f64,
-    /// Time it left [s] (separated by twice the hysteresis ε); `None` if still in contact at
+    /// Time it left \[s\] (separated by twice the hysteresis ε); `None` if still in contact at
     /// the end of the run.
     pub end: Option<f64>,
     /// Impact speed `δ̇⁻` [m/s]: penetration velocity at the start (> 0 approaching).
@@ -36,11 +36,11 @@ pub struct ContactPhase {
     /// Exit speed [m/s]: separation speed `−δ̇⁺` at the end (> 0 separating); `None` while in
     /// contact.
     pub exit_speed: Option<f64>,
-    /// Largest penetration depth `δ` during the phase [m].
+    /// Largest penetration depth `δ` during the phase \[m\].
     pub max_penetration: f64,
-    /// Largest normal force magnitude `f_n` during the phase [N].
+    /// Largest normal force magnitude `f_n` during the phase \[N\].
     pub max_normal_force: f64,
-    /// Time of the largest normal force [s].
+    /// Time of the largest normal force \[s\].
     pub t_max_normal_force: f64,
     /// Normal impulse `∫ f_n dt` over the phase [N·s] (magnitude along the normal; ≥ 0).
     pub normal_impulse: f64,
@@ -51,12 +51,12 @@ pub struct ContactPhase {
 }
 
 impl ContactPhase {
-    /// Duration [s] (`None` while in contact).
+    /// Duration \[s\] (`None` while in contact).
     pub fn duration(&self) -> Option<f64> {
         self.end.map(|e| e - self.start)
     }
 
-    /// Effective coefficient of restitution: exit speed / impact speed [1]; `None` while in
+    /// Effective coefficient of restitution: exit speed / impact speed \[1\]; `None` while in
     /// contact or for an impact speed of zero (a resting start).
     pub fn restitution(&self) -> Option<f64> {
         let exit = self.exit_speed?;
@@ -103,7 +103,7 @@ impl PhaseBook {
         self.phases.get_mut(k)
     }
 
-    /// Opens and closes phases after an event at `t` [s] (or at the start of the run) from the
+    /// Opens and closes phases after an event at `t` \[s\] (or at the start of the run) from the
     /// contact set's `started`/`ended` lists; `name(p)` gives pair `p`'s name.
     pub fn event(&mut self, t: f64, cs: &ContactState, name: impl Fn(usize) -> String) {
         for &p in &cs.ended {
@@ -139,7 +139,7 @@ impl PhaseBook {
         }
     }
 
-    /// Adds `weight` [s] times pair `p`'s forces `(f_n, f_t)` (on `b`, world) to its impulses.
+    /// Adds `weight` \[s\] times pair `p`'s forces `(f_n, f_t)` (on `b`, world) to its impulses.
     pub fn add_impulse(
         &mut self,
         p: usize,
@@ -155,7 +155,7 @@ impl PhaseBook {
         }
     }
 
-    /// Pair `p`'s maxima so far: (penetration [m], normal force [N]).
+    /// Pair `p`'s maxima so far: (penetration \[m\], normal force \[N\]).
     pub fn maxima(&self, p: usize) -> Option<(f64, f64)> {
         let k = (*self.open.get(p)?)?;
         self.phases
@@ -163,7 +163,7 @@ impl PhaseBook {
             .map(|ph| (ph.max_penetration, ph.max_normal_force))
     }
 
-    /// Takes a sample of pair `p` at `t` [s] into its maxima.
+    /// Takes a sample of pair `p` at `t` \[s\] into its maxima.
     pub fn sample_max(&mut self, p: usize, t: f64, penetration: f64, f_n: f64) {
         if let Some(ph) = self.open_phase(p) {
             ph.max_penetration = ph.max_penetration.max(penetration);

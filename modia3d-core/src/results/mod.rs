@@ -39,7 +39,7 @@ pub struct SimStats {
     /// (`SceneOptions::mpr_max_iterations`) and used their best iterate; each such pair is
     /// also warned about once (`tracing::warn!`).
     pub narrow_phase_limits: u64,
-    /// Wall-clock time of the integration [s].
+    /// Wall-clock time of the integration \[s\].
     pub wall_time: f64,
 }
 
@@ -79,7 +79,7 @@ impl std::fmt::Display for SimStats {
 /// An event: a located root at which the integration restarted.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Event {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// What happened, in words.
     pub description: String,
@@ -206,11 +206,11 @@ pub enum ResultError {
     OutOfRange {
         /// The signal.
         name: String,
-        /// The time asked for [s].
+        /// The time asked for \[s\].
         t: f64,
-        /// First recorded time [s].
+        /// First recorded time \[s\].
         start: f64,
-        /// Last recorded time [s].
+        /// Last recorded time \[s\].
         end: f64,
     },
     /// Writing a file failed.
@@ -288,7 +288,7 @@ impl SimulationResult {
         self.phases.as_mut()
     }
 
-    /// Opens and closes contact phases after an event at `t` [s] (or the initial contact set).
+    /// Opens and closes contact phases after an event at `t` \[s\] (or the initial contact set).
     pub(crate) fn phase_event(&mut self, dae: &crate::dae::MultibodyDae, t: f64) {
         let (Some(book), Some(cs), Some(cp)) =
             (self.phases.as_mut(), dae.contact(), dae.contact_plan())
@@ -425,7 +425,7 @@ impl SimulationResult {
         self.states.extend_from_slice(y);
     }
 
-    /// Output time points [s].
+    /// Output time points \[s\].
     pub fn time(&self) -> &[f64] {
         &self.time
     }
@@ -496,12 +496,12 @@ impl SimulationResult {
     }
 
     /// A signal by name, optionally with a component index: `"rev.phi"`, `"ball.r_abs"`,
-    /// `"ball.r_abs[2]"`. Object signals are resolved in world: `r_abs` [m], `v_abs` [m/s],
+    /// `"ball.r_abs[2]"`. Object signals are resolved in world: `r_abs` \[m\], `v_abs` [m/s],
     /// `w_abs` [rad/s], `R_abs` (rotation matrix, row-major, columns = object axes).
     /// With [`crate::SimOptions::contact_results`], per collision pair `"<a>|<b>"` (see
     /// [`Self::contact_pairs`]; normal from `a` to `b`, forces and torque on `b`, all in world):
-    /// `in_contact` (1/0), `penetration` [m], `f_n` [N], `friction_force` [N],
-    /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact. A pair
+    /// `in_contact` (1/0), `penetration` \[m\], `f_n` \[N\], `friction_force` \[N\],
+    /// `rolling_torque` [N·m], `point` \[m\], `normal` \[1\]; zero while not in contact. A pair
     /// may be named in either order: as `"<b>|<a>"` the normal points from `b` to `a` and the
     /// friction force and rolling torque are those on `a` (the vectors change sign). A contact
     /// signal of a run without `contact_results` is [`ResultError::ContactResultsOff`].
@@ -558,7 +558,7 @@ impl SimulationResult {
         }
     }
 
-    /// The value of signal `name` (any name [`Self::signal`] accepts) at time `t` [s], between
+    /// The value of signal `name` (any name [`Self::signal`] accepts) at time `t` \[s\], between
     /// the output points by a cubic through the four nearest output points of the same
     /// event-free stretch (never across an event, where derivatives jump): exact at output
     /// points and events, and with [`SimOptions::output_steps`](crate::SimOptions::output_steps)

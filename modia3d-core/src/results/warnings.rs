@@ -12,9 +12,9 @@ pub enum SimWarning {
     InitialPenetration {
         /// The pair `"a|b"`.
         pair: String,
-        /// Penetration depth [m].
+        /// Penetration depth \[m\].
         depth: f64,
-        /// The scene's smoothing radius [m].
+        /// The scene's smoothing radius \[m\].
         radius: f64,
     },
     /// A collision solid far larger or smaller than the scene's others (often a length in mm
@@ -25,9 +25,9 @@ pub enum SimWarning {
         object: String,
         /// `"size"` (largest extent of a collision solid) or `"mass"` (of a body).
         quantity: &'static str,
-        /// Its value [m] or [kg].
+        /// Its value \[m\] or \[kg\].
         value: f64,
-        /// The median of the others [m] or [kg].
+        /// The median of the others \[m\] or \[kg\].
         median: f64,
         /// `value / median`.
         ratio: f64,
@@ -55,9 +55,9 @@ pub enum SimWarning {
         pair: String,
         /// Number of its events in the window.
         events: usize,
-        /// Their time span [s].
+        /// Their time span \[s\].
         span: f64,
-        /// Time of the first of them [s].
+        /// Time of the first of them \[s\].
         t: f64,
     },
     /// Contact phases that began and ended between two output points: the signals never show
@@ -68,9 +68,9 @@ pub enum SimWarning {
         pair: String,
         /// Number of phases with no output point inside.
         phases: usize,
-        /// Duration of the shortest [s].
+        /// Duration of the shortest \[s\].
         shortest: f64,
-        /// The output interval [s].
+        /// The output interval \[s\].
         interval: f64,
     },
 }

@@ -57,7 +57,7 @@ fn parabola_max(t: [f64; 3], f: [f64; 3]) -> Option<(f64, f64)> {
 }
 
 impl Simulation {
-    /// Interpolates the state at `t` [s] (within the last step) and updates the forces of the
+    /// Interpolates the state at `t` \[s\] (within the last step) and updates the forces of the
     /// pairs in the contact set there.
     fn contacts_at(&mut self, t: f64) -> Result<(), SimErrorKind> {
         let mut y = std::mem::take(&mut self.y_out);
@@ -71,7 +71,7 @@ impl Simulation {
         Ok(done?)
     }
 
-    /// Penetration [m] and normal force [N] of pair `p` at the last evaluation.
+    /// Penetration \[m\] and normal force \[N\] of pair `p` at the last evaluation.
     fn pair_sample(&self, p: usize) -> (f64, f64) {
         self.ida
             .system()
@@ -80,7 +80,7 @@ impl Simulation {
             .map_or((0.0, 0.0), |ps| (ps.response.penetration, ps.response.f_n))
     }
 
-    /// Measures the last step `[t_a, t_b]` [s] into the contact phases of the pairs in the
+    /// Measures the last step `[t_a, t_b]` \[s\] into the contact phases of the pairs in the
     /// contact set (see the module header). Nothing without `contact_results` or contacts.
     pub(super) fn measure_step(&mut self, t_a: f64, t_b: f64) -> Result<(), SimErrorKind> {
         let Some(book) = self.result.phases() else {

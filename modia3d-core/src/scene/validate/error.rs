@@ -156,9 +156,9 @@ pub enum SceneError {
         object1: String,
         /// The second object.
         object2: String,
-        /// Initial penetration depth [m] (minus the signed distance).
+        /// Initial penetration depth \[m\] (minus the signed distance).
         depth: f64,
-        /// The deepest admissible initial penetration [m].
+        /// The deepest admissible initial penetration \[m\].
         limit: f64,
         /// The two shapes' centres coincide.
         coincident: bool,
