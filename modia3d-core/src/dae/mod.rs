@@ -12,7 +12,7 @@ use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
 #[cfg(test)]
-mod alloc_tests;
+pub(crate) mod alloc_tests;
 
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]

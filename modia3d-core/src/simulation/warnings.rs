@@ -215,3 +215,81 @@ pub(super) fn run_warnings(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::Event;
+
+    /// Eight steel balls on a steel table (`dae/alloc_tests.rs`); the pair used here is
+    /// `ball0|table`.
+    fn ball_and_table() -> Model {
+        crate::dae::alloc_tests::balls_on_a_table().build().unwrap()
+    }
+
+    fn event(t: f64, started: bool, pair: &str) -> Event {
+        let (s, e) = if started {
+            (vec![pair.to_string()], vec![])
+        } else {
+            (vec![], vec![pair.to_string()])
+        };
+        Event {
+            t,
+            description: String::new(),
+            started: s,
+            ended: e,
+        }
+    }
+
+    /// A record over 1 s with output points every 0.1 s (and at the events): ten contacts of
+    /// 1e-5 s each, 2e-5 s apart, from t = 0.5 s (20 changes within 2e-4 s < 1e-3 of the run:
+    /// chattering; all between two grid points: 10 missed phases, the shortest 1e-5 s), then
+    /// one contact from 0.75 to 0.85 s that contains the grid point 0.8 (not missed).
+    #[test]
+    fn chattering_and_missed_phases() {
+        let model = ball_and_table();
+        let n = model.plan.nq + model.plan.nv;
+        let y = vec![0.0; n];
+        let mut res = SimulationResult::new(model);
+        let mut times: Vec<f64> = (0..=10).map(|k| 0.1 * k as f64).collect();
+        for i in 0..10 {
+            let t0 = 0.5 + 2e-5 * i as f64 + 1e-6;
+            res.events.push(event(t0, true, "ball0|table"));
+            res.events.push(event(t0 + 1e-5, false, "ball0|table"));
+            times.extend([t0, t0 + 1e-5]);
+        }
+        res.events.push(event(0.75, true, "ball0|table"));
+        res.events.push(event(0.85, false, "ball0|table"));
+        times.extend([0.75, 0.85]);
+        times.sort_by(f64::total_cmp);
+        for t in times {
+            res.push(t, &y);
+        }
+        let w = run_warnings(&res, 1.0, 0.1, false);
+        assert_eq!(w.len(), 2, "{w:?}");
+        match w.first().unwrap() {
+            SimWarning::Chattering {
+                pair, events, span, ..
+            } => {
+                assert_eq!((pair.as_str(), *events), ("ball0|table", 20));
+                assert!((span - (19.0 * 1e-5)).abs() < 1e-12, "{span}");
+            }
+            other => panic!("{other:?}"),
+        }
+        match w.get(1).unwrap() {
+            SimWarning::MissedContacts {
+                pair,
+                phases,
+                shortest,
+                ..
+            } => {
+                assert_eq!((pair.as_str(), *phases), ("ball0|table", 10));
+                assert!((shortest - 1e-5).abs() < 1e-12);
+            }
+            other => panic!("{other:?}"),
+        }
+        // Every step an output point: nothing missed, the chattering stays.
+        let w = run_warnings(&res, 1.0, 0.1, true);
+        assert_eq!(w.len(), 1);
+    }
+}
