@@ -96,9 +96,13 @@ impl Simulation {
                     .filter(|&p| book.is_open(p)),
             );
         }
+        if active.is_empty() {
+            self.active_scratch = active;
+            return Ok(());
+        }
         // Interpolation is defined on the last step only, [t_n − h_u, t_n].
         let t_a = t_a.max(t_b - self.ida.stats().last_step);
-        if active.is_empty() || t_b <= t_a {
+        if t_b <= t_a {
             self.active_scratch = active;
             return Ok(());
         }
