@@ -206,7 +206,7 @@ pub mod prelude {
     pub use modia3d_core::{
         Axis, BodyInfo, ContactPairInfo, ContactPairMaterial, ContactPhase, ContactProfile, Event,
         Feature, ForceElement, ForceFn, FreeRotation, Input, InputError, InputKind, Joint,
-        JointKind, MassSpec, MaterialPalette, MaterialRef, Model, Object3D, ObjectMotion,
+        JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef, Model, Object3D, ObjectMotion,
         ResultError, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Shape, Signal,
         SimError, SimErrorKind, SimOptions, SimStats, SimWarning, Simulation, SimulationResult,
         Solid, SolidMaterial, Wrench,

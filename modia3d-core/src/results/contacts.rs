@@ -104,11 +104,11 @@ impl PhaseBook {
     }
 
     /// Opens and closes phases after an event at `t` \[s\] (or at the start of the run) from the
-    /// contact set's `started`/`ended` lists; `name(p)` gives pair `p`'s name.
+    /// contact set's `started`/`ended` lists (pair ids) and their speeds; `name(p)` gives pair `p`'s name.
     pub fn event(&mut self, t: f64, cs: &ContactState, name: impl Fn(usize) -> String) {
-        for &p in &cs.ended {
+        for (&p, &dd) in cs.ended.iter().zip(&cs.ended_speed) {
             let p = p as usize;
-            let exit = cs.pairs.get(p).map_or(0.0, |ps| -ps.delta_dot_plus);
+            let exit = -dd;
             if let Some(ph) = self.open_phase(p) {
                 ph.end = Some(t);
                 ph.exit_speed = Some(exit);
@@ -117,9 +117,8 @@ impl PhaseBook {
                 *o = None;
             }
         }
-        for &p in &cs.started {
+        for (&p, &impact) in cs.started.iter().zip(&cs.started_speed) {
             let p = p as usize;
-            let impact = cs.pairs.get(p).map_or(0.0, |ps| ps.delta_dot_minus);
             if let Some(o) = self.open.get_mut(p) {
                 *o = Some(self.phases.len());
                 self.phases.push(ContactPhase {

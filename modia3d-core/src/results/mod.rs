@@ -14,7 +14,8 @@ mod plot;
 mod threejs;
 mod warnings;
 
-use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
+use crate::dynamics::{kinematics, Plan, Workspace};
+use crate::joints::Source;
 use crate::model::Model;
 use crate::solver::IdaStats;
 pub use contacts::ContactPhase;
@@ -249,6 +250,8 @@ pub struct SimulationResult {
     contacts: Option<ContactRecord>,
     /// Contact phases (with `contact_results`).
     phases: Option<PhaseBook>,
+    /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
+    multipliers: Vec<f64>,
 }
 
 #[derive(Clone, Copy)]
@@ -270,13 +273,50 @@ impl SimulationResult {
             warnings: vec![],
             contacts: None,
             phases: None,
+            multipliers: vec![],
         }
+    }
+
+    pub(crate) fn push_multipliers(&mut self, lambda: &[f64]) {
+        self.multipliers.extend_from_slice(lambda);
+    }
+
+    /// `<cut>.f` (force on obj2 \[N\]) and `<cut>.t` (torque on obj2 [N·m]) of cut joint `owner`,
+    /// both resolved in obj1's frame; the force acts at obj2's origin, obj1 feels the opposite.
+    fn loop_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let plan = &*self.model.plan;
+        let c = plan.loops.cuts.iter().position(|c| c.name == owner)?;
+        let unit = match field {
+            "f" => "N",
+            "t" => "N·m",
+            _ => return None,
+        };
+        let (nq, m) = (plan.nq, plan.loops.m());
+        let mut ws = Workspace::new(plan);
+        let mut data = Vec::with_capacity(3 * self.time.len());
+        for (k, y) in self.states_iter().enumerate() {
+            let (q, v) = y.split_at(nq);
+            kinematics::position_velocity(plan, &mut ws, q, v);
+            let lambda = self.multipliers.get(k * m..(k + 1) * m)?;
+            let (f, t) = crate::dynamics::loops::cut_wrench(plan, &ws, c, lambda);
+            data.extend_from_slice(if field == "f" {
+                f.as_slice()
+            } else {
+                t.as_slice()
+            });
+        }
+        Some(Signal {
+            name: format!("{owner}.{field}"),
+            unit,
+            dim: 3,
+            data,
+        })
     }
 
     pub(crate) fn enable_contact_record(&mut self) {
         if let Some(cp) = &self.model.contact {
             self.contacts = Some(ContactRecord::default());
-            self.phases = Some(PhaseBook::new(cp.pairs.len()));
+            self.phases = Some(PhaseBook::new(cp.n_pairs));
         }
     }
 
@@ -296,7 +336,11 @@ impl SimulationResult {
             return;
         };
         let scene = &self.model.plan.scene;
-        book.event(t, cs, |p| cp.pair_name(scene, p));
+        book.event(t, cs, |id| {
+            cp.pair_by_id(id)
+                .map(|pp| cp.pair_name(scene, &pp))
+                .unwrap_or_default()
+        });
     }
 
     /// Every contact phase of the run in the order the phases started: per pair and stretch
@@ -360,7 +404,13 @@ impl SimulationResult {
         let Some(rec) = self.contacts.as_mut() else {
             return;
         };
-        for ps in &cs.pairs {
+        let Some(cp) = self.model.contact.as_deref() else {
+            return;
+        };
+        // Pairs without a state are apart (the contact set only holds near pairs).
+        let apart = crate::contact::PairState::APART;
+        for pp in cp.candidate_pairs() {
+            let ps = cs.state_of(pp.a, pp.b).unwrap_or(&apart);
             let r = &ps.response;
             let on = ps.in_contact;
             rec.data.push(if on { 1.0 } else { 0.0 });
@@ -375,8 +425,9 @@ impl SimulationResult {
     /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
     pub fn contact_pairs(&self) -> Vec<String> {
         match &self.model.contact {
-            Some(cp) => (0..cp.pairs.len())
-                .map(|p| cp.pair_name(&self.model.plan.scene, p))
+            Some(cp) => cp
+                .candidate_pairs()
+                .map(|pp| cp.pair_name(&self.model.plan.scene, &pp))
                 .collect(),
             None => vec![],
         }
@@ -399,7 +450,7 @@ impl SimulationResult {
             "normal" => (12, 3, "1"),
             _ => return None,
         };
-        let np = self.model.contact.as_ref()?.pairs.len();
+        let np = self.model.contact.as_ref()?.n_pairs;
         let stride = np * PAIR_VALUES;
         let base = p * PAIR_VALUES + off;
         let mut data = Vec::with_capacity(dim * self.time.len());
@@ -461,15 +512,13 @@ impl SimulationResult {
         &self.model.plan
     }
 
-    /// `joint.coordinate` names of every tree joint's states.
+    /// `joint.quantity` names of every tree joint's signals (its kind's, in state order).
     fn joint_signal_names(&self) -> impl Iterator<Item = String> + '_ {
         self.model.plan.joints.iter().flat_map(|j| {
-            let sfx: &'static [&'static str] = match j.coord {
-                JointCoord::Revolute { .. } => &["phi", "w"],
-                JointCoord::Prismatic { .. } => &["s", "v"],
-                JointCoord::Free => &["r", "q", "w", "v"],
-            };
-            sfx.iter().map(move |s| format!("{}.{s}", j.name))
+            j.coord
+                .signals()
+                .iter()
+                .map(move |s| format!("{}.{}", j.name, s.name))
         })
     }
 
@@ -486,6 +535,10 @@ impl SimulationResult {
             for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
                 names.push(format!("{}.{s}", o.name));
             }
+        }
+        for c in &self.model.plan.loops.cuts {
+            names.push(format!("{}.f", c.name));
+            names.push(format!("{}.t", c.name));
         }
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
@@ -505,6 +558,9 @@ impl SimulationResult {
     /// may be named in either order: as `"<b>|<a>"` the normal points from `b` to `a` and the
     /// friction force and rolling torque are those on `a` (the vectors change sign). A contact
     /// signal of a run without `contact_results` is [`ResultError::ContactResultsOff`].
+    /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
+    /// \[N\] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
+    /// resolved in obj1's frame (obj1 feels the opposite).
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
             name: name.to_string(),
@@ -531,6 +587,7 @@ impl SimulationResult {
         }
         let full = full
             .or_else(|| self.contact_signal(owner, field))
+            .or_else(|| self.loop_signal(owner, field))
             .ok_or_else(|| {
                 let names = self.signal_names();
                 let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));
@@ -647,32 +704,25 @@ impl SimulationResult {
             data,
         };
         if let Some(j) = plan.joint_index(owner).and_then(|ji| plan.joints.get(ji)) {
-            let (off, dim, unit) = match (j.coord, field) {
-                (JointCoord::Revolute { .. }, "phi") => (j.q_offset, 1, "rad"),
-                (JointCoord::Revolute { .. }, "w") => (nq + j.v_offset, 1, "rad/s"),
-                (JointCoord::Prismatic { .. }, "s") => (j.q_offset, 1, "m"),
-                (JointCoord::Prismatic { .. }, "v") => (nq + j.v_offset, 1, "m/s"),
-                (JointCoord::Free, "r") => (j.q_offset, 3, "m"),
-                (JointCoord::Free, "q") => (j.q_offset + 3, 4, "1"),
-                (JointCoord::Free, "w") => (nq + j.v_offset, 3, "rad/s"),
-                (JointCoord::Free, "v") => {
-                    // der(r), resolved in obj1: rotate the body-frame velocity.
-                    let mut data = Vec::with_capacity(3 * nt);
-                    let (q, o) = (j.q_offset + 3, nq + j.v_offset + 3);
-                    for y in self.states_iter() {
-                        let rot = crate::dynamics::spatial::quat_to_matrix(y.get(q..q + 4)?);
-                        let v_body = nalgebra::Vector3::from_column_slice(y.get(o..o + 3)?);
-                        data.extend_from_slice((rot * v_body).as_slice());
-                    }
-                    return Some(make("m/s", 3, data));
-                }
-                _ => return None,
-            };
-            let mut data = Vec::with_capacity(dim * nt);
+            let spec = j.coord.signals().iter().find(|s| s.name == field)?;
+            let (q_range, v_range) = (
+                j.q_offset..j.q_offset + j.coord.nq(),
+                nq + j.v_offset..nq + j.v_offset + j.coord.nv(),
+            );
+            let mut data = Vec::with_capacity(spec.dim * nt);
             for y in self.states_iter() {
-                data.extend_from_slice(y.get(off..off + dim)?);
+                let off = match spec.source {
+                    Source::Q(k) => j.q_offset + k,
+                    Source::V(k) => nq + j.v_offset + k,
+                    Source::Derived => {
+                        let (qj, vj) = (y.get(q_range.clone())?, y.get(v_range.clone())?);
+                        j.coord.derived_signal(field, qj, vj, &mut data)?;
+                        continue;
+                    }
+                };
+                data.extend_from_slice(y.get(off..off + spec.dim)?);
             }
-            return Some(make(unit, dim, data));
+            return Some(make(spec.unit, spec.dim, data));
         }
         let o = plan.object_index(owner)?;
         let body = plan.objects.get(o)?.body;

@@ -71,12 +71,20 @@ impl Simulation {
         Ok(done?)
     }
 
-    /// Penetration \[m\] and normal force \[N\] of pair `p` at the last evaluation.
-    fn pair_sample(&self, p: usize) -> (f64, f64) {
+    /// The state of pair `id` (`ContactPlan::pair_id`) if it is in the contact set, at the
+    /// last evaluation.
+    fn active_state(&self, id: usize) -> Option<&crate::contact::PairState> {
         self.ida
             .system()
-            .contact()
-            .and_then(|cs| cs.pairs.get(p))
+            .contact()?
+            .active_pairs()
+            .find(|(i, _, _)| *i == id)
+            .map(|(_, _, st)| st)
+    }
+
+    /// Penetration \[m\] and normal force \[N\] of pair `id` at the last evaluation.
+    fn pair_sample(&self, id: usize) -> (f64, f64) {
+        self.active_state(id)
             .map_or((0.0, 0.0), |ps| (ps.response.penetration, ps.response.f_n))
     }
 
@@ -90,9 +98,8 @@ impl Simulation {
         active.clear();
         if let Some(cs) = self.ida.system().contact() {
             active.extend(
-                cs.active
-                    .iter()
-                    .map(|&p| p as usize)
+                cs.active_pairs()
+                    .map(|(id, _, _)| id)
                     .filter(|&p| book.is_open(p)),
             );
         }
@@ -127,9 +134,8 @@ impl Simulation {
                 if let Some(slot) = row.get_mut(i) {
                     *slot = self.pair_sample(p);
                 }
-                let ps = self.ida.system().contact().and_then(|cs| cs.pairs.get(p));
-                if let (Some(w), Some(ps), Some(book)) = (weight, ps, self.result.phases_mut()) {
-                    let r = &ps.response;
+                let r = self.active_state(p).map(|ps| ps.response);
+                if let (Some(w), Some(r), Some(book)) = (weight, r, self.result.phases_mut()) {
                     book.add_impulse(p, w, r.f_n, &r.normal, &r.friction_force);
                 }
             }

@@ -48,11 +48,11 @@ pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<Si
     out.extend(scale_outliers(model));
     if let (Some(cs), Some(cp)) = (cs, model.contact.as_deref()) {
         let radius = model.plan.scene.options.smoothing_radius;
-        for &p in &cs.active {
-            let depth = cs.pairs.get(p as usize).map_or(0.0, |ps| -ps.z);
+        for (_, pp, st) in cs.active_pairs() {
+            let depth = -st.z;
             if depth > radius {
                 out.push(SimWarning::InitialPenetration {
-                    pair: cp.pair_name(&model.plan.scene, p as usize),
+                    pair: cp.pair_name(&model.plan.scene, pp),
                     depth,
                     radius,
                 });
