@@ -9,7 +9,7 @@
 
 use modia3d::prelude::*;
 
-/// The test set's reference solution at t = 0.03 s: β, Θ, γ, Φ, δ, Ω, ε [rad].
+/// The test set's reference solution at t = 0.03 s: β, Θ, γ, Φ, δ, Ω, ε \[rad\].
 pub const REFERENCE_003: [f64; 7] = [
     15.81077119629904,
     -15.75637105984298,
@@ -24,9 +24,9 @@ pub const REFERENCE_003: [f64; 7] = [
 pub const JOINTS: [&str; 7] = ["beta", "theta", "gamma", "phi", "delta", "omega", "epsilon"];
 
 model! {
-    /// The squeezer with the test set's data (SI units; no gravity): masses `m1`…`m7` [kg],
+    /// The squeezer with the test set's data (SI units; no gravity): masses `m1`…`m7` \[kg\],
     /// inertias `i1`…`i7` about the centres of mass [kg·m²], pivots A, B and the spring's anchor
-    /// C [m], link dimensions [m], spring stiffness `c0` [N/m] and free length `l0` [m], drive
+    /// C \[m\], link dimensions \[m\], spring stiffness `c0` [N/m] and free length `l0` \[m\], drive
     /// torque `mom` [N·m]; the consistent initial angles of the test set (rounded to f64).
     pub AndrewsSqueezer(
         m1: f64 = 0.04325, m2: f64 = 0.00365, m3: f64 = 0.02373, m4: f64 = 0.00706,

@@ -1,4 +1,4 @@
-//! Modia3D's 16-ball billiards (reference/materials.md): the cue ball breaks the rack. Runs 5 s
+//! Modia3D's 16-ball billiards (docs/reference/materials.md): the cue ball breaks the rack. Runs 5 s
 //! at rtol 1e-5, prints the wall time, statistics and where the balls end, and writes the
 //! trajectories to `out/billiards16.csv` and the animation to `out/billiards16.{json,gltf,html}`.
 //!

@@ -24,7 +24,7 @@ model! {
     }
 }
 
-/// The desired joint angles [rad] and rates [rad/s] at time `t` [s].
+/// The desired joint angles \[rad\] and rates [rad/s] at time `t` \[s\].
 fn desired(t: f64) -> ([f64; 2], [f64; 2]) {
     (
         [0.6 * (1.5 * t).sin(), 0.4 * (3.0 * t).sin()],
@@ -34,9 +34,9 @@ fn desired(t: f64) -> ([f64; 2], [f64; 2]) {
 
 /// Tracking error of a PD-controlled run.
 pub struct Tracking {
-    /// Largest joint-angle error after the first second [rad].
+    /// Largest joint-angle error after the first second \[rad\].
     pub max: f64,
-    /// Root-mean-square joint-angle error after the first second [rad].
+    /// Root-mean-square joint-angle error after the first second \[rad\].
     pub rms: f64,
     /// Controller updates.
     pub updates: usize,
@@ -44,7 +44,7 @@ pub struct Tracking {
     pub stats: SimStats,
 }
 
-/// Runs the arm for `t_end` [s] with the PD controller updated every 1 ms.
+/// Runs the arm for `t_end` \[s\] with the PD controller updated every 1 ms.
 pub fn run_controller(t_end: f64) -> Result<Tracking, Box<dyn std::error::Error>> {
     let model = Arm::default().build()?;
     let (kp, kd) = ([300.0, 100.0], [20.0, 6.0]); // [N·m/rad], [N·m·s/rad]

@@ -9,10 +9,10 @@
 use modia3d::prelude::*;
 
 model! {
-    /// Crank `a`, coupler `b`, rocker `c`, ground `d` [m]: steel bars `w` × `w` in cross-section,
-    /// turning about z in the x-y plane (gravity along −y). `theta2` [rad] and `omega` [rad/s]:
+    /// Crank `a`, coupler `b`, rocker `c`, ground `d` \[m\]: steel bars `w` × `w` in cross-section,
+    /// turning about z in the x-y plane (gravity along −y). `theta2` \[rad\] and `omega` [rad/s]:
     /// the crank's initial angle and speed; `phi3`, `phi4`: rough initial coupler (relative to
-    /// the crank) and rocker angles [rad].
+    /// the crank) and rocker angles \[rad\].
     pub FourBar(a: f64 = 0.1, b: f64 = 0.3, c: f64 = 0.25, d: f64 = 0.3, w: f64 = 0.01,
                 theta2: f64 = 0.5, omega: f64 = std::f64::consts::TAU,
                 phi3: f64 = 0.2, phi4: f64 = 1.5) {
@@ -41,7 +41,7 @@ model! {
     }
 }
 
-/// The rocker angle [rad] of the open branch for crank angle `theta2` [rad], from
+/// The rocker angle \[rad\] of the open branch for crank angle `theta2` \[rad\], from
 /// Freudenstein's equation `K1 cos θ4 − K2 cos θ2 + K3 = cos(θ2 − θ4)` solved in closed form
 /// (`A tan²(θ4/2) + B tan(θ4/2) + C = 0`).
 pub fn freudenstein(a: f64, b: f64, c: f64, d: f64, theta2: f64) -> f64 {

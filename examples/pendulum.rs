@@ -5,7 +5,7 @@
 use modia3d::prelude::*;
 
 model! {
-    /// A point-like 1 kg ball on a massless rod of length `length` [m], released at `phi0` [rad].
+    /// A point-like 1 kg ball on a massless rod of length `length` \[m\], released at `phi0` \[rad\].
     pub Pendulum(length: f64 = 1.0, phi0: f64 = std::f64::consts::FRAC_PI_2) {
         world   = Object3D(feature = Scene(gravity = [0.0, 0.0, -9.81])),
         bob     = Object3D(feature = Solid(shape = Sphere(diameter = 0.05),

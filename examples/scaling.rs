@@ -4,7 +4,7 @@
 //! (+residuals for them), events, and wall time per step; N ≤ 64 also with IDA's dense
 //! Jacobian in the same run. Release build:
 //!
-//!     cargo run --release --example scaling [N]
+//!     cargo run --release --example scaling \[N\]
 
 use modia3d::demo;
 use modia3d::prelude::*;

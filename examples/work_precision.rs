@@ -1,6 +1,6 @@
 //! Work-precision table of the contact scenes: for each rtol, the median wall time of several
 //! runs, steps, residual and Jacobian evaluations, events, and the error of the final
-//! positions (max over moving bodies of |r − r_ref| [m]) against the same scene at a much
+//! positions (max over moving bodies of |r − r_ref| \[m\]) against the same scene at a much
 //! tighter tolerance (reference rtol given per scene). Each rtol is also run with IDA's dense
 //! Jacobian (`structured_jacobian(false)`, median of 3 runs), interleaved with the default
 //! runs, for a before/after wall-time ratio measured under the same machine load. Release

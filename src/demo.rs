@@ -2,11 +2,11 @@
 //! benchmark (`examples/work_precision.rs`). Every scene is a `model!` type (one definition);
 //! the functions return its [`SceneDesc`] for the tests and the benchmark. The builder helpers
 //! ([`world`], [`fixed_box`], [`add_free_sphere`]) remain for tests that build scenes from
-//! data. All lengths in [m], velocities in [m/s], angular velocities in [rad/s].
+//! data. All lengths in \[m\], velocities in [m/s], angular velocities in [rad/s].
 
 use crate::prelude::*;
 
-/// Hertz stiffness `K = c_res · 4/3 · sqrt(R*)` [N/m^1.5] of a sphere of radius `r` [m] against a
+/// Hertz stiffness `K = c_res · 4/3 · sqrt(R*)` [N/m^1.5] of a sphere of radius `r` \[m\] against a
 /// flat body, both of the given solid materials (`c_i = E_i/(1 − ν_i²)`).
 pub fn hertz_k_sphere_flat(r: f64, m1: &SolidMaterial, m2: &SolidMaterial) -> f64 {
     c_res(m1, m2) * 4.0 / 3.0 * r.sqrt()
@@ -18,13 +18,13 @@ pub fn c_res(m1: &SolidMaterial, m2: &SolidMaterial) -> f64 {
     1.0 / (1.0 / c(m1) + 1.0 / c(m2))
 }
 
-/// Static penetration [m] of a mass `m` [kg] resting on a Hertz contact of stiffness `k`
+/// Static penetration \[m\] of a mass `m` \[kg\] resting on a Hertz contact of stiffness `k`
 /// (`m g = k δ^{3/2}`), gravity `g` [m/s²].
 pub fn static_penetration(m: f64, g: f64, k: f64) -> f64 {
     (m * g / k).powf(2.0 / 3.0)
 }
 
-/// Mass [kg] of a sphere of diameter `d` [m] and density `rho` [kg/m³].
+/// Mass \[kg\] of a sphere of diameter `d` \[m\] and density `rho` [kg/m³].
 pub fn sphere_mass(d: f64, rho: f64) -> f64 {
     rho * std::f64::consts::PI * d * d * d / 6.0
 }
@@ -82,8 +82,8 @@ pub fn add_free_sphere(
         ));
 }
 
-/// A sphere (Ø `d` [m], solid material `mat`, contact material "Ball") flying at `v0` [m/s]
-/// along −z towards a fixed 1 × 1 × 0.1 m steel box (top face at z = 0) from a gap of `gap` [m];
+/// A sphere (Ø `d` \[m\], solid material `mat`, contact material "Ball") flying at `v0` [m/s]
+/// along −z towards a fixed 1 × 1 × 0.1 m steel box (top face at z = 0) from a gap of `gap` \[m\];
 /// pair material `pair` for Ball–Steel; world options `options`.
 pub fn sphere_on_plane(
     d: f64,
@@ -182,7 +182,7 @@ pub fn bouncing_sphere(diameter: f64, h0: f64, pair: ContactPairMaterial) -> Sce
     BouncingSphere { diameter, h0, pair }.scene()
 }
 
-/// Centre height [m] of a steel ball of diameter `diameter` resting on a steel table at its
+/// Centre height \[m\] of a steel ball of diameter `diameter` resting on a steel table at its
 /// static penetration.
 pub fn resting_steel_ball_height(diameter: f64) -> f64 {
     let steel = builtin_steel();
@@ -223,10 +223,10 @@ fn builtin_steel() -> SolidMaterial {
     modia3d_core::scene::builtin_solid_material("Steel").expect("built-in")
 }
 
-/// Billiard ball diameter [m].
+/// Billiard ball diameter \[m\].
 pub const BALL_DIAMETER: f64 = 0.06;
 
-/// Height [m] of the centre of a billiard ball resting on the table (static penetration
+/// Height \[m\] of the centre of a billiard ball resting on the table (static penetration
 /// subtracted, so the balls start in equilibrium) for contact reduction `k_red`.
 pub fn billiard_ball_height(k_red: f64) -> f64 {
     let ball = modia3d_core::scene::builtin_solid_material("BilliardBall").expect("built-in");
@@ -236,18 +236,18 @@ pub fn billiard_ball_height(k_red: f64) -> f64 {
     r - static_penetration(sphere_mass(BALL_DIAMETER, ball.density), 9.81, k)
 }
 
-/// Billiard table length along x and width along y [m] (box 2.24 × 1.12 × 0.05 m, top face at
+/// Billiard table length along x and width along y \[m\] (box 2.24 × 1.12 × 0.05 m, top face at
 /// z = 0).
 pub const TABLE: [f64; 2] = [2.24, 1.12];
 
-/// Cushion radius [m]: the cushions are capsules of this radius along the table's edges.
+/// Cushion radius \[m\]: the cushions are capsules of this radius along the table's edges.
 pub const CUSHION_RADIUS: f64 = 0.01;
 
-/// Height [m] of the cushions' axes, placed so that a ball touches them at 7/5·r above the
+/// Height \[m\] of the cushions' axes, placed so that a ball touches them at 7/5·r above the
 /// table top (contact point at r + r·(h − r)/(r + ρ) = 7/5·r).
 pub const CUSHION_HEIGHT: f64 = 0.5 * BALL_DIAMETER + 0.4 * (0.5 * BALL_DIAMETER + CUSHION_RADIUS);
 
-/// Initial position [m] of the ball in row `i` (0..5, away from the cue), place `j` (0..=i)
+/// Initial position \[m\] of the ball in row `i` (0..5, away from the cue), place `j` (0..=i)
 /// of Modia3D's rack: touching distance plus 0.1 mm, apex at x = 0.56 m, centre height `z`.
 pub fn rack(i: usize, j: usize, z: f64) -> [f64; 3] {
     let d = BALL_DIAMETER + 1e-4;
@@ -258,7 +258,7 @@ pub fn rack(i: usize, j: usize, z: f64) -> [f64; 3] {
 }
 
 model! {
-    /// The billiard table of materials.md: a 2.24 × 1.12 m top (`top`, its upper face at z = 0)
+    /// The billiard table of docs/reference/materials.md: a 2.24 × 1.12 m top (`top`, its upper face at z = 0)
     /// and four cushions (`cushion_n`, `_s`, `_e`, `_w`) whose contact line lies 7/5·r above it.
     pub assembly BilliardTable {
         top       = Object3D(translation = [0.0, 0.0, -0.025],
@@ -361,7 +361,7 @@ pub fn ball_cushion(v: f64) -> SceneDesc {
     BallCushion { v }.scene()
 }
 
-/// Pendulum length [m] of Newton's cradle.
+/// Pendulum length \[m\] of Newton's cradle.
 pub const CRADLE_LENGTH: f64 = 0.5;
 
 model! {
@@ -438,9 +438,9 @@ pub fn falling_boxes(k_red: f64) -> SceneDesc {
     FallingBoxes { k_red }.scene()
 }
 
-/// Inner width [m] of the open steel box of [`ball_pile`].
+/// Inner width \[m\] of the open steel box of [`ball_pile`].
 pub const PILE_BOX_WIDTH: f64 = 0.16;
-/// Diameter [m] of the balls of [`ball_pile`].
+/// Diameter \[m\] of the balls of [`ball_pile`].
 pub const PILE_BALL_DIAMETER: f64 = 0.05;
 /// Number of balls of [`ball_pile`] (`b0` … `b11`).
 pub const PILE_BALLS: usize = 12;

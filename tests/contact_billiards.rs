@@ -1,4 +1,4 @@
-//! The 16-ball billiards scene (reference/materials.md) at rtol 1e-5, 5 s, with k_red = 1 and
+//! The 16-ball billiards scene (docs/reference/materials.md) at rtol 1e-5, 5 s, with k_red = 1 and
 //! 1e-4, cue velocity (3, 0, 0): the run completes, no ball leaves the table, and the motion
 //! stays mirror-symmetric about the cue axis (y = 0).
 
@@ -10,7 +10,7 @@ fn ball(i: usize, j: usize) -> usize {
     i * (i + 1) / 2 + j + 1
 }
 
-/// Largest mirror asymmetry [m] at output point k: |x − x'| + |y + y'| over mirrored balls
+/// Largest mirror asymmetry \[m\] at output point k: |x − x'| + |y + y'| over mirrored balls
 /// (ball j of row i ↔ ball i − j), and |y| of the balls on the axis.
 fn asymmetry(res: &SimulationResult, k: usize) -> f64 {
     let pos = |n: String| {

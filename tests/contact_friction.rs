@@ -1,5 +1,5 @@
 //! Sliding → rolling and rolling resistance of a steel ball on a steel table against the
-//! closed forms of reference/analytic.md. The ball starts at its static penetration, so the
+//! closed forms of docs/reference/analytic.md. The ball starts at its static penetration, so the
 //! normal force is m·g from the start (d = d_max damps the tiny residual oscillation).
 
 use modia3d::demo;

@@ -1,4 +1,4 @@
-//! Impacts without gravity against the Hertz closed forms (reference/analytic.md) and the
+//! Impacts without gravity against the Hertz closed forms (docs/reference/analytic.md) and the
 //! effective restitution of the damped law. Contact start is located at touch (δ = 0) and the
 //! end at a separation of 2ε (hysteresis ε = 1e-8 m, docs/contact-hysteresis.md), which
 //! lengthens the measured duration by 2ε/v0 ≈ 2e-8 s, i.e. 3e-4 of t_c: well inside the 1 %
@@ -79,7 +79,7 @@ fn hertz_sphere_on_plane() {
     );
     assert!((dm - delta_max).abs() / delta_max < 0.01);
     assert!(((t1 - t0) - t_c).abs() / t_c < 0.01);
-    // analytic.md's example quotes δ_max ≈ 2.34e-5 m, t_c ≈ 6.9e-5 s, F_max ≈ 1.74e3 N; with
+    // docs/reference/analytic.md's example quotes δ_max ≈ 2.34e-5 m, t_c ≈ 6.9e-5 s, F_max ≈ 1.74e3 N; with
     // E = 2e11 Pa, ν = 0.3 its own formulas give 2.41e-5 m, 7.10e-5 s, 1.74e3 N (the quoted
     // δ_max and t_c are ~3 % off; F_max agrees). The formulas are the reference here.
 }

@@ -34,7 +34,7 @@ fn rigid_energy(res: &SimulationResult) -> Vec<f64> {
     e
 }
 
-/// Every ball inside the box, up to `slack` [m] of penetration.
+/// Every ball inside the box, up to `slack` \[m\] of penetration.
 fn assert_inside(res: &SimulationResult, slack: f64) {
     let r = 0.5 * PILE_BALL_DIAMETER;
     let half = 0.5 * PILE_BOX_WIDTH - r;

@@ -30,7 +30,7 @@ fn run(scene: SceneDesc, opts: SimOptions) -> SimulationResult {
     }
 }
 
-/// The static penetration of a linear (non-sphere) steel–steel contact carrying `m` [kg].
+/// The static penetration of a linear (non-sphere) steel–steel contact carrying `m` \[kg\].
 fn delta_static(m: f64, k_red: f64) -> f64 {
     m * G / (k_red * c_res(&steel(), &steel()))
 }

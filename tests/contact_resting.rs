@@ -25,7 +25,7 @@ fn dry_wood() -> SolidMaterial {
 }
 
 /// The table of `demo::falling_boxes` and one free body `body` of `shape` at `r` with Cardan
-/// angles `angles` [rad], at rest.
+/// angles `angles` \[rad\], at rest.
 fn single(shape: Shape, r: [f64; 3], angles: [f64; 3]) -> SceneDesc {
     let mut s = SceneDesc::new();
     s.add(world(SceneOptions {
@@ -149,7 +149,7 @@ fn run(scene: SceneDesc, t_end: f64) -> SimulationResult {
 
 /// Drops a single body and checks rest after 2 s: speed < 1e-4 m/s, angular speed
 /// < 1e-3 rad/s, height `z_rest` within 1 % of the static penetration, no event in the last
-/// second. `z_rest` = the resting height of the undeformed contact [m], `mass` [kg].
+/// second. `z_rest` = the resting height of the undeformed contact \[m\], `mass` \[kg\].
 fn check_rest(name: &str, scene: SceneDesc, z_rest: f64, mass: f64) {
     let res = run(scene, 2.0);
     let delta = mass * G / (K_RED * c_res(&dry_wood(), &dry_wood()));

@@ -6,7 +6,7 @@
 use modia3d::demo;
 use modia3d::prelude::*;
 
-/// Final positions [m] and velocities [m/s] of `bodies`.
+/// Final positions \[m\] and velocities [m/s] of `bodies`.
 fn final_state(res: &SimulationResult, bodies: &[&str]) -> Vec<f64> {
     let mut out = vec![];
     for b in bodies {

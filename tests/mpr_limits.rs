@@ -55,7 +55,7 @@ fn box_on_table(options: SceneOptions) -> SceneDesc {
 }
 
 /// Runs 0.2 s with a 60 s wall budget (a run that does not end fails with the budget error
-/// instead of hanging the test) and checks that the box rests within `tol` [m] of the band.
+/// instead of hanging the test) and checks that the box rests within `tol` \[m\] of the band.
 fn rests(options: SceneOptions, tol: f64) -> SimulationResult {
     let opts = SimOptions::new(0.2).max_wall_time(60.0).progress(false);
     let res = match box_on_table(options).build().unwrap().simulate(&opts) {

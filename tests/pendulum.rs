@@ -20,7 +20,7 @@ fn elliptic_k(k: f64) -> f64 {
 }
 
 /// A 1 kg point mass (explicit mass properties, zero inertia) at distance `l` below a revolute
-/// joint about x; `phi0` the initial angle [rad].
+/// joint about x; `phi0` the initial angle \[rad\].
 fn pendulum(l: f64, phi0: f64) -> Model {
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
@@ -75,7 +75,7 @@ fn zero_crossings(t: &[f64], phi: &[f64], w: &[f64]) -> Vec<f64> {
 fn period_at_90_degrees_matches_elliptic_integral() {
     let (l, phi0) = (1.0, PI / 2.0);
     let exact = 4.0 * (l / G).sqrt() * elliptic_k((phi0 / 2.0).sin());
-    // The reference value in analytic.md: 2.367842 s.
+    // The reference value in docs/reference/analytic.md: 2.367842 s.
     assert!((exact - 2.367842).abs() < 1e-6);
     let model = pendulum(l, phi0);
     let res = model

@@ -47,7 +47,9 @@ pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]
-pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
+pub use results::{
+    ContactPhase, Event, ResultError, Signal, SimStats, SimWarning, SimulationResult,
+};
 pub use scene::{
     ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,
     InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion,

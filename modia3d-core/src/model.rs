@@ -41,7 +41,7 @@ pub struct ContactPairInfo {
     pub w_min: f64,
     /// Combined elastic modulus `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
     pub c_res: f64,
-    /// Geometry coefficient `μ_geo` [m] (1 for the linear law).
+    /// Geometry coefficient `μ_geo` \[m\] (1 for the linear law).
     pub mu_geo: f64,
     /// Geometry coefficient `c_geo` [m^(1/2)] (1 for the linear law).
     pub c_geo: f64,
@@ -56,7 +56,7 @@ pub struct BodyInfo {
     pub joint: String,
     /// Its objects, in declaration order.
     pub objects: Vec<String>,
-    /// Combined mass [kg].
+    /// Combined mass \[kg\].
     pub mass: f64,
 }
 
@@ -65,7 +65,7 @@ pub struct BodyInfo {
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoopInfo {
     /// The cut joint (kept out of the joint tree, enforced by constraints); its constraint
-    /// force and torque are the signals `<cut>.f` [N] and `<cut>.t` [N·m].
+    /// force and torque are the signals `<cut>.f` \[N\] and `<cut>.t` [N·m].
     pub cut: String,
     /// The joints of the loop, the cut joint first.
     pub joints: Vec<String>,
@@ -133,7 +133,7 @@ impl Model {
     }
 
     /// The moving bodies, parents first: the objects rigidly attached to each other that one
-    /// joint moves, with their combined mass [kg].
+    /// joint moves, with their combined mass \[kg\].
     pub fn bodies(&self) -> Vec<BodyInfo> {
         self.plan
             .bodies

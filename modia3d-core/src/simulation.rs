@@ -14,8 +14,10 @@ use crate::results::{SimStats, SimulationResult};
 use crate::solver::{Atol, Ida, IdaError, IdaOptions, SolveStatus};
 use std::time::Instant;
 
+mod contact_phases;
 mod diagnosis;
 mod options;
+mod warnings;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
 pub use options::{SimOptions, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_MAX_STEPS, MAX_OUTPUT_POINTS};
 
@@ -28,7 +30,7 @@ pub enum SimErrorKind {
     /// No consistent initial accelerations (singular mass matrix).
     #[error("no consistent accelerations at t = {t} s: the mass matrix is singular; check the masses and inertias of moving bodies")]
     Inconsistent {
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
     },
     /// A user closure (an `ObjectForce` force law) panicked; the panic was caught at the call.
@@ -36,7 +38,7 @@ pub enum SimErrorKind {
     UserPanic {
         /// The element whose closure panicked, e.g. ``ObjectForce on `ball` (force element 0)``.
         element: String,
-        /// Time [s] passed to the closure.
+        /// Time \[s\] passed to the closure.
         t: f64,
         /// The panic payload as text.
         message: String,
@@ -46,9 +48,9 @@ pub enum SimErrorKind {
     NonFiniteForce {
         /// The element, e.g. ``ObjectForce on `ball` (force element 0)``.
         element: String,
-        /// Time [s] passed to the law.
+        /// Time \[s\] passed to the law.
         t: f64,
-        /// The force returned [N], resolved in world.
+        /// The force returned \[N\], resolved in world.
         force: [f64; 3],
         /// The torque returned [N·m], resolved in world.
         torque: [f64; 3],
@@ -60,9 +62,9 @@ pub enum SimErrorKind {
         cut: String,
         /// The joints of its loop.
         joints: Vec<String>,
-        /// Largest remaining residual ([m] or [1]).
+        /// Largest remaining residual (\[m\] or \[1\]).
         residual: f64,
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
     },
     /// The integrator failed.
@@ -82,15 +84,15 @@ pub enum SimErrorKind {
         pair: String,
         /// Number of events in the span.
         events: usize,
-        /// Their time span [s].
+        /// Their time span \[s\].
         span: f64,
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
     },
     /// Events follow each other without progress in time (a chattering contact).
     #[error("{count} events at t = {t} s without the contact set changing or time advancing: a contact chatters; raise the hysteresis or loosen the tolerance")]
     EventLoop {
-        /// Time [s].
+        /// Time \[s\].
         t: f64,
         /// Events without progress.
         count: u32,
@@ -148,7 +150,7 @@ const LOOP_FIRST_STEP: f64 = 1e-6;
 /// conserves the free four-bar's energy better).
 const LOOP_MULTIPLIER_ATOL: f64 = 1e-3;
 
-/// The error of [`MultibodyDae::consistent_derivative`] at time `t` [s].
+/// The error of [`MultibodyDae::consistent_derivative`] at time `t` \[s\].
 fn derivative_error(e: DerivativeError, t: f64) -> SimErrorKind {
     match e {
         DerivativeError::Singular => SimErrorKind::Inconsistent { t },
@@ -253,7 +255,7 @@ pub struct Simulation {
     k_grid: u64,
     /// Scratch for interpolated output points (length n once used).
     y_out: Vec<f64>,
-    /// The step limit IDA has now [s] (`None`: unlimited).
+    /// The step limit IDA has now \[s\] (`None`: unlimited).
     h_max: Option<f64>,
     /// Inputs changed since the last restart: the next step restarts IDA.
     inputs_changed: bool,
@@ -264,6 +266,12 @@ pub struct Simulation {
     call_started: Instant,
     /// Progress bar of a one-shot run on a terminal.
     progress: Option<indicatif::ProgressBar>,
+    /// Warnings found at the start of the run (`warnings::start_warnings`).
+    start_warnings: Vec<crate::results::SimWarning>,
+    /// Scratch of `measure_step`: the pairs in the contact set.
+    active_scratch: Vec<usize>,
+    /// Scratch of `measure_step`: (penetration, f_n) per pair and sample.
+    sample_scratch: Vec<[(f64, f64); contact_phases::SAMPLES]>,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -332,6 +340,12 @@ impl Simulation {
                 .then_some(LOOP_FIRST_STEP * (opts.stop_time - opts.start_time)),
             ..IdaOptions::default()
         };
+        result.phase_event(&dae, t0);
+        let start_warnings = warnings::start_warnings(model, dae.contact());
+        for w in &start_warnings {
+            tracing::warn!(t = t0, "{w}");
+        }
+        result.warnings.clone_from(&start_warnings);
         record(&mut dae, &mut result, t0, &y0, opts.contact_results);
         let ida = match Ida::new(dae, t0, &y0, &yp0, &ida_opts) {
             Ok(ida) => ida,
@@ -352,13 +366,16 @@ impl Simulation {
             wall: 0.0,
             call_started: started,
             progress: None,
+            active_scratch: Vec::new(),
+            sample_scratch: Vec::new(),
+            start_warnings,
         };
         sim.wall = started.elapsed().as_secs_f64();
         sim.update_stats();
         Ok(sim)
     }
 
-    /// Current time [s].
+    /// Current time \[s\].
     pub fn time(&self) -> f64 {
         self.ida.t()
     }
@@ -381,7 +398,7 @@ impl Simulation {
         self.result
     }
 
-    /// Integrates with error control to `t` [s] (at most the stop time), handling events and
+    /// Integrates with error control to `t` \[s\] (at most the stop time), handling events and
     /// recording output points. On failure the error carries the results up to the failure; the
     /// simulation can then only be [`reset`](Self::reset).
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
@@ -390,10 +407,26 @@ impl Simulation {
         let outcome = self.advance(t);
         self.wall += started.elapsed().as_secs_f64();
         self.update_stats();
+        self.update_warnings();
         outcome.map_err(|kind| SimError {
             kind,
             partial: Box::new(self.result.clone()),
         })
+    }
+
+    /// The start warnings and those of the run so far; new ones are traced.
+    fn update_warnings(&mut self) {
+        let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
+        let interval = self.opts.interval.unwrap_or((t1 - t0) / 500.0);
+        let run = warnings::run_warnings(&self.result, t1 - t0, interval, self.opts.output_steps);
+        let mut all = self.start_warnings.clone();
+        for w in run {
+            if !self.result.warnings.contains(&w) {
+                tracing::warn!(t = self.time(), "{w}");
+            }
+            all.push(w);
+        }
+        self.result.warnings = all;
     }
 
     fn update_stats(&mut self) {
@@ -442,6 +475,7 @@ impl Simulation {
         loop {
             self.check_budget()?;
             self.guard_step()?;
+            let t_prev = self.time();
             let solved = self.ida.solve(target, true);
             if let Some(f) = self.ida.system_mut().take_user_fault() {
                 return Err(f.into());
@@ -453,9 +487,14 @@ impl Simulation {
             let (SolveStatus::Reached { t }
             | SolveStatus::StopTime { t }
             | SolveStatus::Root { t }) = status;
+            self.measure_step(t_prev, t)?;
             self.record_grid(t0, dt, t.min(target - eps))?;
             match status {
                 SolveStatus::Root { t } => self.event(t)?,
+                SolveStatus::Reached { t } if self.opts.output_steps && t < target - eps => {
+                    let y = self.ida.y().to_vec();
+                    record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
+                }
                 _ if t >= target - eps => {
                     let y = self.ida.y().to_vec();
                     record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
@@ -490,7 +529,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Records the output-grid points up to `t_end` [s] (within the last step) from IDA's
+    /// Records the output-grid points up to `t_end` \[s\] (within the last step) from IDA's
     /// interpolating polynomial.
     fn record_grid(&mut self, t0: f64, dt: f64, t_end: f64) -> Result<(), SimErrorKind> {
         let contacts = self.opts.contact_results;
@@ -514,7 +553,7 @@ impl Simulation {
         Ok(())
     }
 
-    /// Moves the progress bar (a one-shot run on a terminal) to `t` [s].
+    /// Moves the progress bar (a one-shot run on a terminal) to `t` \[s\].
     fn show_progress(&self, t: f64) {
         if let Some(bar) = &self.progress {
             let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
@@ -613,6 +652,7 @@ impl Simulation {
         let dae = self.ida.system_mut();
         let changed = dae.handle_event(t, &y)?;
         let (started, ended) = dae.event_pairs();
+        self.result.phase_event(self.ida.system(), t);
         if !changed && t <= self.last_event_t {
             self.stalled += 1;
             if self.stalled > 20 {
@@ -672,7 +712,7 @@ impl Simulation {
     }
 
     /// Sets input `name` to `values` (1 value for joint inputs, 6 for an object wrench: force
-    /// [N] then torque [N·m], resolved in world). Takes effect from the current time on.
+    /// \[N\] then torque [N·m], resolved in world). Takes effect from the current time on.
     pub fn set_input(&mut self, name: &str, values: &[f64]) -> Result<(), InputError> {
         let Some(inp) = self.model.plan.inputs.iter().find(|i| i.name == name) else {
             return Err(InputError::Unknown {

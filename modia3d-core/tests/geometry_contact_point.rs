@@ -17,7 +17,7 @@ fn table() -> (CollisionShape, Isometry3<f64>) {
     )
 }
 
-/// Contact point of `shape` placed with its lowest point `depth` [m] into the table top, at
+/// Contact point of `shape` placed with its lowest point `depth` \[m\] into the table top, at
 /// horizontal position (x, y), rotated by `rot` (axis-angle) about its centre.
 fn point_on_table(
     shape: &Shape,

@@ -12,6 +12,7 @@
 mod ast;
 mod check;
 mod expand;
+mod floats;
 mod ir;
 mod names;
 mod rules;
@@ -148,7 +149,8 @@ use proc_macro::TokenStream;
 /// parameters and type mismatches of values.
 #[proc_macro]
 pub fn model(input: TokenStream) -> TokenStream {
-    let def = syn::parse_macro_input!(input as ast::ModelDef);
+    let mut def = syn::parse_macro_input!(input as ast::ModelDef);
+    floats::floatify(&mut def);
     match check_block(&def) {
         Ok(ir) => expand::expand(&def, &ir).into(),
         Err(e) => {

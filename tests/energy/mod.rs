@@ -3,7 +3,7 @@
 
 use modia3d::prelude::*;
 
-/// A solid whose centre of mass is at its object origin: (object name, mass [kg], inertia about
+/// A solid whose centre of mass is at its object origin: (object name, mass \[kg\], inertia about
 /// the centre of mass in the object frame [kg·m²]).
 pub type Part<'a> = (&'a str, f64, Matrix3<f64>);
 

@@ -72,7 +72,7 @@ pub fn scene_seed(base: u64, i: u64) -> u64 {
     Rng(base ^ i.wrapping_mul(0xd1b5_4a32_d192_ed03)).next_u64()
 }
 
-/// A shape with its dimensions [m].
+/// A shape with its dimensions \[m\].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ShapeSpec {
     /// Diameter.
@@ -94,12 +94,12 @@ pub enum ShapeSpec {
 /// How a body is connected to its parent (the world or an earlier body).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum JointSpec {
-    /// FreeMotion from the parent: position [m], Cardan angles [rad], velocity [m/s],
+    /// FreeMotion from the parent: position \[m\], Cardan angles \[rad\], velocity [m/s],
     /// angular velocity [rad/s].
     Free {
-        /// Position in the parent [m].
+        /// Position in the parent \[m\].
         r: [f64; 3],
-        /// Cardan angles [rad].
+        /// Cardan angles \[rad\].
         rot: [f64; 3],
         /// Velocity [m/s].
         v: [f64; 3],
@@ -110,7 +110,7 @@ pub enum JointSpec {
     Revolute {
         /// ±1..3.
         axis: i64,
-        /// Initial angle [rad].
+        /// Initial angle \[rad\].
         phi: f64,
         /// Initial rate [rad/s].
         w: f64,
@@ -121,7 +121,7 @@ pub enum JointSpec {
     Prismatic {
         /// ±1..3.
         axis: i64,
-        /// Initial position [m].
+        /// Initial position \[m\].
         s: f64,
         /// Initial velocity [m/s].
         v: f64,
@@ -185,15 +185,15 @@ pub struct BodySpec {
     pub shape: ShapeSpec,
     /// Solid material (a built-in name).
     pub material: String,
-    /// Mass [kg]; `None` = from the shape and the material's density.
+    /// Mass \[kg\]; `None` = from the shape and the material's density.
     pub mass: Option<f64>,
     /// Takes part in collisions.
     pub collision: bool,
     /// Parent body index (`None` = the world).
     pub parent: Option<usize>,
-    /// Mount frame position in the parent [m].
+    /// Mount frame position in the parent \[m\].
     pub mount: [f64; 3],
-    /// Mount frame Cardan angles [rad].
+    /// Mount frame Cardan angles \[rad\].
     pub mount_rot: [f64; 3],
     /// Connection to the parent.
     pub joint: JointSpec,
@@ -212,7 +212,7 @@ pub enum ForceSpec {
         stiffness: f64,
         /// [N·s/m]
         damping: f64,
-        /// [m]
+        /// \[m\]
         length0: f64,
     },
     /// Joint spring-damper on body `body`'s joint (must be revolute or prismatic).
@@ -226,16 +226,16 @@ pub enum ForceSpec {
         /// Offset.
         offset: f64,
     },
-    /// `ObjectForce` closure: a constant world force [N] and torque [N·m] on body `body`.
+    /// `ObjectForce` closure: a constant world force \[N\] and torque [N·m] on body `body`.
     Constant {
         /// Body index.
         body: usize,
-        /// Force [N].
+        /// Force \[N\].
         force: [f64; 3],
         /// Torque [N·m].
         torque: [f64; 3],
     },
-    /// `ObjectForce` closure: linear drag `−c·v` [N] on body `body`.
+    /// `ObjectForce` closure: linear drag `−c·v` \[N\] on body `body`.
     Drag {
         /// Body index.
         body: usize,
@@ -260,20 +260,20 @@ pub enum InputSpec {
 pub struct StepSpec {
     /// Values for input `i{k}` (index into `SceneSpec::inputs`).
     pub inputs: Vec<(usize, Vec<f64>)>,
-    /// Target time [s].
+    /// Target time \[s\].
     pub t: f64,
 }
 
 /// Run options.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSpec {
-    /// Stop time [s].
+    /// Stop time \[s\].
     pub stop_time: f64,
     /// Relative tolerance.
     pub rtol: f64,
-    /// `SimOptions::max_wall_time` [s].
+    /// `SimOptions::max_wall_time` \[s\].
     pub max_wall_time: f64,
-    /// Output interval [s] (`None` = default).
+    /// Output interval \[s\] (`None` = default).
     pub interval: Option<f64>,
     /// `SimOptions::contact_results`.
     pub contact_results: bool,
@@ -294,13 +294,13 @@ pub struct SceneSpec {
     pub k_red: f64,
     /// `SceneOptions::mpr_tolerance` (≤ 1e-9, the checked range).
     pub mpr_tolerance: f64,
-    /// `SceneOptions::hysteresis` [m].
+    /// `SceneOptions::hysteresis` \[m\].
     pub hysteresis: f64,
     /// `ContactProfile::Modia3DLater` instead of the default.
     pub later_profile: bool,
     /// Gravity [m/s²].
     pub gravity: [f64; 3],
-    /// A fixed table (box) attached to the world: edge lengths and centre [m], material.
+    /// A fixed table (box) attached to the world: edge lengths and centre \[m\], material.
     pub table: Option<([f64; 3], [f64; 3], String)>,
     /// User contact-pair materials (cor, mu_k, mu_r) for pairs of material names.
     pub pairs: Vec<(String, String, [f64; 3])>,
@@ -323,13 +323,13 @@ impl SceneSpec {
     pub fn from_json(s: &str) -> Result<Self, String> {
         serde_json::from_str(s).map_err(|e| e.to_string())
     }
-    /// Typical size of body `k` [m] (largest dimension of its shape).
+    /// Typical size of body `k` \[m\] (largest dimension of its shape).
     pub fn body_size(&self, k: usize) -> f64 {
         shape_size(&self.bodies[k].shape)
     }
 }
 
-/// Largest dimension of a shape [m].
+/// Largest dimension of a shape \[m\].
 pub fn shape_size(s: &ShapeSpec) -> f64 {
     let m3 = |l: &[f64; 3]| l[0].max(l[1]).max(l[2]);
     match s {
@@ -389,7 +389,7 @@ fn gen_shape(r: &mut Rng, scale: f64) -> ShapeSpec {
     }
 }
 
-/// A random offset [m] from a parent: anywhere in a box of half-width `spread` above the
+/// A random offset \[m\] from a parent: anywhere in a box of half-width `spread` above the
 /// table for the world, a few sizes away in a random direction for a body.
 fn offset(r: &mut Rng, scale: f64, parent_is_world: bool, spread: f64) -> [f64; 3] {
     if parent_is_world {

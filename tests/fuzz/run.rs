@@ -16,7 +16,7 @@ pub struct Outcome {
     pub class: String,
     /// The error message or the non-finite signal, for reports.
     pub detail: String,
-    /// Wall time of build + run [s].
+    /// Wall time of build + run \[s\].
     pub wall: f64,
 }
 

@@ -41,7 +41,7 @@ pub enum Mode {
 pub struct ContactError {
     /// Pair name `"a|b"`.
     pub pair: String,
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// The geometry error.
     pub source: GeometryError,
@@ -52,7 +52,7 @@ pub struct ContactError {
 pub struct PairState {
     /// Member of the contact set.
     pub in_contact: bool,
-    /// Last `z_AB` [m] (AABB distance while the boxes are apart, signed distance otherwise).
+    /// Last `z_AB` \[m\] (AABB distance while the boxes are apart, signed distance otherwise).
     pub z: f64,
     /// Penetration velocity at contact start `δ̇⁻` [m/s].
     pub delta_dot_minus: f64,
@@ -104,6 +104,12 @@ pub struct ContactState {
     pub started: Vec<u32>,
     /// Ids of the pairs that left the set at the last event.
     pub ended: Vec<u32>,
+    /// Penetration velocity `δ̇⁻` \[m/s\] at contact start of each pair in `started` (> 0
+    /// approaching).
+    pub started_speed: Vec<f64>,
+    /// Penetration velocity `δ̇⁺` \[m/s\] at contact end of each pair in `ended` (< 0
+    /// separating).
+    pub ended_speed: Vec<f64>,
     /// Narrow-phase calls so far.
     pub narrow_calls: u64,
     /// AABB distance tests (broad phase) so far.
@@ -165,6 +171,8 @@ impl ContactState {
             active: Vec::with_capacity(ns),
             started: Vec::with_capacity(ns),
             ended: Vec::with_capacity(ns),
+            started_speed: Vec::with_capacity(ns),
+            ended_speed: Vec::with_capacity(ns),
             narrow_calls: 0,
             aabb_tests: 0,
             narrow_limits: 0,
@@ -398,9 +406,15 @@ impl ContactState {
     fn rebuild(&mut self, cp: &ContactPlan, ws: &Workspace) {
         self.started.clear();
         self.ended.clear();
+        self.started_speed.clear();
+        self.ended_speed.clear();
         // Pairs the broad phase no longer reports are far apart: they leave the set.
         for k in 0..self.active.len() {
             let p = self.active[k] as usize;
+            if self.slots[p].seen != self.stamp {
+                let dd = self.normal_speed(cp, ws, p);
+                self.ended_speed.push(dd);
+            }
             let sl = &mut self.slots[p];
             if sl.seen != self.stamp {
                 sl.state.in_contact = false;
@@ -412,6 +426,10 @@ impl ContactState {
         for k in 0..self.near.len() {
             let p = self.near[k] as usize;
             let now = self.slots[p].state.z < cp.hysteresis_band().decide;
+            if !now && self.slots[p].state.in_contact {
+                let dd = self.normal_speed(cp, ws, p);
+                self.ended_speed.push(dd);
+            }
             let point = if now && !self.slots[p].state.in_contact {
                 self.point(cp, p, &self.slots[p].state.geometry)
             } else {
@@ -425,6 +443,7 @@ impl ContactState {
                 let (v2, _) = point_velocity(ws, cp.shapes[pp.b].body, &point);
                 let dd = -(v2 - v1).dot(&sd.normal);
                 ps.delta_dot_minus = dd;
+                self.started_speed.push(dd);
                 let c = cor_reg(cp.profile, pp.cor, cp.cor_min, dd, pp.v_min);
                 ps.d = if cp.exact_restitution {
                     damping_factor_exact(c, dd, pp.v_min, cp.d_max)
@@ -444,7 +463,18 @@ impl ContactState {
         }
     }
 
-    /// The two root functions from the last `z` values [m]: `z_1` = max over pairs in contact
+    /// Penetration velocity `δ̇ = −(v_b − v_a)·n` \[m/s\] of slot `p`'s pair at its contact
+    /// point (from the last narrow-phase result; > 0 approaching), at the workspace velocities.
+    fn normal_speed(&self, cp: &ContactPlan, ws: &Workspace, p: usize) -> f64 {
+        let sl = &self.slots[p];
+        let sd = &sl.state.geometry;
+        let point = self.point(cp, p, sd);
+        let (v1, _) = point_velocity(ws, cp.shapes[sl.plan.a].body, &point);
+        let (v2, _) = point_velocity(ws, cp.shapes[sl.plan.b].body, &point);
+        -(v2 - v1).dot(&sd.normal)
+    }
+
+    /// The two root functions from the last `z` values \[m\]: `z_1` = max over pairs in contact
     /// of `z − 2ε` (−42 if none), `z_2` = min over the others of `z`, where pairs the broad
     /// phase does not report count as `margin` apart (so `z_2 ≤ margin`). See [`Hysteresis`].
     pub fn roots(&self, cp: &ContactPlan) -> (f64, f64) {
@@ -514,7 +544,7 @@ impl PairState {
     };
 }
 
-/// The levels of the contact-set hysteresis, in values of `z_AB` [m] (signed distance:
+/// The levels of the contact-set hysteresis, in values of `z_AB` \[m\] (signed distance:
 /// negative = penetrating), for `ε` = [`SceneOptions::hysteresis`](crate::scene::SceneOptions):
 ///
 /// | level | `z_AB` | meaning |
@@ -539,11 +569,11 @@ impl PairState {
 /// has the full argument and the measurements.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hysteresis {
-    /// Level [m] at which a contact starts (0: touching).
+    /// Level \[m\] at which a contact starts (0: touching).
     pub start: f64,
-    /// Level [m] that decides membership at an event (ε).
+    /// Level \[m\] that decides membership at an event (ε).
     pub decide: f64,
-    /// Level [m] at which a contact ends (2ε).
+    /// Level \[m\] at which a contact ends (2ε).
     pub end: f64,
 }
 

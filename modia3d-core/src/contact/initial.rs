@@ -23,7 +23,7 @@ use nalgebra::{Isometry3, Vector3};
 /// plate) inside the other solid.
 pub const MAX_INITIAL_DEPTH_RATIO: f64 = 0.5;
 
-/// Extent of a shape [m]: the smallest edge of its bounding box in its own frame (the diameter
+/// Extent of a shape \[m\]: the smallest edge of its bounding box in its own frame (the diameter
 /// of a sphere, the thickness of a plate, the smaller of diameter and length of a cylinder).
 pub fn extent(s: &CollisionShape) -> f64 {
     2.0 * s.local_half_extents().min()
@@ -90,7 +90,7 @@ pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneEr
     errors
 }
 
-/// Penetration depth [m] of two overlapping shapes as the smallest support value
+/// Penetration depth \[m\] of two overlapping shapes as the smallest support value
 /// `h_M(n) = h_b(n) + h_a(−n)` of their Minkowski difference `M = b ⊖ a` over a set of
 /// directions: both shapes' frame axes (the face normals of boxes) and 400 directions spread
 /// evenly over the sphere (Fibonacci lattice). For convex shapes whose difference contains the

@@ -18,7 +18,7 @@ pub struct ShapePlan {
     pub object: usize,
     /// Moving body it belongs to; `None` = fixed to the world.
     pub body: Option<BodyId>,
-    /// The object frame placed in the body frame (or in world) [m].
+    /// The object frame placed in the body frame (or in world) \[m\].
     pub in_body: Transform,
     /// The shape, smoothed.
     pub shape: CollisionShape,
@@ -39,9 +39,9 @@ pub struct ShapePlan {
 /// What the geometry coefficients of a pair (docs/contact-model.md §3) need of a user shape.
 #[derive(Clone, Copy, Debug)]
 struct ShapeGeo {
-    /// Diameter [m] of a sphere, `None` for other shapes.
+    /// Diameter \[m\] of a sphere, `None` for other shapes.
     sphere_diameter: Option<f64>,
-    /// Contact radius [m] in the later Modia3D profile.
+    /// Contact radius \[m\] in the later Modia3D profile.
     radius: f64,
     /// The shape counts as flat in the later profile.
     flat: bool,
@@ -67,7 +67,7 @@ pub struct PairPlan {
     pub w_min: f64,
     /// `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
     pub c_res: f64,
-    /// `μ_geo` [m] (1 for two non-spheres in the 2019 profile).
+    /// `μ_geo` \[m\] (1 for two non-spheres in the 2019 profile).
     pub mu_geo: f64,
     /// `c_geo` [m^(1/2)] or 1.
     pub c_geo: f64,
@@ -98,7 +98,7 @@ pub struct ContactPlan {
     pub d_max: f64,
     /// `cor` of very slow impacts [-].
     pub cor_min: f64,
-    /// Hysteresis ε [m].
+    /// Hysteresis ε \[m\].
     pub hysteresis: f64,
     /// Contact law variant.
     pub profile: ContactProfile,
@@ -109,7 +109,7 @@ pub struct ContactPlan {
     /// Shapes on moving bodies (the others' poses and boxes are computed once, in
     /// `ContactState::new`).
     pub moving: Vec<usize>,
-    /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
+    /// Broad-phase margin \[m\]: pairs whose AABBs are more than this apart on some axis are not
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
     /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
     pub margin: f64,
@@ -378,7 +378,7 @@ fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) ->
     }
 }
 
-/// Contact radius [m] of a shape in the later Modia3D profile and whether it counts as flat.
+/// Contact radius \[m\] of a shape in the later Modia3D profile and whether it counts as flat.
 fn contact_radius(s: &Shape) -> (f64, bool) {
     match s {
         Shape::Sphere { diameter } | Shape::Capsule { diameter, .. } => (0.5 * diameter, false),

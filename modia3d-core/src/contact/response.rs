@@ -9,19 +9,19 @@ use nalgebra::Vector3;
 /// Forces of one pair, all resolved in world.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PairResponse {
-    /// Penetration depth `δ = max(0, −δ_signed)` [m].
+    /// Penetration depth `δ = max(0, −δ_signed)` \[m\].
     pub penetration: f64,
     /// Penetration velocity `δ̇` [m/s] (> 0 while approaching).
     pub penetration_velocity: f64,
-    /// Magnitude of the normal force `f_n` [N] (≥ 0).
+    /// Magnitude of the normal force `f_n` \[N\] (≥ 0).
     pub f_n: f64,
-    /// Normal force on body 2 (`f_n · e_n`) [N].
+    /// Normal force on body 2 (`f_n · e_n`) \[N\].
     pub normal_force: Vector3<f64>,
-    /// Sliding friction force on body 2 [N].
+    /// Sliding friction force on body 2 \[N\].
     pub friction_force: Vector3<f64>,
     /// Rolling-resistance torque on body 2 [N·m].
     pub rolling_torque: Vector3<f64>,
-    /// Contact point [m]: where the forces act (see [`crate::geometry::contact_point`]).
+    /// Contact point \[m\]: where the forces act (see [`crate::geometry::contact_point`]).
     pub point: Vector3<f64>,
     /// Unit normal from body 1 (shape a) to body 2 (shape b).
     pub normal: Vector3<f64>,
@@ -42,7 +42,7 @@ impl PairResponse {
 }
 
 /// The response law of docs/contact-model.md §3 for pair `pp` with damping factor `d` [s/m] (fixed at contact
-/// start), contact geometry `sd` (normal a → b), the contact point `point` [m] and the
+/// start), contact geometry `sd` (normal a → b), the contact point `point` \[m\] and the
 /// velocities of the two bodies' material points there and their angular velocities (all
 /// world, [m/s], [rad/s]).
 /// Body 2 receives `normal_force + friction_force` at `point` and `rolling_torque`; body 1 the

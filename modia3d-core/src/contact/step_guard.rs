@@ -20,10 +20,10 @@ const SAFETY: f64 = 0.25;
 /// What the guard needs of a contact plan.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct StepGuard {
-    /// min over candidate pairs of `t_a + t_b` [m], `t` the smallest edge of a shape's own
+    /// min over candidate pairs of `t_a + t_b` \[m\], `t` the smallest edge of a shape's own
     /// bounding box (its diameter for a sphere, its smallest edge for a box).
     thinnest_pair: f64,
-    /// `(body, R)` for every moving body with a collision shape: R [m] bounds the distance of
+    /// `(body, R)` for every moving body with a collision shape: R \[m\] bounds the distance of
     /// its shapes' points from the body origin, so `|v| + |ω| R` bounds their speed.
     reach: Vec<(crate::dynamics::BodyId, f64)>,
 }
@@ -73,7 +73,7 @@ impl StepGuard {
         }
     }
 
-    /// The largest safe step [s] at the body velocities and accelerations of the last
+    /// The largest safe step \[s\] at the body velocities and accelerations of the last
     /// evaluation in `ws` (accelerations as the residual's inverse dynamics left them, which
     /// include the world's `−g`: adding `g` gives the body's own; `gravity` resolved in world
     /// [m/s²]). Every shape point moves by at most `s h + ½ a h²` in a step h, with

@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 /// Eight steel balls (d = 0.06 m) on a steel table, each 1e-7 m into it (in contact from the
 /// start), 0.02 m apart from each other: 8 ball–table contacts, 28 ball–ball candidate pairs
 /// (all separated), exercising the broad phase, narrow phase and response of both kinds.
-fn balls_on_a_table() -> SceneDesc {
+pub(crate) fn balls_on_a_table() -> SceneDesc {
     let d = 0.06;
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))

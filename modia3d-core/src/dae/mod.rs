@@ -13,7 +13,7 @@ use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
 #[cfg(test)]
-mod alloc_tests;
+pub(crate) mod alloc_tests;
 
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
@@ -117,7 +117,7 @@ impl MultibodyDae {
     pub fn plan(&self) -> &Plan {
         &self.plan
     }
-    /// The largest step [s] after which no collision shape can have passed through another
+    /// The largest step \[s\] after which no collision shape can have passed through another
     /// unseen, at the body velocities and accelerations of the last evaluation
     /// (`contact/step_guard.rs`); `None` without candidate pairs or when nothing that can
     /// collide moves.
@@ -161,7 +161,7 @@ impl MultibodyDae {
         self.root_error.take()
     }
 
-    /// Event mode (docs/contact-model.md §4) at time `t` [s] and state `y`: recomputes every `z_AB`, rebuilds
+    /// Event mode (docs/contact-model.md §4) at time `t` \[s\] and state `y`: recomputes every `z_AB`, rebuilds
     /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
     /// nothing without collision pairs.
     pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
@@ -187,7 +187,7 @@ impl MultibodyDae {
         cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
     }
 
-    /// Derivative `y'` consistent with `y` at time `t` [s], contact forces of the current set
+    /// Derivative `y'` consistent with `y` at time `t` \[s\], contact forces of the current set
     /// included; an error if the mass matrix is singular there, the narrow phase fails or a
     /// user force law panics or returns a non-finite wrench. With closed loops `y` is first
     /// projected onto the constraints (positions and velocities, `loops::project`) and its

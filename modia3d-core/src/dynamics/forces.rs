@@ -18,7 +18,7 @@ pub struct UserFault {
     pub object: String,
     /// Index of the force element (in the scene's order of force elements).
     pub element: usize,
-    /// Time [s] of the call.
+    /// Time \[s\] of the call.
     pub t: f64,
     /// What went wrong.
     pub kind: FaultKind,
@@ -29,9 +29,9 @@ pub struct UserFault {
 pub enum FaultKind {
     /// It panicked, with this payload as text.
     Panic(String),
-    /// It returned a NaN or infinite component: force [N] and torque [N·m], in world.
+    /// It returned a NaN or infinite component: force \[N\] and torque [N·m], in world.
     NonFinite {
-        /// The force returned [N].
+        /// The force returned \[N\].
         force: [f64; 3],
         /// The torque returned [N·m].
         torque: [f64; 3],
@@ -57,7 +57,7 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "(a panic without a text payload)".into())
 }
 
-/// Adds a force `force` [N] acting at the world point `point` [m] and a pure torque `torque`
+/// Adds a force `force` \[N\] acting at the world point `point` \[m\] and a pure torque `torque`
 /// [N·m], all resolved in world, to body `b` (nothing for the world).
 #[inline]
 pub fn add_world_wrench(
@@ -90,7 +90,7 @@ pub fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
     }
 }
 
-/// Clears and fills `ws.f_ext` and `ws.tau_applied` at time `t` [s].
+/// Clears and fills `ws.f_ext` and `ws.tau_applied` at time `t` \[s\].
 pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
     ws.f_ext.fill(Force::default());
     ws.tau_applied.fill(0.0);

@@ -63,7 +63,7 @@ pub fn object_in_world(plan: &Plan, ws: &Workspace, o: ObjectId) -> Transform {
 }
 
 /// Velocity [m/s] and angular velocity [rad/s], both resolved in world, of the material point
-/// `p` (given in world [m]) of body `b` (`None` = world: at rest).
+/// `p` (given in world \[m\]) of body `b` (`None` = world: at rest).
 #[inline]
 pub fn point_velocity(
     ws: &Workspace,

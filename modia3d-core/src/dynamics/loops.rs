@@ -12,9 +12,9 @@
 //! and `p = R1ᵀ (P2 − P1)` (obj2 relative to obj1, resolved in obj1). Each locked direction of
 //! the joint is one scalar row [`Row`]:
 //!
-//! * `Translation { e }`: `g = e·p` (e unit, in obj1) [m];
-//! * `Align { u, a }`: `g = u·(R a)`: obj2's axis `a` stays perpendicular to obj1's `u` [1];
-//! * `Rotation { k }`: `g = ½ vee(R − Rᵀ)_k` (a full rotation lock, near identity) [1].
+//! * `Translation { e }`: `g = e·p` (e unit, in obj1) \[m\];
+//! * `Align { u, a }`: `g = u·(R a)`: obj2's axis `a` stays perpendicular to obj1's `u` \[1\];
+//! * `Rotation { k }`: `g = ½ vee(R − Rᵀ)_k` (a full rotation lock, near identity) \[1\].
 //!
 //! A cut Revolute (axis `a`) is three translations and `Align {u, a}`, `Align {w, a}` with
 //! `u, w ⊥ a`: unlike `½ vee(R − Rᵀ)` these two rows keep full rank at every angle of the
@@ -101,7 +101,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 /// singular configuration is larger than 1e-8 of the others except within ~1e-8 rad of it.
 pub const RANK_TOLERANCE: f64 = 1e-8;
 
-/// Largest constraint residual ([m] for translations, [1] for rotations) an assembled loop may
+/// Largest constraint residual (\[m\] for translations, \[1\] for rotations) an assembled loop may
 /// keep: Newton's method reaches round-off (~1e-15 for metre-sized links); 1e-9 leaves room for
 /// links of kilometres and is far below any mis-fit a user would make.
 pub const CLOSE_TOLERANCE: f64 = 1e-9;
@@ -156,11 +156,11 @@ pub struct CutPlan {
     pub scene_joint: usize,
     /// Body of obj1 (`None` = fixed to the world).
     pub body1: Option<BodyId>,
-    /// obj1's frame placed in `body1`'s frame (or in world) [m].
+    /// obj1's frame placed in `body1`'s frame (or in world) \[m\].
     pub in_body1: Transform,
     /// Body of obj2.
     pub body2: Option<BodyId>,
-    /// obj2's frame placed in `body2`'s frame (or in world) [m].
+    /// obj2's frame placed in `body2`'s frame (or in world) \[m\].
     pub in_body2: Transform,
     /// Every row the joint kind locks.
     pub rows: Vec<Row>,
@@ -389,7 +389,7 @@ pub struct LoopWork {
     a: Vec<Vector3<f64>>,
     /// `B` of every kept row (world).
     b: Vec<Vector3<f64>>,
-    /// obj2's origin in world, per cut [m].
+    /// obj2's origin in world, per cut \[m\].
     p2: Vec<Vector3<f64>>,
     /// `v + Gᵀ μ` (len nv).
     pub w: Vec<f64>,
@@ -619,7 +619,7 @@ pub struct LoopFailure {
     pub cut: String,
     /// Its loop's joints.
     pub joints: Vec<String>,
-    /// Largest remaining residual of its rows ([m] or [1]).
+    /// Largest remaining residual of its rows (\[m\] or \[1\]).
     pub residual: f64,
 }
 
@@ -830,7 +830,7 @@ pub fn constraint_jacobian(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatri
     dense_rows(plan, ws, q, &plan.loops.kept).1
 }
 
-/// Force [N] on obj2 and torque [N·m] on obj2 of cut `c` for its multipliers (kept rows of the
+/// Force \[N\] on obj2 and torque [N·m] on obj2 of cut `c` for its multipliers (kept rows of the
 /// cut, in order), both resolved in obj1's frame, at the workspace state; the force acts at
 /// obj2's origin, obj1 feels the opposite.
 pub fn cut_wrench(

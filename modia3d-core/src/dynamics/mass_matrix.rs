@@ -109,7 +109,7 @@ pub fn free_cholesky(
     (free, factor)
 }
 
-/// Accelerations `v̇` consistent with `q`, `v` at time `t` [s]: solves `M v̇ = τ_applied − C`,
+/// Accelerations `v̇` consistent with `q`, `v` at time `t` \[s\]: solves `M v̇ = τ_applied − C`,
 /// where `C` holds gravity, velocity terms and external forces, with `extra` adding further
 /// external forces (those of later stages of the pipeline) to `ws.f_ext` after the applied forces
 /// (the workspace then holds positions and velocities at `q`, `v`). With closed loops the

@@ -51,7 +51,7 @@ pub struct ObjectPlan {
     pub name: String,
     /// The moving body it belongs to; `None` = fixed to the world.
     pub body: Option<BodyId>,
-    /// Its frame placed in the body frame (or in world) [m].
+    /// Its frame placed in the body frame (or in world) \[m\].
     pub in_body: Transform,
 }
 

@@ -14,7 +14,7 @@ pub struct Motion {
     pub v: Vector3<f64>,
 }
 
-/// A spatial force vector `(n, f)` resolved in some frame ([N·m], [N]).
+/// A spatial force vector `(n, f)` resolved in some frame ([N·m], \[N\]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Force {
     /// Moment about the frame origin.
@@ -80,12 +80,12 @@ impl std::ops::Sub for Force {
 }
 
 /// Placement of a child frame in its parent: `rot` has the child's axes resolved in the parent
-/// as columns, `pos` is the child's origin resolved in the parent [m].
+/// as columns, `pos` is the child's origin resolved in the parent \[m\].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Transform {
     /// Child axes resolved in the parent.
     pub rot: Matrix3<f64>,
-    /// Child origin resolved in the parent [m].
+    /// Child origin resolved in the parent \[m\].
     pub pos: Vector3<f64>,
 }
 
@@ -126,13 +126,13 @@ impl Transform {
     }
 }
 
-/// Rigid-body inertia about a frame origin: mass [kg], centre of mass [m] and inertia about the
+/// Rigid-body inertia about a frame origin: mass \[kg\], centre of mass \[m\] and inertia about the
 /// centre of mass [kg·m²], resolved in that frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Inertia {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
-    /// Centre of mass [m].
+    /// Centre of mass \[m\].
     pub com: Vector3<f64>,
     /// Inertia about the centre of mass [kg·m²].
     pub inertia_com: Matrix3<f64>,
@@ -195,7 +195,7 @@ impl Inertia {
     }
 }
 
-/// Rotation matrix of `angle` [rad] about the unit vector `axis`.
+/// Rotation matrix of `angle` \[rad\] about the unit vector `axis`.
 #[inline]
 pub fn axis_angle(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
     let (s, c) = angle.sin_cos();

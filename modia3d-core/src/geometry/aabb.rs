@@ -5,7 +5,7 @@ use super::support::CoreShape;
 use nalgebra::{Isometry3, Vector3};
 pub use parry3d_f64::bounding_volume::Aabb;
 
-/// The tight world AABB of `shape` at `pose` (shape frame → world), resolved in world [m].
+/// The tight world AABB of `shape` at `pose` (shape frame → world), resolved in world \[m\].
 ///
 /// Exact for every shape: the extent along world axis `i` is the support function in `±e_i`
 /// (boxes and ellipsoids in closed form, the rest by six support points), plus the margin.
@@ -50,7 +50,7 @@ pub fn world_aabbs_into(shapes: &[CollisionShape], poses: &[Isometry3<f64>], out
     out.extend(shapes.iter().zip(poses).map(|(s, p)| world_aabb(s, p)));
 }
 
-/// Euclidean distance between two AABBs [m]; 0 when they overlap or touch.
+/// Euclidean distance between two AABBs \[m\]; 0 when they overlap or touch.
 #[inline]
 pub fn aabb_distance(a: &Aabb, b: &Aabb) -> f64 {
     let gap = (a.mins - b.maxs)

@@ -48,7 +48,7 @@ impl BroadPhase {
     }
 
     /// Write into `out` (cleared first) every pair `(i, j)`, `i < j`, whose AABBs
-    /// (`aabbs[i]`, resolved in world, [m]) overlap or touch and for which `allowed(i, j)` is
+    /// (`aabbs[i]`, resolved in world, \[m\]) overlap or touch and for which `allowed(i, j)` is
     /// true. Pairs come out in sweep order, not sorted. Panics if `aabbs.len()` differs from `n`.
     pub fn update(
         &mut self,

@@ -33,7 +33,7 @@ impl CollisionShape {
         Self::with_smoothing(shape, super::smoothing::DEFAULT_SMOOTHING_RADIUS)
     }
 
-    /// Build from `shape`, asking for the smoothing radius `smoothing_radius` [m] (clamped to
+    /// Build from `shape`, asking for the smoothing radius `smoothing_radius` \[m\] (clamped to
     /// 10 % of the smallest dimension; ignored for smooth shapes). Errors for non-finite or
     /// non-positive dimensions and for degenerate convex hulls.
     pub fn with_smoothing(shape: &Shape, smoothing_radius: f64) -> Result<Self, GeometryError> {
@@ -152,38 +152,38 @@ impl CollisionShape {
         &self.core
     }
 
-    /// Radius of the ball swept over the core [m]: the radius of a sphere or capsule, the
+    /// Radius of the ball swept over the core \[m\]: the radius of a sphere or capsule, the
     /// smoothing radius of a box, cylinder, cone or convex hull, 0 for an ellipsoid.
     pub fn margin(&self) -> f64 {
         self.margin
     }
 
-    /// The smoothing radius actually used [m] (0 for sphere, capsule and ellipsoid).
+    /// The smoothing radius actually used \[m\] (0 for sphere, capsule and ellipsoid).
     pub fn smoothing_radius(&self) -> f64 {
         self.smoothing_radius
     }
 
-    /// An interior point of the core, in the shape frame [m] (start of MPR's centre ray).
+    /// An interior point of the core, in the shape frame \[m\] (start of MPR's centre ray).
     pub fn centre(&self) -> Point3<f64> {
         self.centre
     }
 
-    /// Radius of a ball about [`centre`](Self::centre) that contains the whole shape [m].
+    /// Radius of a ball about [`centre`](Self::centre) that contains the whole shape \[m\].
     pub fn bounding_radius(&self) -> f64 {
         self.bounding_radius
     }
 
-    /// Half extents of the shape's AABB in its own frame (margin included) [m].
+    /// Half extents of the shape's AABB in its own frame (margin included) \[m\].
     pub fn local_half_extents(&self) -> Vector3<f64> {
         self.local_half_extents
     }
 
-    /// Centre of the shape's AABB in its own frame [m].
+    /// Centre of the shape's AABB in its own frame \[m\].
     pub fn local_aabb_centre(&self) -> Point3<f64> {
         self.local_aabb_centre
     }
 
-    /// Support point of the core at `pose` in world direction `dir`, resolved in world [m].
+    /// Support point of the core at `pose` in world direction `dir`, resolved in world \[m\].
     #[inline]
     pub fn core_support_world(&self, pose: &Isometry3<f64>, dir: &Vector3<f64>) -> Point3<f64> {
         let local = pose.rotation.inverse_transform_vector(dir);
@@ -191,7 +191,7 @@ impl CollisionShape {
     }
 
     /// Support point of the whole shape (core plus margin) in the shape frame, for a unit or
-    /// non-unit direction `dir` resolved in the shape frame [m].
+    /// non-unit direction `dir` resolved in the shape frame \[m\].
     pub fn support(&self, dir: &Vector3<f64>) -> Point3<f64> {
         let p = self.core.support(dir);
         match dir.try_normalize(0.0) {

@@ -11,7 +11,7 @@ pub enum GeometryError {
     InvalidDimension {
         /// Name of the offending parameter (e.g. `diameter`).
         name: &'static str,
-        /// Its value [m].
+        /// Its value \[m\].
         value: f64,
     },
     /// A convex hull has fewer than 4 points not in a plane, or a non-finite point.

@@ -13,7 +13,7 @@
 //!   separated cores.
 //!
 //! Frames: poses are `Isometry3<f64>` from the shape frame to world; results are resolved in
-//! world, lengths in [m]. Nothing allocates per query or per broad-phase update once warmed up.
+//! world, lengths in \[m\]. Nothing allocates per query or per broad-phase update once warmed up.
 
 pub mod aabb;
 pub mod broad_phase;

@@ -16,7 +16,7 @@ fn unrotated(pose: &Isometry3<f64>) -> bool {
     q.i == 0.0 && q.j == 0.0 && q.k == 0.0
 }
 
-/// `pose · p`: a point of the shape frame in world [m].
+/// `pose · p`: a point of the shape frame in world \[m\].
 #[inline]
 pub(crate) fn to_world(pose: &Isometry3<f64>, p: &Point3<f64>) -> Point3<f64> {
     if unrotated(pose) {
@@ -26,7 +26,7 @@ pub(crate) fn to_world(pose: &Isometry3<f64>, p: &Point3<f64>) -> Point3<f64> {
     }
 }
 
-/// `pose⁻¹ · p`: a world point in the shape frame [m].
+/// `pose⁻¹ · p`: a world point in the shape frame \[m\].
 #[inline]
 pub(crate) fn to_local(pose: &Isometry3<f64>, p: &Point3<f64>) -> Point3<f64> {
     if unrotated(pose) {

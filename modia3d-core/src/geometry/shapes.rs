@@ -51,69 +51,69 @@ impl Axis {
     }
 }
 
-/// The geometry of a solid, in its shape frame. All lengths in [m].
+/// The geometry of a solid, in its shape frame. All lengths in \[m\].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Shape {
-    /// A ball of the given diameter [m], centred at the origin.
+    /// A ball of the given diameter \[m\], centred at the origin.
     Sphere {
-        /// Diameter [m].
+        /// Diameter \[m\].
         diameter: f64,
     },
-    /// A box with edge lengths along x, y, z [m], centred at the origin.
+    /// A box with edge lengths along x, y, z \[m\], centred at the origin.
     Box {
-        /// Edge lengths along the frame's x, y, z axes [m].
+        /// Edge lengths along the frame's x, y, z axes \[m\].
         lengths: Vector3<f64>,
     },
     /// A circular cylinder along `axis`, centred at the origin.
     Cylinder {
         /// Axis of the cylinder.
         axis: Axis,
-        /// Diameter [m].
+        /// Diameter \[m\].
         diameter: f64,
-        /// Length along the axis [m].
+        /// Length along the axis \[m\].
         length: f64,
     },
     /// A cylinder with hemispherical caps, along `axis`, centred at the origin.
     Capsule {
         /// Axis of the capsule.
         axis: Axis,
-        /// Diameter of the cylinder and caps [m].
+        /// Diameter of the cylinder and caps \[m\].
         diameter: f64,
-        /// Length of the cylindrical part, without the caps [m].
+        /// Length of the cylindrical part, without the caps \[m\].
         length: f64,
     },
     /// A (truncated) cone along `axis`: base circle at `axis = 0`, top circle at `axis = length`.
     Cone {
         /// Axis of the cone.
         axis: Axis,
-        /// Diameter of the base [m].
+        /// Diameter of the base \[m\].
         diameter: f64,
-        /// Height [m].
+        /// Height \[m\].
         length: f64,
-        /// Diameter of the top (0 for a pointed cone) [m].
+        /// Diameter of the top (0 for a pointed cone) \[m\].
         top_diameter: f64,
     },
-    /// An ellipsoid with full axis lengths along x, y, z [m], centred at the origin.
+    /// An ellipsoid with full axis lengths along x, y, z \[m\], centred at the origin.
     Ellipsoid {
-        /// Full lengths of the three axes (twice the semi-axes) [m].
+        /// Full lengths of the three axes (twice the semi-axes) \[m\].
         lengths: Vector3<f64>,
     },
-    /// The convex hull of a set of points given in the shape frame [m].
+    /// The convex hull of a set of points given in the shape frame \[m\].
     ConvexHull {
-        /// Points whose convex hull is the solid [m].
+        /// Points whose convex hull is the solid \[m\].
         points: Vec<Point3<f64>>,
     },
 }
 
-/// Volume [m³], centre of mass [m] and inertia about the centre of mass [m⁵] (multiply by a
+/// Volume \[m³\], centre of mass \[m\] and inertia about the centre of mass \[m⁵\] (multiply by a
 /// density in [kg/m³] to get [kg·m²]) of a shape of unit density, in the shape frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UnitMassProperties {
-    /// Volume [m³].
+    /// Volume \[m³\].
     pub volume: f64,
-    /// Centre of mass in the shape frame [m].
+    /// Centre of mass in the shape frame \[m\].
     pub com: Vector3<f64>,
-    /// Inertia tensor about the centre of mass, for density 1, resolved in the shape frame [m⁵].
+    /// Inertia tensor about the centre of mass, for density 1, resolved in the shape frame \[m⁵\].
     pub inertia: Matrix3<f64>,
 }
 

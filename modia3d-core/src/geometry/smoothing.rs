@@ -10,15 +10,15 @@ use super::error::GeometryError;
 use super::shapes::Shape;
 use nalgebra::{Matrix3, Point3, Vector3};
 
-/// Default smoothing radius [m] (Modia3D's default: 1 mm).
+/// Default smoothing radius \[m\] (Modia3D's default: 1 mm).
 pub const DEFAULT_SMOOTHING_RADIUS: f64 = 1e-3;
 
 /// Upper bound of the smoothing radius as a fraction of the smallest dimension of a shape.
 pub const MAX_SMOOTHING_FRACTION: f64 = 0.1;
 
-/// The smoothing radius actually used for `shape` when `requested` [m] is asked for:
+/// The smoothing radius actually used for `shape` when `requested` \[m\] is asked for:
 /// 0 for shapes that are smooth already (sphere, capsule, ellipsoid), otherwise
-/// `min(requested, 0.1 · smallest dimension)` [m]. For a cone the top diameter is not counted
+/// `min(requested, 0.1 · smallest dimension)` \[m\]. For a cone the top diameter is not counted
 /// (a pointed cone has none); for a convex hull the smallest dimension is twice the smallest
 /// distance from the vertex centroid to a face (`hull_inner_width`).
 pub fn effective_smoothing_radius(shape: &Shape, requested: f64) -> Result<f64, GeometryError> {
@@ -40,7 +40,7 @@ pub fn effective_smoothing_radius(shape: &Shape, requested: f64) -> Result<f64, 
 }
 
 /// Outward face planes `(n, h)` (`n·x ≤ h` inside, `n` unit) of the convex hull of `points`,
-/// coplanar triangles merged, and the centroid of the hull vertices [m].
+/// coplanar triangles merged, and the centroid of the hull vertices \[m\].
 type Planes = Vec<(Vector3<f64>, f64)>;
 
 fn hull_planes(points: &[Point3<f64>]) -> Result<(Planes, Point3<f64>), GeometryError> {
@@ -89,7 +89,7 @@ fn hull_planes(points: &[Point3<f64>]) -> Result<(Planes, Point3<f64>), Geometry
 }
 
 /// Twice the smallest distance from the centroid of the hull vertices to a face of the convex
-/// hull of `points` [m] (a lower bound of the hull's smallest width through its centroid).
+/// hull of `points` \[m\] (a lower bound of the hull's smallest width through its centroid).
 pub fn hull_inner_width(points: &[Point3<f64>]) -> Result<f64, GeometryError> {
     let (planes, c) = hull_planes(points)?;
     Ok(2.0
@@ -99,7 +99,7 @@ pub fn hull_inner_width(points: &[Point3<f64>]) -> Result<f64, GeometryError> {
             .fold(f64::INFINITY, f64::min))
 }
 
-/// The vertices of the convex hull of `points` with every face moved inwards by `r` [m]
+/// The vertices of the convex hull of `points` with every face moved inwards by `r` \[m\]
 /// (`r` must be below half of [`hull_inner_width`]). With `r = 0` these are the hull vertices.
 ///
 /// Method: the shrunk polytope is the intersection of the half-spaces `n_i·x ≤ h_i − r`. By

@@ -14,24 +14,24 @@ use super::shapes::Axis;
 use nalgebra::{Point3, Vector3};
 use parry3d_f64::shape::SupportMap;
 
-/// The convex core of a collision shape, in the shape frame. All lengths in [m].
+/// The convex core of a collision shape, in the shape frame. All lengths in \[m\].
 #[derive(Clone, Debug, PartialEq)]
 pub enum CoreShape {
     /// A single point at `centre` (core of a sphere).
     Point {
-        /// Position in the shape frame [m].
+        /// Position in the shape frame \[m\].
         centre: Point3<f64>,
     },
     /// A segment from `-half_length` to `+half_length` along `axis` (core of a capsule).
     Segment {
         /// Direction of the segment.
         axis: Axis,
-        /// Half length [m] (0 is allowed: then it is a point).
+        /// Half length \[m\] (0 is allowed: then it is a point).
         half_length: f64,
     },
     /// A box centred at the origin (core of a smoothed box).
     Box {
-        /// Half edge lengths along x, y, z [m], each ≥ 0.
+        /// Half edge lengths along x, y, z \[m\], each ≥ 0.
         half_extents: Vector3<f64>,
     },
     /// A circular frustum along `axis`: disk of radius `r0` at `axis = z0`, disk of radius `r1`
@@ -39,23 +39,23 @@ pub enum CoreShape {
     Frustum {
         /// Axis of the frustum.
         axis: Axis,
-        /// Axial position of the first disk [m].
+        /// Axial position of the first disk \[m\].
         z0: f64,
-        /// Axial position of the second disk [m].
+        /// Axial position of the second disk \[m\].
         z1: f64,
-        /// Radius of the first disk [m], ≥ 0.
+        /// Radius of the first disk \[m\], ≥ 0.
         r0: f64,
-        /// Radius of the second disk [m], ≥ 0.
+        /// Radius of the second disk \[m\], ≥ 0.
         r1: f64,
     },
-    /// An ellipsoid centred at the origin with semi-axes along x, y, z [m].
+    /// An ellipsoid centred at the origin with semi-axes along x, y, z \[m\].
     Ellipsoid {
-        /// Semi-axes (half the full axis lengths) [m], each > 0.
+        /// Semi-axes (half the full axis lengths) \[m\], each > 0.
         semi_axes: Vector3<f64>,
     },
-    /// The convex hull of `vertices` (each of them is a vertex of the hull) [m].
+    /// The convex hull of `vertices` (each of them is a vertex of the hull) \[m\].
     Hull {
-        /// Vertices of the hull, in the shape frame [m].
+        /// Vertices of the hull, in the shape frame \[m\].
         vertices: Vec<Point3<f64>>,
     },
 }
@@ -71,7 +71,7 @@ fn sgn(x: f64) -> f64 {
     }
 }
 
-/// Ramp weight of a feature point lying `below` [m] under the support plane, for a band [m]:
+/// Ramp weight of a feature point lying `below` \[m\] under the support plane, for a band \[m\]:
 /// 1 on the plane, 0 at `band` and deeper (linear in between).
 #[inline]
 fn ramp(below: f64, band: f64) -> f64 {
@@ -112,10 +112,10 @@ fn soft_rim_fraction(r: f64, s: f64, band: f64) -> f64 {
 
 impl CoreShape {
     /// The "soft" support feature in unit direction `dir` (shape frame): the centroid of the
-    /// points of the core lying at most `band` [m] below the support plane `dir·x = h(dir)`,
+    /// points of the core lying at most `band` \[m\] below the support plane `dir·x = h(dir)`,
     /// each weighted by `1 − depth/band` (the linear pressure law of a thin elastic layer that
     /// penetrates `band` deep), and the feature's spread (weighted variance in the tangent
-    /// plane, approximately) [m²].
+    /// plane, approximately) \[m²\].
     ///
     /// Unlike [`Self::support`] this is continuous in `dir`: for a box face-on it is the
     /// centre of the face, tilting the box moves it continuously towards the lower edge and
@@ -197,7 +197,7 @@ impl CoreShape {
         }
     }
 
-    /// Support point in the shape frame: a point of the core maximising `dir·x` [m].
+    /// Support point in the shape frame: a point of the core maximising `dir·x` \[m\].
     /// `dir` is resolved in the shape frame and need not be unit; for `dir = 0` some point of the
     /// core is returned.
     #[inline]
@@ -263,7 +263,7 @@ impl CoreShape {
     }
 
     /// A point in the interior (or the relative interior, for points and segments) of the core,
-    /// in the shape frame [m]; the start of MPR's centre ray.
+    /// in the shape frame \[m\]; the start of MPR's centre ray.
     pub fn interior_point(&self) -> Point3<f64> {
         match self {
             CoreShape::Point { centre } => *centre,

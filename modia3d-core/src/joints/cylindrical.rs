@@ -1,4 +1,4 @@
-//! Cylindrical joint: rotation `phi` [rad] about and translation `s` [m] along one unit axis
+//! Cylindrical joint: rotation `phi` \[rad\] about and translation `s` \[m\] along one unit axis
 //! fixed in both objects; velocities `w` [rad/s], `v` [m/s] (`phi̇ = w`, `ṡ = v`).
 //! `S = [(axis, 0), (0, axis)]` is constant (the axis is invariant under the rotation).
 
@@ -8,7 +8,7 @@ use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::Vector3;
 
-/// Signals: `phi` [rad], `s` [m], `w` [rad/s], `v` [m/s].
+/// Signals: `phi` \[rad\], `s` \[m\], `w` [rad/s], `v` [m/s].
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {
         name: "phi",

@@ -1,5 +1,5 @@
 //! Free motion: six degrees of freedom of obj2 relative to obj1. Positions `r` (3, resolved in
-//! obj1, [m]) and a quaternion `(w, x, y, z)` (4); velocities `ω` then `v` of obj2's origin
+//! obj1, \[m\]) and a quaternion `(w, x, y, z)` (4); velocities `ω` then `v` of obj2's origin
 //! relative to obj1, both resolved in obj2 ([rad/s], [m/s]), so `S` is the identity in the
 //! child frame and `c_J = 0`. The quaternion rate carries a norm-restoring term.
 
@@ -19,7 +19,7 @@ pub(crate) const NV: usize = 6;
 #[cfg(feature = "solver")]
 pub(crate) const QUATERNION_NORM_RATE: f64 = 1.0;
 
-/// Signals: `r` [m] (in obj1), `q` (quaternion), `w` [rad/s] (in obj2), `v` = `der(r)`
+/// Signals: `r` \[m\] (in obj1), `q` (quaternion), `w` [rad/s] (in obj2), `v` = `der(r)`
 /// [m/s] (in obj1, derived).
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {

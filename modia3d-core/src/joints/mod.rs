@@ -99,18 +99,18 @@ pub(crate) fn info(name: &str) -> Option<&'static KindInfo> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum JointCoord {
     /// Rotation about a unit axis resolved in the joint frame (= child body frame axis);
-    /// one position `phi` [rad], one velocity `w` [rad/s].
+    /// one position `phi` \[rad\], one velocity `w` [rad/s].
     Revolute {
         /// Unit axis (already negated when the joint is traversed from obj2 to obj1).
         axis: Vector3<f64>,
     },
     /// Translation along a unit axis resolved in the joint frame;
-    /// one position `s` [m], one velocity `v` [m/s].
+    /// one position `s` \[m\], one velocity `v` [m/s].
     Prismatic {
         /// Unit axis (already negated when traversed from obj2 to obj1).
         axis: Vector3<f64>,
     },
-    /// Six degrees of freedom: positions `r` (3, [m], resolved in obj1) and a quaternion
+    /// Six degrees of freedom: positions `r` (3, \[m\], resolved in obj1) and a quaternion
     /// `(w, x, y, z)` (4); velocities `ω` then `v` of obj2 relative to obj1, both resolved in obj2
     /// ([rad/s], [m/s]).
     Free,

@@ -1,7 +1,7 @@
 //! Planar joint: obj2 moves in the plane through obj1's origin normal to the unit `normal`
-//! (fixed in both). Positions `x`, `y` [m]: obj2's origin at `x e1 + y e2`, **resolved in
+//! (fixed in both). Positions `x`, `y` \[m\]: obj2's origin at `x e1 + y e2`, **resolved in
 //! obj1** (the plane axes `e1`, `e2` are fixed in obj1, see [`plane_axes`]), and the rotation
-//! `phi` [rad] about `normal`; velocities `vx = ẋ`, `vy = ẏ` [m/s] (also in obj1) and `w = phi̇`
+//! `phi` \[rad\] about `normal`; velocities `vx = ẋ`, `vy = ẏ` [m/s] (also in obj1) and `w = phi̇`
 //! [rad/s]. Resolved in obj2 the translation columns of `S` turn with `phi`:
 //! `S v = (normal w, Rᵀ (e1 vx + e2 vy))`, `c_J = (0, −w · normal × Rᵀ (e1 vx + e2 vy))`.
 
@@ -10,7 +10,7 @@ use super::{Coordinate, KindInfo, SignalSpec, Source};
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 use nalgebra::Vector3;
 
-/// Signals: `x`, `y` [m], `phi` [rad], `vx`, `vy` [m/s], `w` [rad/s].
+/// Signals: `x`, `y` \[m\], `phi` \[rad\], `vx`, `vy` [m/s], `w` [rad/s].
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {
         name: "x",

@@ -1,5 +1,5 @@
 //! Prismatic joint: translation of obj2 relative to obj1 along a unit axis fixed in both;
-//! position `s` [m], velocity `v` [m/s] (`ṡ = v`). `S = (0, axis)` is constant.
+//! position `s` \[m\], velocity `v` [m/s] (`ṡ = v`). `S = (0, axis)` is constant.
 
 use super::{Coordinate, KindInfo, SignalSpec, Source};
 #[cfg(feature = "solver")]
@@ -7,7 +7,7 @@ use crate::dynamics::spatial::{Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::{Matrix3, Vector3};
 
-/// Signals: `s` [m], `v` [m/s].
+/// Signals: `s` \[m\], `v` [m/s].
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {
         name: "s",

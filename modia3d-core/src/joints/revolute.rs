@@ -1,5 +1,5 @@
 //! Revolute joint: rotation of obj2 relative to obj1 about a unit axis fixed in both;
-//! position `phi` [rad], velocity `w` [rad/s] (`phi̇ = w`). `S = (axis, 0)` is constant.
+//! position `phi` \[rad\], velocity `w` [rad/s] (`phi̇ = w`). `S = (axis, 0)` is constant.
 
 use super::{Coordinate, KindInfo, SignalSpec, Source};
 #[cfg(feature = "solver")]
@@ -7,7 +7,7 @@ use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::Vector3;
 
-/// Signals: `phi` [rad], `w` [rad/s].
+/// Signals: `phi` \[rad\], `w` [rad/s].
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {
         name: "phi",

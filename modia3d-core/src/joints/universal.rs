@@ -1,6 +1,6 @@
 //! Universal (Cardan, Hooke) joint: rotation `phi1` about `axis1`, fixed in obj1, then `phi2`
 //! about `axis2`, fixed in obj2; the axes are perpendicular (they cross at the joint centre, the
-//! common origin). `R = Rot(axis1, phi1) · Rot(axis2, phi2)`. Positions `phi1`, `phi2` [rad],
+//! common origin). `R = Rot(axis1, phi1) · Rot(axis2, phi2)`. Positions `phi1`, `phi2` \[rad\],
 //! velocities `w1`, `w2` [rad/s]. Resolved in obj2, `ω = Rot(axis2, phi2)ᵀ axis1 · w1 +
 //! axis2 · w2`: `S` depends on `phi2`, so `c_J = w1 w2 (Rot(axis2, phi2)ᵀ axis1) × axis2`.
 
@@ -10,7 +10,7 @@ use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::Vector3;
 
-/// Signals: `phi1`, `phi2` [rad], `w1`, `w2` [rad/s].
+/// Signals: `phi1`, `phi2` \[rad\], `w1`, `w2` [rad/s].
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {
         name: "phi1",

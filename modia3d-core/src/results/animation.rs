@@ -14,7 +14,7 @@ pub(crate) struct AnimObject {
     pub shapes: Vec<Shape>,
     /// Whether it moves (belongs to a moving body); fixed objects get no keyframe tracks.
     pub moving: bool,
-    /// Position of the object frame origin in world, per time point [m].
+    /// Position of the object frame origin in world, per time point \[m\].
     pub positions: Vec<[f64; 3]>,
     /// Orientation object → world as a unit quaternion `[x, y, z, w]` per time point, with the
     /// sign chosen so consecutive quaternions have a non-negative dot product (short arcs).

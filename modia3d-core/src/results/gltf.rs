@@ -3,10 +3,10 @@
 //!
 //! Layout: scene 0 has one root node "world" whose rotation turns the world's up axis (against
 //! gravity) into glTF's +y; its children are one node per object with a shape, posed like the
-//! object at the first time point (translation [m], rotation quaternion `[x, y, z, w]`), each
+//! object at the first time point (translation \[m\], rotation quaternion `[x, y, z, w]`), each
 //! with a mesh of flat-shaded triangles (one primitive per shape, in the object frame). One
 //! animation has, per moving node, a `translation` and a `rotation` channel with LINEAR
-//! samplers that share one input accessor of the output times [s] (times that do not increase,
+//! samplers that share one input accessor of the output times \[s\] (times that do not increase,
 //! as at an event restart, are dropped: glTF requires strictly increasing key times).
 // Export encoding: offsets into buffers this module sized itself from the same lengths; no
 // index comes from user input, which reaches it only through the checked signal look-up.

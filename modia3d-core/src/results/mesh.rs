@@ -16,10 +16,10 @@ const SEGMENTS: usize = 24;
 /// Rings from pole to pole of a sphere (half of them per cap of a capsule).
 const RINGS: usize = 12;
 
-/// A non-indexed triangle list: three vertices per triangle, one normal per vertex [m].
+/// A non-indexed triangle list: three vertices per triangle, one normal per vertex \[m\].
 #[derive(Clone, Debug, Default)]
 pub(crate) struct TriMesh {
-    /// Vertex positions in the shape frame [m].
+    /// Vertex positions in the shape frame \[m\].
     pub positions: Vec<[f32; 3]>,
     /// Unit normals, pointing out of the solid.
     pub normals: Vec<[f32; 3]>,

@@ -4,17 +4,24 @@
 #![deny(clippy::indexing_slicing)]
 
 mod animation;
+#[cfg(feature = "arrow")]
+mod arrow;
+mod contacts;
 mod gltf;
 mod html;
 mod mesh;
 mod plot;
 mod threejs;
+mod warnings;
 
 use crate::dynamics::{kinematics, Plan, Workspace};
 use crate::joints::Source;
 use crate::model::Model;
 use crate::solver::IdaStats;
+pub use contacts::ContactPhase;
+use contacts::PhaseBook;
 use std::io::Write;
+pub use warnings::SimWarning;
 
 /// Counters of a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -33,14 +40,47 @@ pub struct SimStats {
     /// (`SceneOptions::mpr_max_iterations`) and used their best iterate; each such pair is
     /// also warned about once (`tracing::warn!`).
     pub narrow_phase_limits: u64,
-    /// Wall-clock time of the integration [s].
+    /// Wall-clock time of the integration \[s\].
     pub wall_time: f64,
+}
+
+impl std::fmt::Display for SimStats {
+    /// A few readable lines: steps and their last size and order, the work per kind, events
+    /// and the collision stage's counters, the wall time.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = &self.solver;
+        writeln!(
+            f,
+            "steps: {} (last step {:.3e} s, order {}), error-test failures: {}",
+            s.steps, s.last_step, s.last_order, s.error_test_failures
+        )?;
+        writeln!(
+            f,
+            "residuals: {} (+ {} for Jacobians), Jacobians: {}, Newton iterations: {} ({} convergence failures)",
+            s.residual_evals,
+            s.residual_evals_for_jacobian,
+            s.jacobian_evals,
+            s.nonlinear_iterations,
+            s.nonlinear_convergence_failures
+        )?;
+        writeln!(
+            f,
+            "events: {}, root functions: {} ({} evaluations)",
+            self.events, self.root_functions, s.root_evals
+        )?;
+        writeln!(
+            f,
+            "collision: {} narrow-phase calls ({} at the iteration limit), {} AABB tests",
+            self.narrow_phase_calls, self.narrow_phase_limits, self.aabb_tests
+        )?;
+        write!(f, "wall time: {:.3} s", self.wall_time)
+    }
 }
 
 /// An event: a located root at which the integration restarted.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Event {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
     /// What happened, in words.
     pub description: String,
@@ -53,6 +93,24 @@ pub struct Event {
 /// Values recorded per pair and output point: in_contact, penetration, f_n, friction (3),
 /// rolling torque (3), point (3), normal (3).
 const PAIR_VALUES: usize = 15;
+
+/// The contact signal fields of a pair, in the order of [`PAIR_VALUES`].
+const CONTACT_FIELDS: [&str; 7] = [
+    "in_contact",
+    "penetration",
+    "f_n",
+    "friction_force",
+    "rolling_torque",
+    "point",
+    "normal",
+];
+
+/// One column of an export: a time or signal component with its unit.
+struct Column {
+    name: String,
+    unit: &'static str,
+    values: Vec<f64>,
+}
 
 /// Per-pair contact signals at the output points (only when asked for).
 #[derive(Clone, Debug, Default)]
@@ -128,6 +186,34 @@ pub enum ResultError {
         /// Why, with a hint.
         reason: String,
     },
+    /// A contact signal or the contact phases were asked for, but the run did not record them.
+    #[error("{what} needs the contact results of the run: simulate with `SimOptions::contact_results(true)` (`SimOptions::new(stop).contact_results(true)`)")]
+    ContactResultsOff {
+        /// What was asked for, e.g. ``signal `ball|table.f_n` ``.
+        what: String,
+    },
+    /// No collision pair of that name (in either order).
+    #[error("no collision pair `{pair}` (in either order){}; the pairs are: {known}", match .hint { Some(h) => format!(" (hint: did you mean `{h}`?)"), None => String::new() })]
+    UnknownPair {
+        /// The name asked for.
+        pair: String,
+        /// A close existing pair name.
+        hint: Option<String>,
+        /// The first few pair names (see `contact_pairs()`).
+        known: String,
+    },
+    /// A time outside the recorded output points.
+    #[error("signal `{name}` at t = {t} s: outside the recorded time [{start}, {end}] s")]
+    OutOfRange {
+        /// The signal.
+        name: String,
+        /// The time asked for \[s\].
+        t: f64,
+        /// First recorded time \[s\].
+        start: f64,
+        /// Last recorded time \[s\].
+        end: f64,
+    },
     /// Writing a file failed.
     #[error("cannot write `{path}`: {source}")]
     Io {
@@ -157,7 +243,13 @@ pub struct SimulationResult {
     pub stats: SimStats,
     /// Events in time order.
     pub events: Vec<Event>,
+    /// What the run found suspicious without failing (initial penetrations, unit slips,
+    /// solids that can never meet, chattering contacts, contacts the output grid missed);
+    /// each is also traced with `tracing::warn!`.
+    pub warnings: Vec<SimWarning>,
     contacts: Option<ContactRecord>,
+    /// Contact phases (with `contact_results`).
+    phases: Option<PhaseBook>,
     /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
     multipliers: Vec<f64>,
 }
@@ -178,7 +270,9 @@ impl SimulationResult {
             states: vec![],
             stats: SimStats::default(),
             events: vec![],
+            warnings: vec![],
             contacts: None,
+            phases: None,
             multipliers: vec![],
         }
     }
@@ -187,7 +281,7 @@ impl SimulationResult {
         self.multipliers.extend_from_slice(lambda);
     }
 
-    /// `<cut>.f` (force on obj2 [N]) and `<cut>.t` (torque on obj2 [N·m]) of cut joint `owner`,
+    /// `<cut>.f` (force on obj2 \[N\]) and `<cut>.t` (torque on obj2 [N·m]) of cut joint `owner`,
     /// both resolved in obj1's frame; the force acts at obj2's origin, obj1 feels the opposite.
     fn loop_signal(&self, owner: &str, field: &str) -> Option<Signal> {
         let plan = &*self.model.plan;
@@ -220,9 +314,90 @@ impl SimulationResult {
     }
 
     pub(crate) fn enable_contact_record(&mut self) {
-        if self.model.contact.is_some() {
+        if let Some(cp) = &self.model.contact {
             self.contacts = Some(ContactRecord::default());
+            self.phases = Some(PhaseBook::new(cp.n_pairs));
         }
+    }
+
+    pub(crate) fn phases(&self) -> Option<&PhaseBook> {
+        self.phases.as_ref()
+    }
+
+    pub(crate) fn phases_mut(&mut self) -> Option<&mut PhaseBook> {
+        self.phases.as_mut()
+    }
+
+    /// Opens and closes contact phases after an event at `t` \[s\] (or the initial contact set).
+    pub(crate) fn phase_event(&mut self, dae: &crate::dae::MultibodyDae, t: f64) {
+        let (Some(book), Some(cs), Some(cp)) =
+            (self.phases.as_mut(), dae.contact(), dae.contact_plan())
+        else {
+            return;
+        };
+        let scene = &self.model.plan.scene;
+        book.event(t, cs, |id| {
+            cp.pair_by_id(id)
+                .map(|pp| cp.pair_name(scene, &pp))
+                .unwrap_or_default()
+        });
+    }
+
+    /// Every contact phase of the run in the order the phases started: per pair and stretch
+    /// of contact its start and end time, impact and exit speed, effective restitution,
+    /// maximum penetration and normal force, and its normal and tangential impulse, measured
+    /// on the solver's steps (not the output grid; see [`ContactPhase`] for the sign
+    /// convention). Needs [`SimOptions::contact_results`](crate::SimOptions::contact_results);
+    /// without it an error names the option. A scene without collision pairs has none.
+    pub fn contacts(&self) -> Result<&[ContactPhase], ResultError> {
+        match (&self.phases, &self.model.contact) {
+            (Some(book), _) => Ok(&book.phases),
+            (None, None) => Ok(&[]),
+            (None, Some(_)) => Err(ResultError::ContactResultsOff {
+                what: "contacts()".into(),
+            }),
+        }
+    }
+
+    /// The contact phases of one pair, named in either order (`"a|b"` or `"b|a"`); in the
+    /// reversed order the vector impulses are those on the first-named object (see
+    /// [`ContactPhase`]).
+    pub fn contact_phases(&self, pair: &str) -> Result<Vec<ContactPhase>, ResultError> {
+        let (stored, reversed) = self.resolve_pair(pair).ok_or_else(|| {
+            let names = self.contact_pairs();
+            let mut known = names.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
+            if names.len() > 8 {
+                known.push_str(", …");
+            }
+            ResultError::UnknownPair {
+                pair: pair.to_string(),
+                hint: crate::scene::did_you_mean(pair, names.iter().map(|s| s.as_str())),
+                known,
+            }
+        })?;
+        Ok(self
+            .contacts()?
+            .iter()
+            .filter(|ph| ph.pair == stored)
+            .map(|ph| {
+                if reversed {
+                    ph.reversed(pair)
+                } else {
+                    ph.clone()
+                }
+            })
+            .collect())
+    }
+
+    /// The stored name of a pair given in either order, and whether it was reversed.
+    fn resolve_pair(&self, pair: &str) -> Option<(String, bool)> {
+        let names = self.contact_pairs();
+        if names.iter().any(|n| n == pair) {
+            return Some((pair.to_string(), false));
+        }
+        let (a, b) = pair.split_once('|')?;
+        let swapped = format!("{b}|{a}");
+        names.contains(&swapped).then_some((swapped, true))
     }
 
     pub(crate) fn push_contacts(&mut self, cs: &crate::contact::ContactState) {
@@ -260,7 +435,11 @@ impl SimulationResult {
 
     fn contact_signal(&self, owner: &str, field: &str) -> Option<Signal> {
         let rec = self.contacts.as_ref()?;
-        let p = self.contact_pairs().iter().position(|n| n == owner)?;
+        let (stored, reversed) = self.resolve_pair(owner)?;
+        let p = self.contact_pairs().iter().position(|n| *n == stored)?;
+        // Named `b|a`: normal and forces as seen from the other side (normal from b to a,
+        // forces and torque on a), i.e. the vectors change sign.
+        let flip = reversed && matches!(field, "friction_force" | "rolling_torque" | "normal");
         let (off, dim, unit) = match field {
             "in_contact" => (0, 1, "1"),
             "penetration" => (1, 1, "m"),
@@ -277,7 +456,12 @@ impl SimulationResult {
         let mut data = Vec::with_capacity(dim * self.time.len());
         for k in 0..self.time.len() {
             let at = k * stride + base;
-            data.extend_from_slice(rec.data.get(at..at + dim)?);
+            let values = rec.data.get(at..at + dim)?;
+            if flip {
+                data.extend(values.iter().map(|x| -x));
+            } else {
+                data.extend_from_slice(values);
+            }
         }
         Some(Signal {
             name: format!("{owner}.{field}"),
@@ -292,7 +476,7 @@ impl SimulationResult {
         self.states.extend_from_slice(y);
     }
 
-    /// Output time points [s].
+    /// Output time points \[s\].
     pub fn time(&self) -> &[f64] {
         &self.time
     }
@@ -338,13 +522,16 @@ impl SimulationResult {
         })
     }
 
-    /// Names of all signals: joint coordinates (each kind's, e.g. `rev.phi`, `rev.w`;
-    /// `slide.s`, `slide.v`; `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
-    /// `obj.w_abs`, `obj.R_abs`).
+    /// Names of the signals that can change: joint coordinates (`rev.phi`, `rev.w`;
+    /// `slide.s`, `slide.v`; `free.r`, `free.q`, `free.w`, `free.v`), motions of the objects
+    /// that move (`obj.r_abs`, `obj.v_abs`, `obj.w_abs`, `obj.R_abs`) and, when recorded, the
+    /// contact signals. The constant motions of fixed objects (the world and everything rigidly
+    /// attached to it) are left out of the list but stay readable by name
+    /// (`signal("table.r_abs")`).
     pub fn signal_names(&self) -> Vec<String> {
         let mut names = vec![];
         names.extend(self.joint_signal_names());
-        for o in &self.model.plan.objects {
+        for o in self.model.plan.objects.iter().filter(|o| o.body.is_some()) {
             for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
                 names.push(format!("{}.{s}", o.name));
             }
@@ -355,31 +542,24 @@ impl SimulationResult {
         }
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
-                for f in [
-                    "in_contact",
-                    "penetration",
-                    "f_n",
-                    "friction_force",
-                    "rolling_torque",
-                    "point",
-                    "normal",
-                ] {
-                    names.push(format!("{p}.{f}"));
-                }
+                names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
             }
         }
         names
     }
 
     /// A signal by name, optionally with a component index: `"rev.phi"`, `"ball.r_abs"`,
-    /// `"ball.r_abs[2]"`. Object signals are resolved in world: `r_abs` [m], `v_abs` [m/s],
+    /// `"ball.r_abs[2]"`. Object signals are resolved in world: `r_abs` \[m\], `v_abs` [m/s],
     /// `w_abs` [rad/s], `R_abs` (rotation matrix, row-major, columns = object axes).
     /// With [`crate::SimOptions::contact_results`], per collision pair `"<a>|<b>"` (see
     /// [`Self::contact_pairs`]; normal from `a` to `b`, forces and torque on `b`, all in world):
-    /// `in_contact` (1/0), `penetration` [m], `f_n` [N], `friction_force` [N],
-    /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact.
+    /// `in_contact` (1/0), `penetration` \[m\], `f_n` \[N\], `friction_force` \[N\],
+    /// `rolling_torque` [N·m], `point` \[m\], `normal` \[1\]; zero while not in contact. A pair
+    /// may be named in either order: as `"<b>|<a>"` the normal points from `b` to `a` and the
+    /// friction force and rolling torque are those on `a` (the vectors change sign). A contact
+    /// signal of a run without `contact_results` is [`ResultError::ContactResultsOff`].
     /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
-    /// [N] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
+    /// \[N\] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
     /// resolved in obj1's frame (obj1 feels the opposite).
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
@@ -399,8 +579,13 @@ impl SimulationResult {
         let (owner, field) = base
             .rsplit_once('.')
             .ok_or_else(|| unknown("expected `<joint or object>.<quantity>`".into()))?;
-        let full = self
-            .full_signal(owner, field)
+        let full = self.full_signal(owner, field);
+        if full.is_none() && self.contacts.is_none() && self.resolve_pair(owner).is_some() {
+            return Err(ResultError::ContactResultsOff {
+                what: format!("signal `{name}`"),
+            });
+        }
+        let full = full
             .or_else(|| self.contact_signal(owner, field))
             .or_else(|| self.loop_signal(owner, field))
             .ok_or_else(|| {
@@ -428,6 +613,84 @@ impl SimulationResult {
                 full.dim
             ))),
         }
+    }
+
+    /// The value of signal `name` (any name [`Self::signal`] accepts) at time `t` \[s\], between
+    /// the output points by a cubic through the four nearest output points of the same
+    /// event-free stretch (never across an event, where derivatives jump): exact at output
+    /// points and events, and with [`SimOptions::output_steps`](crate::SimOptions::output_steps)
+    /// the output points are the solver's steps, so the interpolation error is below the
+    /// solver's for orders up to 3. `t` outside the recorded time is an error.
+    pub fn signal_at(&self, name: &str, t: f64) -> Result<Vec<f64>, ResultError> {
+        let s = self.signal(name)?;
+        let time = &self.time;
+        let (Some(&first), Some(&last)) = (time.first(), time.last()) else {
+            return Err(ResultError::OutOfRange {
+                name: name.into(),
+                t,
+                start: f64::NAN,
+                end: f64::NAN,
+            });
+        };
+        if !(t >= first && t <= last) {
+            return Err(ResultError::OutOfRange {
+                name: name.into(),
+                t,
+                start: first,
+                end: last,
+            });
+        }
+        // Exact at a recorded point (the last one recorded at that time: after an event).
+        if let Some(k) = time.iter().rposition(|&x| x == t) {
+            return Ok(s.at(k).unwrap_or(&[]).to_vec());
+        }
+        // The event-free stretch around t: from the last event before t to the first after.
+        let lo = self
+            .events
+            .iter()
+            .map(|e| e.t)
+            .filter(|&e| e < t)
+            .fold(first, f64::max);
+        let hi = self
+            .events
+            .iter()
+            .map(|e| e.t)
+            .filter(|&e| e > t)
+            .fold(last, f64::min);
+        // Nodes: distinct times in [lo, hi], the four nearest to t.
+        let mut nodes: Vec<usize> = vec![];
+        for (k, &x) in time.iter().enumerate() {
+            if x < lo || x > hi {
+                continue;
+            }
+            match nodes.last() {
+                Some(&j) if time.get(j) == Some(&x) => {
+                    if let Some(l) = nodes.last_mut() {
+                        *l = k;
+                    }
+                }
+                _ => nodes.push(k),
+            }
+        }
+        let at = nodes.partition_point(|&k| time.get(k).is_some_and(|&x| x < t));
+        let from = at.saturating_sub(2).min(nodes.len().saturating_sub(4));
+        let chosen = nodes.get(from..(from + 4).min(nodes.len())).unwrap_or(&[]);
+        let mut out = vec![0.0; s.dim];
+        for &i in chosen {
+            let ti = time.get(i).copied().unwrap_or(t);
+            let w: f64 = chosen
+                .iter()
+                .filter(|&&j| j != i)
+                .map(|&j| {
+                    let tj = time.get(j).copied().unwrap_or(t);
+                    (t - tj) / (ti - tj)
+                })
+                .product();
+            for (o, v) in out.iter_mut().zip(s.at(i).unwrap_or(&[])) {
+                *o += w * v;
+            }
+        }
+        Ok(out)
     }
 
     fn full_signal(&self, owner: &str, field: &str) -> Option<Signal> {
@@ -493,40 +756,82 @@ impl SimulationResult {
         Some(make(unit, dim, data))
     }
 
-    /// Writes time and every joint coordinate and object position (`r_abs`) as CSV with a
-    /// header of signal names and units.
-    pub fn write_csv(&self, path: impl AsRef<std::path::Path>) -> Result<(), ResultError> {
-        let path = path.as_ref();
-        let io = |source| ResultError::Io {
-            path: path.display().to_string(),
-            source,
-        };
-        let mut names: Vec<String> = vec![];
-        names.extend(self.joint_signal_names());
+    /// The signals [`Self::write_csv`] writes by default: every joint coordinate, the
+    /// positions `r_abs` of moving objects and, when recorded, every contact signal.
+    pub fn default_export_signals(&self) -> Vec<String> {
+        let mut names: Vec<String> = self.joint_signal_names().collect();
         for o in &self.model.plan.objects {
             if o.body.is_some() {
                 names.push(format!("{}.r_abs", o.name));
             }
         }
-        let signals: Vec<Signal> = names
-            .iter()
-            .map(|n| self.signal(n))
-            .collect::<Result<_, _>>()?;
-        let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
-        let mut header = vec!["time [s]".to_string()];
-        for s in &signals {
-            if s.dim == 1 {
-                header.push(format!("{} [{}]", s.name, s.unit));
-            } else {
-                header.extend((0..s.dim).map(|i| format!("{}[{i}] [{}]", s.name, s.unit)));
+        if self.contacts.is_some() {
+            for p in self.contact_pairs() {
+                names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
             }
         }
-        writeln!(out, "{}", header.join(",")).map_err(io)?;
-        for (k, t) in self.time.iter().enumerate() {
-            let mut row = vec![format!("{t:.17e}")];
-            for s in &signals {
-                row.extend(s.at(k).unwrap_or(&[]).iter().map(|x| format!("{x:.17e}")));
+        names
+    }
+
+    /// The columns of an export of `names`: time first, then one per signal component
+    /// (`name` for a scalar, `name[i]` otherwise), each with its unit and values.
+    fn columns<S: AsRef<str>>(&self, names: &[S]) -> Result<Vec<Column>, ResultError> {
+        let mut cols = vec![Column {
+            name: "time".into(),
+            unit: "s",
+            values: self.time.clone(),
+        }];
+        for n in names {
+            let s = self.signal(n.as_ref())?;
+            for i in 0..s.dim {
+                cols.push(Column {
+                    name: if s.dim == 1 {
+                        s.name.clone()
+                    } else {
+                        format!("{}[{i}]", s.name)
+                    },
+                    unit: s.unit,
+                    values: s.component(i),
+                });
             }
+        }
+        Ok(cols)
+    }
+
+    /// Writes time and every joint coordinate, moving object position (`r_abs`) and, with
+    /// `contact_results`, contact signal as CSV (see [`Self::default_export_signals`] and
+    /// [`Self::write_csv_signals`]).
+    pub fn write_csv(&self, path: impl AsRef<std::path::Path>) -> Result<(), ResultError> {
+        self.write_csv_signals(path, &self.default_export_signals())
+    }
+
+    /// Writes time and the signals `names` (any name [`Self::signal`] accepts, contact signals
+    /// and components like `"ball.r_abs[2]"` included) as CSV: a header `name [unit]` per
+    /// column (`name[i] [unit]` per component of a vector), then one row per output point,
+    /// values with 17 significant digits (they read back exactly). An unknown name is an
+    /// error before the file is created.
+    pub fn write_csv_signals<S: AsRef<str>>(
+        &self,
+        path: impl AsRef<std::path::Path>,
+        names: &[S],
+    ) -> Result<(), ResultError> {
+        let path = path.as_ref();
+        let io = |source| ResultError::Io {
+            path: path.display().to_string(),
+            source,
+        };
+        let cols = self.columns(names)?;
+        let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(io)?);
+        let header: Vec<String> = cols
+            .iter()
+            .map(|c| format!("{} [{}]", c.name, c.unit))
+            .collect();
+        writeln!(out, "{}", header.join(",")).map_err(io)?;
+        for k in 0..self.time.len() {
+            let row: Vec<String> = cols
+                .iter()
+                .map(|c| format!("{:.17e}", c.values.get(k).copied().unwrap_or(f64::NAN)))
+                .collect();
             writeln!(out, "{}", row.join(",")).map_err(io)?;
         }
         out.flush().map_err(io)

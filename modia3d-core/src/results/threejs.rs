@@ -9,7 +9,7 @@
 //! convex hull is a `BufferGeometry` of flat triangles. One animation clip holds a `.position`
 //! (vector) and a `.quaternion` track per moving object, named `<object uuid>.position` etc.
 //! (by uuid, since three.js track names cannot hold the dots of assembly paths like `arm1.tip`),
-//! with one keyframe per output time point. Lengths in [m], times in [s].
+//! with one keyframe per output time point. Lengths in \[m\], times in \[s\].
 
 use super::animation::world_to_y_up;
 use super::mesh::shape_mesh;

@@ -16,8 +16,8 @@ use super::validate::{SceneError, ValidJointKind, ValidScene};
 pub struct CollisionFilter {
     /// Rigid body (a representative object index) of every object.
     body: Vec<usize>,
-    /// Body pairs joined by a joint that forbids collisions.
-    excluded: Vec<(usize, usize)>,
+    /// Body pairs joined by a joint that forbids collisions, with the joint's index.
+    excluded: Vec<(usize, usize, usize)>,
 }
 
 impl CollisionFilter {
@@ -28,25 +28,31 @@ impl CollisionFilter {
         let excluded = scene
             .joints
             .iter()
-            .filter(|j| {
+            .enumerate()
+            .filter(|(_, j)| {
                 !matches!(
                     j.kind,
                     ValidJointKind::Fix | ValidJointKind::FreeMotion { .. }
                 ) && !j.can_collide
             })
-            .map(|j| (body[j.obj1], body[j.obj2]))
+            .map(|(k, j)| (body[j.obj1], body[j.obj2], k))
             .collect();
         CollisionFilter { body, excluded }
     }
 
     /// Whether objects `a` and `b` (indices into `ValidScene::objects`) can touch.
     pub fn can_meet(&self, a: usize, b: usize) -> bool {
+        self.body[a] != self.body[b] && self.excluded_by(a, b).is_none()
+    }
+
+    /// The joint (index into `ValidScene::joints`) with `can_collide = false` that keeps
+    /// objects `a` and `b` apart, if any.
+    pub fn excluded_by(&self, a: usize, b: usize) -> Option<usize> {
         let (ba, bb) = (self.body[a], self.body[b]);
-        ba != bb
-            && !self
-                .excluded
-                .iter()
-                .any(|&(x, y)| (x, y) == (ba, bb) || (y, x) == (ba, bb))
+        self.excluded
+            .iter()
+            .find(|&&(x, y, _)| (x, y) == (ba, bb) || (y, x) == (ba, bb))
+            .map(|&(_, _, k)| k)
     }
 }
 

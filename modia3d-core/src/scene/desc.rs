@@ -13,7 +13,7 @@ pub enum Rotation {
     /// Same orientation as the parent.
     #[default]
     Identity,
-    /// Cardan angles [rad]: rotate about x, then about the new y, then about the new z
+    /// Cardan angles \[rad\]: rotate about x, then about the new y, then about the new z
     /// (Modia's default sequence `x-y-z`).
     Cardan([f64; 3]),
     /// The rotation matrix whose columns are this frame's axes resolved in the parent.
@@ -40,7 +40,7 @@ impl Rotation {
     }
 }
 
-/// Rotation matrix of Cardan angles `[x, y, z]` in the sequence x, then new y, then new z [rad].
+/// Rotation matrix of Cardan angles `[x, y, z]` in the sequence x, then new y, then new z \[rad\].
 pub fn cardan_to_matrix(a: [f64; 3]) -> Matrix3<f64> {
     let rx = Rotation3::from_axis_angle(&Vector3::x_axis(), a[0]);
     let ry = Rotation3::from_axis_angle(&Vector3::y_axis(), a[1]);
@@ -83,13 +83,13 @@ pub struct SceneOptions {
     /// Regularisation angular velocity `ω_min` [rad/s] of rolling resistance (default 0.01);
     /// a contact pair material may override it.
     pub w_min: f64,
-    /// Hysteresis `ε` [m] of the zero-crossing functions (default 1e-8).
+    /// Hysteresis `ε` \[m\] of the zero-crossing functions (default 1e-8).
     pub hysteresis: f64,
     /// Relative tolerance of MPR / GJK in the narrow phase [-] (default 1e-11).
     pub mpr_tolerance: f64,
     /// Iteration limit of MPR / GJK (default 100).
     pub mpr_max_iterations: u32,
-    /// Smoothing radius [m] of non-smooth collision shapes without their own (default 1 mm).
+    /// Smoothing radius \[m\] of non-smooth collision shapes without their own (default 1 mm).
     pub smoothing_radius: f64,
     /// Variant of the contact law (default [`ContactProfile::Paper2019`]).
     pub contact_profile: ContactProfile,
@@ -141,13 +141,13 @@ pub enum MassSpec {
     /// From the shape's volume and the solid material's density (default).
     #[default]
     FromShapeAndDensity,
-    /// From the shape, scaled to the given mass [kg].
+    /// From the shape, scaled to the given mass \[kg\].
     FromShapeAndMass(f64),
     /// Explicit values, in the object's frame.
     Explicit {
-        /// Mass [kg].
+        /// Mass \[kg\].
         mass: f64,
-        /// Centre of mass, resolved in the object's frame [m].
+        /// Centre of mass, resolved in the object's frame \[m\].
         com: Vector3<f64>,
         /// Inertia tensor about the centre of mass, resolved in the object's frame [kg·m²].
         inertia: Matrix3<f64>,
@@ -176,7 +176,7 @@ pub struct Solid {
     pub collision: bool,
     /// Name of its contact material (default: the solid material's name).
     pub contact_material: Option<String>,
-    /// Radius that rounds edges of non-smooth shapes [m]; default of the scene when `None`.
+    /// Radius that rounds edges of non-smooth shapes \[m\]; default of the scene when `None`.
     pub smoothing_radius: Option<f64>,
 }
 
@@ -198,12 +198,12 @@ impl Solid {
         self.material = Some(MaterialRef::Value(m));
         self
     }
-    /// Sets the mass [kg] (> 0); inertia follows from the shape.
+    /// Sets the mass \[kg\] (> 0); inertia follows from the shape.
     pub fn mass(mut self, mass: f64) -> Self {
         self.mass_properties = MassSpec::FromShapeAndMass(mass);
         self
     }
-    /// Sets explicit mass properties in the object's frame: mass [kg] (> 0), centre of mass [m],
+    /// Sets explicit mass properties in the object's frame: mass \[kg\] (> 0), centre of mass \[m\],
     /// inertia about the centre of mass [kg·m²].
     pub fn mass_properties(mut self, mass: f64, com: Vector3<f64>, inertia: Matrix3<f64>) -> Self {
         self.mass_properties = MassSpec::Explicit { mass, com, inertia };
@@ -219,7 +219,7 @@ impl Solid {
         self.contact_material = Some(name.to_string());
         self
     }
-    /// Sets the smoothing radius [m].
+    /// Sets the smoothing radius \[m\].
     pub fn smoothing_radius(mut self, r: f64) -> Self {
         self.smoothing_radius = Some(r);
         self
@@ -247,7 +247,7 @@ pub struct Object3D {
     pub name: String,
     /// Name of the parent object; the object is rigidly attached to it.
     pub parent: Option<String>,
-    /// Position of this frame's origin relative to the parent, resolved in the parent [m].
+    /// Position of this frame's origin relative to the parent, resolved in the parent \[m\].
     pub translation: Vector3<f64>,
     /// Orientation relative to the parent.
     pub rotation: Rotation,
@@ -271,7 +271,7 @@ impl Object3D {
         self.parent = Some(parent.to_string());
         self
     }
-    /// Sets the translation relative to the parent, resolved in the parent [m].
+    /// Sets the translation relative to the parent, resolved in the parent \[m\].
     pub fn translation(mut self, t: [f64; 3]) -> Self {
         self.translation = Vector3::from(t);
         self
@@ -299,7 +299,7 @@ impl Object3D {
 /// Initial orientation of a free-moving object relative to `obj1`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum FreeRotation {
-    /// Cardan angles x-y-z [rad].
+    /// Cardan angles x-y-z \[rad\].
     Cardan([f64; 3]),
     /// A unit quaternion.
     Quaternion(UnitQuaternion<f64>),
@@ -315,7 +315,7 @@ pub enum JointKind {
     Revolute {
         /// Axis, resolved in obj1 (any non-zero vector; normalised).
         axis: Vector3<f64>,
-        /// Initial angle [rad].
+        /// Initial angle \[rad\].
         phi: f64,
         /// Initial angular velocity [rad/s].
         w: f64,
@@ -324,14 +324,14 @@ pub enum JointKind {
     Prismatic {
         /// Axis, resolved in obj1 (any non-zero vector; normalised).
         axis: Vector3<f64>,
-        /// Initial position [m].
+        /// Initial position \[m\].
         s: f64,
         /// Initial velocity [m/s].
         v: f64,
     },
     /// Six degrees of freedom of `obj2` relative to `obj1` (unit quaternion internally).
     FreeMotion {
-        /// Initial position of obj2's origin relative to obj1, resolved in obj1 [m].
+        /// Initial position of obj2's origin relative to obj1, resolved in obj1 \[m\].
         r: Vector3<f64>,
         /// Initial orientation of obj2 relative to obj1.
         rot: FreeRotation,
@@ -351,15 +351,15 @@ pub enum JointKind {
     },
     /// Cardan (Hooke) joint: rotation `phi1` about `axis1` (fixed in obj1), then `phi2` about
     /// `axis2` (fixed in obj2; resolved in obj2, which coincides with obj1 at zero angles).
-    /// The axes must be perpendicular. Signals `phi1`, `phi2` [rad], `w1`, `w2` [rad/s].
+    /// The axes must be perpendicular. Signals `phi1`, `phi2` \[rad\], `w1`, `w2` [rad/s].
     Universal {
         /// First axis, resolved in obj1 (any non-zero vector; normalised).
         axis1: Vector3<f64>,
         /// Second axis, resolved in obj2 (non-zero, perpendicular to `axis1`; normalised).
         axis2: Vector3<f64>,
-        /// Initial angle about `axis1` [rad].
+        /// Initial angle about `axis1` \[rad\].
         phi1: f64,
-        /// Initial angle about `axis2` [rad].
+        /// Initial angle about `axis2` \[rad\].
         phi2: f64,
         /// Initial rate of `phi1` [rad/s].
         w1: f64,
@@ -367,13 +367,13 @@ pub enum JointKind {
         w2: f64,
     },
     /// Rotation `phi` about and translation `s` along `axis` (resolved in obj1). Signals
-    /// `phi` [rad], `s` [m], `w` [rad/s], `v` [m/s].
+    /// `phi` \[rad\], `s` \[m\], `w` [rad/s], `v` [m/s].
     Cylindrical {
         /// Axis, resolved in obj1 (any non-zero vector; normalised).
         axis: Vector3<f64>,
-        /// Initial angle [rad].
+        /// Initial angle \[rad\].
         phi: f64,
-        /// Initial position [m].
+        /// Initial position \[m\].
         s: f64,
         /// Initial angular velocity [rad/s].
         w: f64,
@@ -384,16 +384,16 @@ pub enum JointKind {
     /// at `x e1 + y e2`, resolved in obj1, and rotation `phi` about `normal`. The plane axes
     /// are fixed in obj1: `e1` is the coordinate axis following `normal`'s largest component
     /// cyclically (x → y → z → x) made perpendicular to `normal`, `e2 = normal × e1` (normal
-    /// z: x, y; normal x: y, z; normal y: z, x). Signals `x`, `y` [m], `phi` [rad], `vx`, `vy`
+    /// z: x, y; normal x: y, z; normal y: z, x). Signals `x`, `y` \[m\], `phi` \[rad\], `vx`, `vy`
     /// (rates of `x`, `y`, [m/s]), `w` [rad/s].
     Planar {
         /// Normal of the plane, resolved in obj1 (any non-zero vector; normalised).
         normal: Vector3<f64>,
-        /// Initial position along `e1` [m].
+        /// Initial position along `e1` \[m\].
         x: f64,
-        /// Initial position along `e2` [m].
+        /// Initial position along `e2` \[m\].
         y: f64,
-        /// Initial angle about `normal` [rad].
+        /// Initial angle about `normal` \[rad\].
         phi: f64,
         /// Initial rate of `x` [m/s].
         vx: f64,
@@ -537,7 +537,7 @@ impl Joint {
         self.can_collide = on;
         self
     }
-    /// Sets the initial angle [rad] (revolute) or position [m] (prismatic); ignored otherwise.
+    /// Sets the initial angle \[rad\] (revolute) or position \[m\] (prismatic); ignored otherwise.
     pub fn init_position(mut self, x: f64) -> Self {
         match &mut self.kind {
             JointKind::Revolute { phi, .. } => *phi = x,
@@ -560,7 +560,7 @@ impl Joint {
 /// Position and velocity of an object, handed to user force closures.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ObjectMotion {
-    /// Position of the object's origin, resolved in world [m].
+    /// Position of the object's origin, resolved in world \[m\].
     pub r_abs: Vector3<f64>,
     /// Rotation matrix: columns are the object's axes resolved in world.
     pub rot_abs: Matrix3<f64>,
@@ -570,16 +570,16 @@ pub struct ObjectMotion {
     pub w_abs: Vector3<f64>,
 }
 
-/// A force [N] and a torque [N·m], both resolved in world, acting at an object's origin.
+/// A force \[N\] and a torque [N·m], both resolved in world, acting at an object's origin.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct Wrench {
-    /// Force, resolved in world [N].
+    /// Force, resolved in world \[N\].
     pub force: Vector3<f64>,
     /// Torque, resolved in world [N·m].
     pub torque: Vector3<f64>,
 }
 
-/// A user force law: time [s] and the object's motion → wrench at the object's origin.
+/// A user force law: time \[s\] and the object's motion → wrench at the object's origin.
 #[derive(Clone)]
 pub struct ForceFn(pub Arc<ForceLaw>);
 
@@ -615,7 +615,7 @@ pub enum ForceElement {
         stiffness: f64,
         /// Damping [N·s/m].
         damping: f64,
-        /// Unstretched length [m].
+        /// Unstretched length \[m\].
         length0: f64,
     },
     /// Spring and damper on a scalar coordinate of a joint (a rotation [N·m/rad, N·m·s/rad]
@@ -646,7 +646,7 @@ pub enum ForceElement {
 /// [`crate::simulation::Simulation`] and are 0 until set.
 #[derive(Clone, Debug, PartialEq)]
 pub enum InputKind {
-    /// A generalised force on a scalar coordinate of a joint ([N·m] for a rotation, [N] for a
+    /// A generalised force on a scalar coordinate of a joint ([N·m] for a rotation, \[N\] for a
     /// translation; 1 value), added to its spring-dampers.
     JointForce {
         /// Name of the joint.
@@ -663,7 +663,7 @@ pub enum InputKind {
         /// The coordinate; `None` for a joint with a single scalar coordinate.
         coordinate: Option<String>,
     },
-    /// A force [N] and a torque [N·m], both resolved in world, on an object's origin
+    /// A force \[N\] and a torque [N·m], both resolved in world, on an object's origin
     /// (6 values: force x, y, z, then torque x, y, z).
     ObjectWrench {
         /// Name of the object.
@@ -681,7 +681,7 @@ pub struct Input {
 }
 
 impl Input {
-    /// A generalised force on joint `joint`'s single scalar coordinate (1 value, [N·m] or [N]).
+    /// A generalised force on joint `joint`'s single scalar coordinate (1 value, [N·m] or \[N\]).
     pub fn joint_force(name: &str, joint: &str) -> Self {
         Input {
             name: name.into(),
@@ -712,7 +712,7 @@ impl Input {
         }
         self
     }
-    /// A world force and torque on object `object`'s origin (6 values, [N] then [N·m]).
+    /// A world force and torque on object `object`'s origin (6 values, \[N\] then [N·m]).
     pub fn object_wrench(name: &str, object: &str) -> Self {
         Input {
             name: name.into(),

@@ -8,7 +8,7 @@ mod topology;
 mod validate;
 
 #[cfg(feature = "solver")]
-pub(crate) use contact_rules::CollisionFilter;
+pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
 pub use desc::*;
 pub use materials::{
     builtin_contact_pair, builtin_solid_material, ContactPairEntry, ContactPairMaterial,

@@ -41,14 +41,14 @@ pub enum SlowCause {
         pair: String,
         /// Its events among the last events of the run.
         events: usize,
-        /// Time span of those events [s].
+        /// Time span of those events \[s\].
         span: f64,
     },
     /// A contact in the contact set is the stiffest element.
     StiffContact {
         /// The pair `"a|b"`.
         pair: String,
-        /// Its natural period at the current penetration [s].
+        /// Its natural period at the current penetration \[s\].
         period: f64,
         /// A `k_red` that would make the period fit the budget (see the module docs).
         suggested_k_red: f64,
@@ -57,15 +57,15 @@ pub enum SlowCause {
     StiffSpring {
         /// The element: `"joint spring of `name`"` or `"spring-damper a–b"`.
         element: String,
-        /// Its natural period [s].
+        /// Its natural period \[s\].
         period: f64,
     },
     /// The steps collapsed far below the period of every element (the stiffest one's period
-    /// is more than [`COLLAPSE_RATIO`] steps, or already fits the budget), so no element's
+    /// is more than 1000 steps (`COLLAPSE_RATIO`), or already fits the budget), so no element's
     /// stiffness explains them: typically a force that is not smooth in the states (a deep or
     /// grazing contact, narrow-phase noise, a discontinuous user force).
     StepCollapse {
-        /// The stiffest element's natural period [s] (`NaN` without one).
+        /// The stiffest element's natural period \[s\] (`NaN` without one).
         stiffest_period: f64,
     },
     /// None of the above was found.
@@ -77,8 +77,8 @@ pub enum SlowCause {
 pub const COLLAPSE_RATIO: f64 = 1000.0;
 
 /// `cause` (from [`stiffest`]) unless the steps do not follow from it: the element's period is
-/// more than [`COLLAPSE_RATIO`] last steps `h_last` [s], or it would fit the budget step
-/// `h_budget` [s] as it is (for a contact: the suggested `k_red` is the current one). Then the
+/// more than [`COLLAPSE_RATIO`] last steps `h_last` \[s\], or it would fit the budget step
+/// `h_budget` \[s\] as it is (for a contact: the suggested `k_red` is the current one). Then the
 /// cause is a [`SlowCause::StepCollapse`].
 pub(crate) fn limiting(cause: SlowCause, h_last: f64, h_budget: f64) -> SlowCause {
     let period = match &cause {
@@ -100,13 +100,13 @@ pub(crate) fn limiting(cause: SlowCause, h_last: f64, h_budget: f64) -> SlowCaus
 pub struct WorkDiagnosis {
     /// The budget that was reached.
     pub budget: Budget,
-    /// Time reached [s].
+    /// Time reached \[s\].
     pub t: f64,
     /// IDA steps of the run so far.
     pub steps: u64,
     /// Contact events of the run so far.
     pub events: usize,
-    /// Size of the last step [s].
+    /// Size of the last step \[s\].
     pub last_step: f64,
     /// What limited the steps.
     pub cause: SlowCause,
@@ -167,7 +167,7 @@ impl std::fmt::Display for WorkDiagnosis {
 }
 
 /// Events of one pair among the last `window` events: the pair with the most, their number and
-/// time span [s].
+/// time span \[s\].
 pub(crate) fn busiest_pair(events: &[Event], window: usize) -> Option<(String, usize, f64)> {
     let recent = events.iter().skip(events.len().saturating_sub(window));
     let mut counts: Vec<(&str, usize, f64, f64)> = vec![];
@@ -188,7 +188,7 @@ pub(crate) fn busiest_pair(events: &[Event], window: usize) -> Option<(String, u
         .map(|(p, n, t0, t1)| (p.to_string(), n, t1 - t0))
 }
 
-/// Mass [kg] of body `b` (`None` = the world: infinite).
+/// Mass \[kg\] of body `b` (`None` = the world: infinite).
 fn mass(plan: &Plan, b: Option<BodyId>) -> f64 {
     b.and_then(|b| plan.bodies.get(b))
         .map_or(f64::INFINITY, |b| b.inertia.mass)
@@ -209,7 +209,7 @@ fn period(m: f64, k: f64) -> f64 {
 }
 
 /// The stiffest element: contacts in the set (with the suggested `k_red` for a budget step
-/// `h_budget` [s]) and springs.
+/// `h_budget` \[s\]) and springs.
 pub(crate) fn stiffest(
     plan: &Plan,
     cp: Option<&ContactPlan>,

@@ -7,7 +7,7 @@ pub const DEFAULT_MAX_STEPS: u64 = 1_000_000;
 /// Largest number of output-grid points of a run (`(stop − start)/interval`).
 pub const MAX_OUTPUT_POINTS: f64 = 1e7;
 /// Chattering guard: this many consecutive events within
-/// [`CHATTER_SPAN`]` · (stop − start)` end the run with [`SimErrorKind::Chattering`].
+/// [`CHATTER_SPAN`]` · (stop − start)` end the run with [`SimErrorKind::Chattering`](crate::SimErrorKind::Chattering).
 pub const CHATTER_EVENTS: usize = 100;
 /// Chattering guard: relative time span (see [`CHATTER_EVENTS`]).
 pub const CHATTER_SPAN: f64 = 1e-6;
@@ -15,24 +15,28 @@ pub const CHATTER_SPAN: f64 = 1e-6;
 /// Options of a simulation run. Build with [`SimOptions::new`] and the setters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SimOptions {
-    /// Start time [s] (default 0).
+    /// Start time \[s\] (default 0).
     pub start_time: f64,
-    /// Stop time [s].
+    /// Stop time \[s\].
     pub stop_time: f64,
-    /// Output interval [s]; default: 500 intervals over the run.
+    /// Output interval \[s\]; default: 500 intervals over the run.
     pub interval: Option<f64>,
     /// Relative tolerance (default 1e-6).
     pub rtol: f64,
     /// Absolute tolerance; default `0.01 · rtol` (the states are in m, rad, m/s, rad/s).
     pub atol: Option<f64>,
-    /// Largest step [s]; default unlimited.
+    /// Largest step \[s\]; default unlimited.
     pub max_step: Option<f64>,
-    /// Show a progress bar for [`Model::simulate`] when standard error is a terminal (default
+    /// Show a progress bar for [`Model::simulate`](crate::Model::simulate) when standard error is a terminal (default
     /// true; never shown when it is not a terminal, e.g. in tests and CI).
     pub progress: bool,
     /// Record per-pair contact signals (penetration, forces, torque, point, normal) at every
     /// output point (default false: a run pays only for what it asks for).
     pub contact_results: bool,
+    /// Also record an output point after every solver step (default false), so that contacts
+    /// shorter than the output interval show in the signals and plots; events are always
+    /// recorded.
+    pub output_steps: bool,
     /// Form IDA's Jacobian by difference quotients coloured by the scene's independent joint
     /// trees and their current contacts (default true): a scene of many free bodies then costs
     /// a few residual evaluations per Jacobian instead of one per state. False = IDA's dense
@@ -40,15 +44,15 @@ pub struct SimOptions {
     pub structured_jacobian: bool,
     /// Work budget: IDA steps over the whole run, every restart included (default
     /// [`DEFAULT_MAX_STEPS`]; `None` = unlimited). Reaching it ends the run with
-    /// [`SimErrorKind::WorkBudget`], whose diagnosis names the limiting cause.
+    /// [`SimErrorKind::WorkBudget`](crate::SimErrorKind::WorkBudget), whose diagnosis names the limiting cause.
     pub max_steps: Option<u64>,
-    /// Work budget: wall time [s] of the run (default `None` = unlimited); checked every
+    /// Work budget: wall time \[s\] of the run (default `None` = unlimited); checked every
     /// few thousand steps and at every output point and event.
     pub max_wall_time: Option<f64>,
 }
 
 impl SimOptions {
-    /// Options for a run from 0 to `stop_time` [s] with defaults otherwise.
+    /// Options for a run from 0 to `stop_time` \[s\] with defaults otherwise.
     pub fn new(stop_time: f64) -> Self {
         SimOptions {
             start_time: 0.0,
@@ -58,6 +62,7 @@ impl SimOptions {
             atol: None,
             max_step: None,
             contact_results: false,
+            output_steps: false,
             progress: true,
             structured_jacobian: true,
             max_steps: Some(DEFAULT_MAX_STEPS),
@@ -69,7 +74,7 @@ impl SimOptions {
         self.max_steps = n;
         self
     }
-    /// Sets the wall-time budget [s] of the run (see [`SimOptions::max_wall_time`]).
+    /// Sets the wall-time budget \[s\] of the run (see [`SimOptions::max_wall_time`]).
     pub fn max_wall_time(mut self, seconds: f64) -> Self {
         self.max_wall_time = Some(seconds);
         self
@@ -81,9 +86,15 @@ impl SimOptions {
         self
     }
     /// Records per-pair contact signals (`"<a>|<b>.f_n"`, … see
-    /// [`SimulationResult::signal`]).
+    /// [`SimulationResult::signal`](crate::SimulationResult::signal)).
     pub fn contact_results(mut self, on: bool) -> Self {
         self.contact_results = on;
+        self
+    }
+    /// Records an output point after every solver step as well (see
+    /// [`SimOptions::output_steps`]).
+    pub fn output_steps(mut self, on: bool) -> Self {
+        self.output_steps = on;
         self
     }
     /// Shows (true, the default on a terminal) or hides the progress bar of `simulate`.
@@ -101,18 +112,18 @@ impl SimOptions {
         self.atol = Some(atol);
         self
     }
-    /// Sets the output interval [s].
+    /// Sets the output interval \[s\].
     pub fn interval(mut self, dt: f64) -> Self {
         self.interval = Some(dt);
         self
     }
-    /// Sets the largest step [s] (at least `(stop − start)/max_steps`, so that the run fits
+    /// Sets the largest step \[s\] (at least `(stop − start)/max_steps`, so that the run fits
     /// its step budget).
     pub fn max_step(mut self, h: f64) -> Self {
         self.max_step = Some(h);
         self
     }
-    /// Sets the start time [s].
+    /// Sets the start time \[s\].
     pub fn start_time(mut self, t0: f64) -> Self {
         self.start_time = t0;
         self

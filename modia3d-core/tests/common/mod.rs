@@ -189,7 +189,7 @@ pub fn parry_equivalent(cs: &CollisionShape) -> Option<(SharedShape, Isometry3<f
     })
 }
 
-/// Random pose: random rotation, translation in a cube of half width `w` [m].
+/// Random pose: random rotation, translation in a cube of half width `w` \[m\].
 pub fn random_pose(rng: &mut Rng, w: f64) -> Isometry3<f64> {
     Isometry3::from_parts(
         Translation3::new(rng.range(-w, w), rng.range(-w, w), rng.range(-w, w)),

@@ -10,7 +10,7 @@ use crate::geometry::shapes::ShapeKind as K;
 use nalgebra::Isometry3;
 
 /// Signed distance, unit normal (a → b, resolved in world) and surface witness points (world,
-/// [m]) of shape `a` at `pose_a` and shape `b` at `pose_b` (poses: shape frame → world).
+/// \[m\]) of shape `a` at `pose_a` and shape `b` at `pose_b` (poses: shape frame → world).
 ///
 /// Exact closed forms for sphere–sphere, sphere–box, sphere–cylinder, sphere–capsule and
 /// capsule–capsule (either order); the improved MPR otherwise, or always with

@@ -22,15 +22,15 @@ use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
 /// Closest points of separated cores.
 pub(super) struct Closest {
-    /// Distance [m] (upper bound, within `tol` of the true distance).
+    /// Distance \[m\] (upper bound, within `tol` of the true distance).
     pub distance: f64,
     /// Unit normal from core a to core b, in a's frame.
     pub normal: Vector3<f64>,
-    /// Closest point on core a, in a's frame [m].
+    /// Closest point on core a, in a's frame \[m\].
     pub point_a: Point3<f64>,
-    /// Closest point on core b, in a's frame [m].
+    /// Closest point on core b, in a's frame \[m\].
     pub point_b: Point3<f64>,
-    /// Certified gap `distance − lower bound` [m].
+    /// Certified gap `distance − lower bound` \[m\].
     pub gap: f64,
     /// GJK ran out of iterations before the gap closed to the tolerance.
     pub at_limit: bool,

@@ -18,13 +18,13 @@ use nalgebra::{Point3, Vector3};
 /// Result of a narrow-phase query between shape `a` and shape `b`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SignedDistance {
-    /// Signed distance [m]: > 0 separated (Euclidean distance), < 0 penetrating (depth).
+    /// Signed distance \[m\]: > 0 separated (Euclidean distance), < 0 penetrating (depth).
     pub distance: f64,
     /// Unit contact normal pointing from `a` to `b`, resolved in world.
     pub normal: Vector3<f64>,
-    /// Witness point on the surface of `a`, resolved in world [m].
+    /// Witness point on the surface of `a`, resolved in world \[m\].
     pub point_a: Point3<f64>,
-    /// Witness point on the surface of `b`, resolved in world [m];
+    /// Witness point on the surface of `b`, resolved in world \[m\];
     /// `point_b − point_a = distance · normal` up to the algorithm's tolerance.
     pub point_b: Point3<f64>,
 }
@@ -65,7 +65,7 @@ pub enum Method {
 pub struct NarrowPhaseOptions {
     /// MPR stops when the support point in the portal normal lies less than
     /// `mpr_tolerance · size` beyond the portal, `size` being the sum of the two bounding radii
-    /// [m]; GJK (separated cores) stops when its certified gap is below the same length.
+    /// \[m\]; GJK (separated cores) stops when its certified gap is below the same length.
     /// Default 1e-11: about 50 ulps of the size, so the tests still stop reliably in floating
     /// point, while the error they admit is far below any contact stiffness scale.
     pub mpr_tolerance: f64,

@@ -32,7 +32,7 @@ use crate::geometry::support::CoreShape;
 use nalgebra::{Isometry3, Matrix3, Point3, Unit, Vector3};
 use parry3d_f64::query::gjk::{GJKResult, VoronoiSimplex};
 
-/// A support point of `M` with the two core points it came from (all in world [m]).
+/// A support point of `M` with the two core points it came from (all in world \[m\]).
 #[derive(Clone, Copy, Debug)]
 struct Sv {
     v: Vector3<f64>,

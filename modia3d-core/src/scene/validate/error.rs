@@ -89,7 +89,7 @@ pub enum SceneError {
         cut: String,
         /// The joints of the loop.
         joints: Vec<String>,
-        /// Largest remaining constraint residual, [m] for translations, [rad]-like for rotations.
+        /// Largest remaining constraint residual, \[m\] for translations, \[rad\]-like for rotations.
         residual: f64,
     },
     /// Objects that are neither attached nor jointed to the world.
@@ -181,9 +181,9 @@ pub enum SceneError {
         object1: String,
         /// The second object.
         object2: String,
-        /// Initial penetration depth [m] (minus the signed distance).
+        /// Initial penetration depth \[m\] (minus the signed distance).
         depth: f64,
-        /// The deepest admissible initial penetration [m].
+        /// The deepest admissible initial penetration \[m\].
         limit: f64,
         /// The two shapes' centres coincide.
         coincident: bool,

@@ -26,9 +26,9 @@ use std::collections::HashMap;
 /// Mass properties of a solid, resolved in its object's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MassProps {
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub mass: f64,
-    /// Centre of mass, resolved in the object frame [m].
+    /// Centre of mass, resolved in the object frame \[m\].
     pub com: Vector3<f64>,
     /// Inertia about the centre of mass, resolved in the object frame [kg·m²].
     pub inertia: Matrix3<f64>,
@@ -49,7 +49,7 @@ pub struct ValidSolid {
     pub collision: bool,
     /// Contact material name.
     pub contact_material: Option<String>,
-    /// Smoothing radius [m], if set.
+    /// Smoothing radius \[m\], if set.
     pub smoothing_radius: Option<f64>,
     /// Material whose Young's modulus and Poisson's ratio the contact law uses (collision
     /// solids only): the solid material, else the solid material named by the contact material.
@@ -63,7 +63,7 @@ pub struct ValidObject {
     pub name: String,
     /// Index of the parent object.
     pub parent: Option<usize>,
-    /// Pose relative to the parent (or to world for a root) [m].
+    /// Pose relative to the parent (or to world for a root) \[m\].
     pub pose: Isometry3<f64>,
     /// Solid data, if a solid.
     pub solid: Option<ValidSolid>,
@@ -76,27 +76,27 @@ pub struct ValidObject {
 pub enum ValidJointKind {
     /// Rigid.
     Fix,
-    /// Revolute about a unit axis resolved in obj1; initial angle [rad] and rate [rad/s].
+    /// Revolute about a unit axis resolved in obj1; initial angle \[rad\] and rate [rad/s].
     Revolute {
         /// Unit axis.
         axis: Vector3<f64>,
-        /// Initial angle [rad].
+        /// Initial angle \[rad\].
         phi: f64,
         /// Initial angular velocity [rad/s].
         w: f64,
     },
-    /// Prismatic along a unit axis resolved in obj1; initial position [m] and velocity [m/s].
+    /// Prismatic along a unit axis resolved in obj1; initial position \[m\] and velocity [m/s].
     Prismatic {
         /// Unit axis.
         axis: Vector3<f64>,
-        /// Initial position [m].
+        /// Initial position \[m\].
         s: f64,
         /// Initial velocity [m/s].
         v: f64,
     },
     /// Free motion.
     FreeMotion {
-        /// Initial position, resolved in obj1 [m].
+        /// Initial position, resolved in obj1 \[m\].
         r: Vector3<f64>,
         /// Initial orientation relative to obj1.
         rot: UnitQuaternion<f64>,
@@ -118,7 +118,7 @@ pub enum ValidJointKind {
         axis1: Vector3<f64>,
         /// Second axis (fixed in obj2), unit, perpendicular to `axis1`.
         axis2: Vector3<f64>,
-        /// Initial angles [rad].
+        /// Initial angles \[rad\].
         phi1: f64,
         /// See `phi1`.
         phi2: f64,
@@ -131,9 +131,9 @@ pub enum ValidJointKind {
     Cylindrical {
         /// Unit axis.
         axis: Vector3<f64>,
-        /// Initial angle [rad].
+        /// Initial angle \[rad\].
         phi: f64,
-        /// Initial position [m].
+        /// Initial position \[m\].
         s: f64,
         /// Initial angular velocity [rad/s].
         w: f64,
@@ -144,7 +144,7 @@ pub enum ValidJointKind {
     Planar {
         /// Unit normal.
         normal: Vector3<f64>,
-        /// Initial positions [m] (resolved in obj1) and angle [rad].
+        /// Initial positions \[m\] (resolved in obj1) and angle \[rad\].
         x: f64,
         /// See `x`.
         y: f64,
@@ -205,7 +205,7 @@ pub enum ValidForce {
         stiffness: f64,
         /// [N·s/m]
         damping: f64,
-        /// [m]
+        /// \[m\]
         length0: f64,
     },
     /// Spring-damper on a joint coordinate.

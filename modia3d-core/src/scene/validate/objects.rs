@@ -242,7 +242,7 @@ fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {
     }
 }
 
-/// Range of a solid's mass [kg]: far beyond any body the contact laws are meant for (a
+/// Range of a solid's mass \[kg\]: far beyond any body the contact laws are meant for (a
 /// 1e-20 kg steel sphere is 13 nm across; 1e20 kg is a small moon), and far enough from f64's
 /// limits that `m·r²` of the inertia and `f/m` of the accelerations neither underflow nor
 /// overflow (a 1e-300 kg body passed the positivity check and ended as `IDA_ILL_INPUT`).

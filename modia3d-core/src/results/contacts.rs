@@ -1,0 +1,175 @@
+//! Results stage: contact phases of the collision pairs — one [`ContactPhase`] per stretch of
+//! time a pair spends in the contact set, from the event where it enters to the event where it
+//! leaves, with its impact and exit speeds, maxima and impulses. The driver feeds the book
+//! (`simulation/contact_phases.rs`: events, and the solver's steps by Gauss–Legendre
+//! quadrature on IDA's interpolating polynomial); this module only keeps the sums.
+
+use crate::contact::ContactState;
+use nalgebra::Vector3;
+
+/// One contact phase of a pair `"a|b"`: from the event where the pair entered the contact set
+/// to the event where it left (or the end of the run).
+///
+/// Sign convention (as the contact signals): the normal points from `a` (the first name) to `b`
+/// (the second), forces and impulses are those acting **on `b`**, resolved in world; `a`
+/// receives the opposite. The penetration velocity `δ̇ = −(v_b − v_a)·n` at the contact point is
+/// positive while the two approach.
+///
+/// The impulses and maxima come from the solver's steps, not from the output grid: every IDA
+/// step during the phase is integrated by 5-point Gauss–Legendre quadrature over IDA's own
+/// interpolating polynomial, and the maxima are refined by a parabola through the samples
+/// around the largest one, so a contact shorter than the output interval is measured as
+/// accurately as the solver resolves it (see `simulation/contact_phases.rs` for the error
+/// argument).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactPhase {
+    /// The pair `"a|b"` (as in [`SimulationResult::contact_pairs`](super::SimulationResult::contact_pairs)).
+    pub pair: String,
+    /// Time the pair entered the contact set \[s\] (the shapes touch; the start of the run for a
+    /// pair in contact initially).
+    pub start: f64,
+    /// Time it left \[s\] (separated by twice the hysteresis ε); `None` if still in contact at
+    /// the end of the run.
+    pub end: Option<f64>,
+    /// Impact speed `δ̇⁻` [m/s]: penetration velocity at the start (> 0 approaching).
+    pub impact_speed: f64,
+    /// Exit speed [m/s]: separation speed `−δ̇⁺` at the end (> 0 separating); `None` while in
+    /// contact.
+    pub exit_speed: Option<f64>,
+    /// Largest penetration depth `δ` during the phase \[m\].
+    pub max_penetration: f64,
+    /// Largest normal force magnitude `f_n` during the phase \[N\].
+    pub max_normal_force: f64,
+    /// Time of the largest normal force \[s\].
+    pub t_max_normal_force: f64,
+    /// Normal impulse `∫ f_n dt` over the phase [N·s] (magnitude along the normal; ≥ 0).
+    pub normal_impulse: f64,
+    /// Tangential (friction) impulse `∫ f_t dt` on `b`, resolved in world [N·s].
+    pub tangential_impulse: Vector3<f64>,
+    /// Total impulse of the contact force (normal + friction) on `b`, resolved in world [N·s].
+    pub impulse: Vector3<f64>,
+}
+
+impl ContactPhase {
+    /// Duration \[s\] (`None` while in contact).
+    pub fn duration(&self) -> Option<f64> {
+        self.end.map(|e| e - self.start)
+    }
+
+    /// Effective coefficient of restitution: exit speed / impact speed \[1\]; `None` while in
+    /// contact or for an impact speed of zero (a resting start).
+    pub fn restitution(&self) -> Option<f64> {
+        let exit = self.exit_speed?;
+        (self.impact_speed != 0.0).then(|| exit / self.impact_speed)
+    }
+
+    /// The same phase seen from the pair in the other order, `"b|a"`: impulses on `a` (the
+    /// sign of the vectors flips; speeds, maxima and the normal impulse's magnitude stay).
+    pub(crate) fn reversed(&self, name: &str) -> ContactPhase {
+        ContactPhase {
+            pair: name.to_string(),
+            tangential_impulse: -self.tangential_impulse,
+            impulse: -self.impulse,
+            ..self.clone()
+        }
+    }
+}
+
+/// The phases of a run and the open phase of each pair.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PhaseBook {
+    /// Phases in the order they started.
+    pub phases: Vec<ContactPhase>,
+    /// `open[p]`: index into `phases` of pair `p`'s current phase.
+    open: Vec<Option<usize>>,
+}
+
+impl PhaseBook {
+    /// A book for `pairs` candidate pairs.
+    pub fn new(pairs: usize) -> Self {
+        PhaseBook {
+            phases: vec![],
+            open: vec![None; pairs],
+        }
+    }
+
+    /// True if pair `p` has an open phase.
+    pub fn is_open(&self, p: usize) -> bool {
+        matches!(self.open.get(p), Some(Some(_)))
+    }
+
+    fn open_phase(&mut self, p: usize) -> Option<&mut ContactPhase> {
+        let k = (*self.open.get(p)?)?;
+        self.phases.get_mut(k)
+    }
+
+    /// Opens and closes phases after an event at `t` \[s\] (or at the start of the run) from the
+    /// contact set's `started`/`ended` lists (pair ids) and their speeds; `name(p)` gives pair `p`'s name.
+    pub fn event(&mut self, t: f64, cs: &ContactState, name: impl Fn(usize) -> String) {
+        for (&p, &dd) in cs.ended.iter().zip(&cs.ended_speed) {
+            let p = p as usize;
+            let exit = -dd;
+            if let Some(ph) = self.open_phase(p) {
+                ph.end = Some(t);
+                ph.exit_speed = Some(exit);
+            }
+            if let Some(o) = self.open.get_mut(p) {
+                *o = None;
+            }
+        }
+        for (&p, &impact) in cs.started.iter().zip(&cs.started_speed) {
+            let p = p as usize;
+            if let Some(o) = self.open.get_mut(p) {
+                *o = Some(self.phases.len());
+                self.phases.push(ContactPhase {
+                    pair: name(p),
+                    start: t,
+                    end: None,
+                    impact_speed: impact,
+                    exit_speed: None,
+                    max_penetration: 0.0,
+                    max_normal_force: 0.0,
+                    t_max_normal_force: t,
+                    normal_impulse: 0.0,
+                    tangential_impulse: Vector3::zeros(),
+                    impulse: Vector3::zeros(),
+                });
+            }
+        }
+    }
+
+    /// Adds `weight` \[s\] times pair `p`'s forces `(f_n, f_t)` (on `b`, world) to its impulses.
+    pub fn add_impulse(
+        &mut self,
+        p: usize,
+        weight: f64,
+        f_n: f64,
+        normal: &Vector3<f64>,
+        f_t: &Vector3<f64>,
+    ) {
+        if let Some(ph) = self.open_phase(p) {
+            ph.normal_impulse += weight * f_n;
+            ph.tangential_impulse += weight * f_t;
+            ph.impulse += weight * (normal * f_n + f_t);
+        }
+    }
+
+    /// Pair `p`'s maxima so far: (penetration \[m\], normal force \[N\]).
+    pub fn maxima(&self, p: usize) -> Option<(f64, f64)> {
+        let k = (*self.open.get(p)?)?;
+        self.phases
+            .get(k)
+            .map(|ph| (ph.max_penetration, ph.max_normal_force))
+    }
+
+    /// Takes a sample of pair `p` at `t` \[s\] into its maxima.
+    pub fn sample_max(&mut self, p: usize, t: f64, penetration: f64, f_n: f64) {
+        if let Some(ph) = self.open_phase(p) {
+            ph.max_penetration = ph.max_penetration.max(penetration);
+            if f_n > ph.max_normal_force {
+                ph.max_normal_force = f_n;
+                ph.t_max_normal_force = t;
+            }
+        }
+    }
+}

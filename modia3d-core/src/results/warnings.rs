@@ -1,0 +1,76 @@
+//! Results stage: [`SimWarning`], what a run found suspicious without failing. The driver's
+//! checks (`simulation/warnings.rs`) fill `SimulationResult::warnings` and trace each warning.
+
+/// Something a run found suspicious but not wrong enough to stop: each names its culprit and
+/// says what to check. Also traced with `tracing::warn!` when found.
+#[derive(thiserror::Error, Clone, Debug, PartialEq)]
+pub enum SimWarning {
+    /// A colliding pair starts deeper inside each other than the smoothing radius (deeper than
+    /// half the thinner shape's extent is already a build error,
+    /// `SceneError::InitialPenetration`).
+    #[error("`{pair}` starts {depth:.3e} m deep inside each other (more than the smoothing radius {radius:.1e} m): the contact pushes them apart with a large force at t = 0; check the initial positions and the units (mm vs m)")]
+    InitialPenetration {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Penetration depth \[m\].
+        depth: f64,
+        /// The scene's smoothing radius \[m\].
+        radius: f64,
+    },
+    /// A collision solid far larger or smaller than the scene's others (often a length in mm
+    /// where m was meant), or a body far heavier or lighter than the others.
+    #[error("`{object}`: {quantity} {value:.3e} {unit} is {ratio:.0e} times the median {median:.3e} {unit} of the scene's other {what}; check its units (a diameter of 100 meant as 100 mm is 0.1 m)")]
+    ScaleOutlier {
+        /// The object (for a body: its first object).
+        object: String,
+        /// `"size"` (largest extent of a collision solid) or `"mass"` (of a body).
+        quantity: &'static str,
+        /// Its value \[m\] or \[kg\].
+        value: f64,
+        /// The median of the others \[m\] or \[kg\].
+        median: f64,
+        /// `value / median`.
+        ratio: f64,
+        /// Unit of `value`.
+        unit: &'static str,
+        /// What it was compared with ("collision solids", "bodies").
+        what: &'static str,
+    },
+    /// Two collision solids that can never touch: a joint between their bodies has
+    /// `can_collide = false`, so they have no collision pair.
+    #[error("collision solids `{a}` and `{b}` can never touch: joint `{joint}` between their bodies has can_collide = false; set `can_collide(true)` on it if they should collide")]
+    NeverCollide {
+        /// First solid.
+        a: String,
+        /// Second solid.
+        b: String,
+        /// The joint that excludes the pair.
+        joint: String,
+    },
+    /// A pair entered and left the contact set many times within a short time (below the
+    /// chattering guard that stops the run).
+    #[error("contact `{pair}` chatters: {events} starts and ends within {span:.3e} s from t = {t:.6} s; check its initial overlap, cor and v_min, or lower k_red")]
+    Chattering {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Number of its events in the window.
+        events: usize,
+        /// Their time span \[s\].
+        span: f64,
+        /// Time of the first of them \[s\].
+        t: f64,
+    },
+    /// Contact phases that began and ended between two output points: the signals never show
+    /// them.
+    #[error("{phases} contact phase(s) of `{pair}` fell between output points (the shortest {shortest:.3e} s, output interval {interval:.3e} s): the signals do not show them; use `SimOptions::output_steps(true)` or read `result.contacts()` (with `contact_results(true)`)")]
+    MissedContacts {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Number of phases with no output point inside.
+        phases: usize,
+        /// Duration of the shortest \[s\].
+        shortest: f64,
+        /// The output interval \[s\].
+        interval: f64,
+    },
+}

@@ -1,0 +1,295 @@
+//! Driver: the checks behind `SimulationResult::warnings` ([`SimWarning`]). At the start of a
+//! run: collision solids that can never meet, unit slips (sizes and masses far from the
+//! scene's others), initial penetrations deeper than the smoothing radius. After each
+//! `advance_to`: chattering contacts and contact phases the output grid missed. Reads the
+//! model, the initial contact set and the recorded result; allocates freely (not a hot path).
+
+use crate::contact::ContactState;
+use crate::model::Model;
+use crate::results::{SimWarning, SimulationResult};
+use crate::scene::{colliding_objects, CollisionFilter};
+
+/// A moving collision solid this many times larger than the median of the others is a
+/// suspected unit slip (a length in mm where m was meant is 1000 times too large; a billiard
+/// ball on its table is 1/44 of it, a marble on a floor smaller still).
+pub const SIZE_RATIO: f64 = 50.0;
+/// A body this many times heavier or lighter than the median of the others.
+pub const MASS_RATIO: f64 = 1e6;
+/// Chattering: this many contact-set changes of one pair ...
+pub const CHATTER_WARN_EVENTS: usize = 20;
+/// ... within this fraction of the run's duration.
+pub const CHATTER_WARN_SPAN: f64 = 1e-3;
+
+/// The median of `values` without entry `k`.
+fn median_of_others(values: &[f64], k: usize) -> Option<f64> {
+    let others = values
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != k)
+        .map(|(_, &x)| x)
+        .collect();
+    median(others)
+}
+
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let hi = v.get(n / 2).copied()?;
+    Some(if n % 2 == 0 {
+        0.5 * (hi + v.get(n / 2 - 1).copied().unwrap_or(hi))
+    } else {
+        hi
+    })
+}
+
+/// Warnings about the model and its initial state `cs` (the contact set at the start time).
+pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<SimWarning> {
+    let mut out = never_collide(model);
+    out.extend(scale_outliers(model));
+    if let (Some(cs), Some(cp)) = (cs, model.contact.as_deref()) {
+        let radius = model.plan.scene.options.smoothing_radius;
+        for (_, pp, st) in cs.active_pairs() {
+            let depth = -st.z;
+            if depth > radius {
+                out.push(SimWarning::InitialPenetration {
+                    pair: cp.pair_name(&model.plan.scene, pp),
+                    depth,
+                    radius,
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Collision solids on bodies that a joint with `can_collide = false` keeps apart.
+fn never_collide(model: &Model) -> Vec<SimWarning> {
+    let scene = &model.plan.scene;
+    let objects = colliding_objects(scene);
+    let filter = CollisionFilter::new(scene);
+    let mut out = vec![];
+    for (i, &a) in objects.iter().enumerate() {
+        for &b in objects.iter().skip(i + 1) {
+            let Some(j) = filter.excluded_by(a, b) else {
+                continue;
+            };
+            let name = |o: usize| scene.objects.get(o).map(|x| x.name.clone());
+            if let (Some(a), Some(b), Some(joint)) = (
+                name(a),
+                name(b),
+                scene.joints.get(j).map(|j| j.name.clone()),
+            ) {
+                out.push(SimWarning::NeverCollide { a, b, joint });
+            }
+        }
+    }
+    out
+}
+
+/// Moving collision solids far larger than the others, bodies far heavier or lighter.
+fn scale_outliers(model: &Model) -> Vec<SimWarning> {
+    let mut out = vec![];
+    let plan = &model.plan;
+    if let Some(cp) = model.contact.as_deref() {
+        let sizes: Vec<f64> = cp
+            .shapes
+            .iter()
+            .map(|s| 2.0 * s.shape.local_half_extents().max())
+            .collect();
+        for (k, s) in cp.shapes.iter().enumerate() {
+            let (Some(_), Some(&size)) = (s.body, sizes.get(k)) else {
+                continue;
+            };
+            if let Some(m) =
+                median_of_others(&sizes, k).filter(|&m| m > 0.0 && size > SIZE_RATIO * m)
+            {
+                out.push(SimWarning::ScaleOutlier {
+                    object: plan
+                        .scene
+                        .objects
+                        .get(s.object)
+                        .map_or_else(String::new, |o| o.name.clone()),
+                    quantity: "size",
+                    value: size,
+                    median: m,
+                    ratio: size / m,
+                    unit: "m",
+                    what: "collision solids",
+                });
+            }
+        }
+    }
+    let masses: Vec<f64> = plan.bodies.iter().map(|b| b.inertia.mass).collect();
+    for (k, b) in plan.bodies.iter().enumerate() {
+        let Some(&mass) = masses.get(k) else { continue };
+        let Some(m) = median_of_others(&masses, k).filter(|&m| m > 0.0) else {
+            continue;
+        };
+        let ratio = mass / m;
+        if !(1.0 / MASS_RATIO..=MASS_RATIO).contains(&ratio) {
+            let object = b
+                .objects
+                .first()
+                .and_then(|&o| plan.objects.get(o))
+                .map_or_else(String::new, |o| o.name.clone());
+            out.push(SimWarning::ScaleOutlier {
+                object,
+                quantity: "mass",
+                value: mass,
+                median: m,
+                ratio,
+                unit: "kg",
+                what: "bodies",
+            });
+        }
+    }
+    out
+}
+
+/// Warnings about the run recorded in `result` so far: chattering pairs and contact phases
+/// with no output point inside (unless every step is an output point).
+pub(super) fn run_warnings(
+    result: &SimulationResult,
+    span: f64,
+    interval: f64,
+    output_steps: bool,
+) -> Vec<SimWarning> {
+    let mut out = vec![];
+    let time = result.time();
+    for pair in result.contact_pairs() {
+        let changes: Vec<(f64, bool)> = result
+            .events
+            .iter()
+            .flat_map(|e| {
+                let s = e
+                    .started
+                    .iter()
+                    .filter(|p| **p == pair)
+                    .map(|_| (e.t, true));
+                let x = e.ended.iter().filter(|p| **p == pair).map(|_| (e.t, false));
+                s.chain(x).collect::<Vec<_>>()
+            })
+            .collect();
+        // Chattering: CHATTER_WARN_EVENTS changes within CHATTER_WARN_SPAN of the run.
+        let window = CHATTER_WARN_EVENTS.saturating_sub(1);
+        if let Some((first, last)) = changes
+            .iter()
+            .zip(changes.iter().skip(window))
+            .find(|(a, b)| b.0 - a.0 <= CHATTER_WARN_SPAN * span)
+        {
+            out.push(SimWarning::Chattering {
+                pair: pair.clone(),
+                events: CHATTER_WARN_EVENTS,
+                span: last.0 - first.0,
+                t: first.0,
+            });
+        }
+        if output_steps {
+            continue;
+        }
+        // Phases with no output point strictly inside (start, end).
+        let mut start = None;
+        let (mut missed, mut shortest) = (0, f64::INFINITY);
+        for &(t, started) in &changes {
+            match (started, start) {
+                (true, _) => start = Some(t),
+                (false, Some(t0)) => {
+                    let k = time.partition_point(|&x| x <= t0);
+                    if time.get(k).is_none_or(|&x| x >= t) {
+                        missed += 1;
+                        shortest = shortest.min(t - t0);
+                    }
+                    start = None;
+                }
+                (false, None) => {}
+            }
+        }
+        if missed > 0 {
+            out.push(SimWarning::MissedContacts {
+                pair,
+                phases: missed,
+                shortest,
+                interval,
+            });
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::Event;
+
+    /// Eight steel balls on a steel table (`dae/alloc_tests.rs`); the pair used here is
+    /// `ball0|table`.
+    fn ball_and_table() -> Model {
+        crate::dae::alloc_tests::balls_on_a_table().build().unwrap()
+    }
+
+    fn event(t: f64, started: bool, pair: &str) -> Event {
+        let (s, e) = if started {
+            (vec![pair.to_string()], vec![])
+        } else {
+            (vec![], vec![pair.to_string()])
+        };
+        Event {
+            t,
+            description: String::new(),
+            started: s,
+            ended: e,
+        }
+    }
+
+    /// A record over 1 s with output points every 0.1 s (and at the events): ten contacts of
+    /// 1e-5 s each, 2e-5 s apart, from t = 0.5 s (20 changes within 2e-4 s < 1e-3 of the run:
+    /// chattering; all between two grid points: 10 missed phases, the shortest 1e-5 s), then
+    /// one contact from 0.75 to 0.85 s that contains the grid point 0.8 (not missed).
+    #[test]
+    fn chattering_and_missed_phases() {
+        let model = ball_and_table();
+        let n = model.plan.nq + model.plan.nv;
+        let y = vec![0.0; n];
+        let mut res = SimulationResult::new(model);
+        let mut times: Vec<f64> = (0..=10).map(|k| 0.1 * k as f64).collect();
+        for i in 0..10 {
+            let t0 = 0.5 + 2e-5 * i as f64 + 1e-6;
+            res.events.push(event(t0, true, "ball0|table"));
+            res.events.push(event(t0 + 1e-5, false, "ball0|table"));
+            times.extend([t0, t0 + 1e-5]);
+        }
+        res.events.push(event(0.75, true, "ball0|table"));
+        res.events.push(event(0.85, false, "ball0|table"));
+        times.extend([0.75, 0.85]);
+        times.sort_by(f64::total_cmp);
+        for t in times {
+            res.push(t, &y);
+        }
+        let w = run_warnings(&res, 1.0, 0.1, false);
+        assert_eq!(w.len(), 2, "{w:?}");
+        match w.first().unwrap() {
+            SimWarning::Chattering {
+                pair, events, span, ..
+            } => {
+                assert_eq!((pair.as_str(), *events), ("ball0|table", 20));
+                assert!((span - (19.0 * 1e-5)).abs() < 1e-12, "{span}");
+            }
+            other => panic!("{other:?}"),
+        }
+        match w.get(1).unwrap() {
+            SimWarning::MissedContacts {
+                pair,
+                phases,
+                shortest,
+                ..
+            } => {
+                assert_eq!((pair.as_str(), *phases), ("ball0|table", 10));
+                assert!((shortest - 1e-5).abs() < 1e-12);
+            }
+            other => panic!("{other:?}"),
+        }
+        // Every step an output point: nothing missed, the chattering stays.
+        let w = run_warnings(&res, 1.0, 0.1, true);
+        assert_eq!(w.len(), 1);
+    }
+}
