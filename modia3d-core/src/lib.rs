@@ -46,7 +46,10 @@ pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, Model};
 #[cfg(feature = "solver")]
-pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
+pub use results::{
+    Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimulationResult,
+    EVENT_MARKER_COLOR,
+};
 pub use scene::{
     ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,
     InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion,

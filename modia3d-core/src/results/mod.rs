@@ -10,6 +10,8 @@ mod mesh;
 mod plot;
 mod threejs;
 
+pub use plot::{PlotFormat, PlotOptions, EVENT_MARKER_COLOR};
+
 use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
 use crate::model::Model;
 use crate::solver::IdaStats;
