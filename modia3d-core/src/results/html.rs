@@ -181,10 +181,10 @@ impl SimulationResult {
     /// materials' (`palette.json`), others in turn from a fixed set.
     ///
     /// URL parameters: `?t=<time [s]>` opens paused at that time, `&probe=<object>` writes that
-    /// object's drawn position (world frame of the scene, [m]) into `#modia3d-info`'s
+    /// object's drawn position (world frame of the scene, \[m\]) into `#modia3d-info`'s
     /// `data-probe-position`, and `data-contacts-visible` counts the contact arrows drawn; with
     /// `data-probe-view` (where it is drawn: right and up from the view's centre in half view
-    /// heights), `data-time`, `data-object-count`, `data-frames-drawn`, `data-joint-count` and
+    /// heights), `data-probe-hover` (the name the hover tip shows there), `data-time`, `data-object-count`, `data-frames-drawn`, `data-joint-count` and
     /// `data-rod-count` these let tests read the page's
     /// state (`tests/browser.rs`).
     pub fn write_html(&self, path: impl AsRef<Path>) -> Result<(), ResultError> {

@@ -54,7 +54,7 @@ impl PlotFormat {
 /// How a plot is drawn: size, title, markers, axis scale.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlotOptions {
-    /// Width and height of the whole figure [px] (default 900 × 300 per subplot, at least 540
+    /// Width and height of the whole figure \[px\] (default 900 × 300 per subplot, at least 540
     /// high; `None`); each at least 200.
     pub size: Option<(u32, u32)>,
     /// Title above the subplots (default none).
@@ -82,7 +82,7 @@ impl PlotOptions {
     pub fn new() -> Self {
         Self::default()
     }
-    /// Sets the figure size, width × height [px].
+    /// Sets the figure size, width × height \[px\].
     pub fn size(mut self, width: u32, height: u32) -> Self {
         self.size = Some((width, height));
         self
