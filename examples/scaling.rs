@@ -9,42 +9,6 @@
 use modia3d::demo;
 use modia3d::prelude::*;
 
-fn balls_on_table(n: usize) -> SceneDesc {
-    let side = (n as f64).sqrt().ceil() as usize;
-    let width = side as f64 * 0.1 + 0.2;
-    let mut s = SceneDesc::new();
-    s.add(demo::world(SceneOptions {
-        k_red: 1e-3,
-        ..Default::default()
-    }))
-    .add(demo::fixed_box(
-        "table",
-        [width, width, 0.05],
-        [0.0, 0.0, -0.025],
-        "Steel",
-    ));
-    for k in 0..n {
-        let (i, j) = (k / side, k % side);
-        let r = [
-            0.1 * i as f64 - 0.05 * side as f64,
-            0.1 * j as f64 - 0.05 * side as f64,
-            0.05 + 0.01 * (k % 7) as f64,
-        ];
-        let v = [0.1 * ((k % 3) as f64 - 1.0), 0.0, 0.0];
-        demo::add_free_sphere(
-            &mut s,
-            &format!("b{k}"),
-            0.05,
-            "Steel",
-            None,
-            r,
-            v,
-            [0.0; 3],
-        );
-    }
-    s
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("| balls | Jacobian | wall [s] | steps | residuals | Jacobians (+residuals for them) | events | wall per step [ms] |");
     println!("|---:|---|---:|---:|---:|---:|---:|---:|");
@@ -52,7 +16,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .map_or(vec![16, 64, 256], |a| vec![a.parse().unwrap()])
     {
-        let model = balls_on_table(n).build()?;
+        let model = demo::balls_on_table(n).build()?;
         for structured in [true, false] {
             if !structured && n > 64 {
                 continue; // 3328 unknowns: a dense LU per Jacobian would take minutes

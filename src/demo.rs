@@ -527,3 +527,42 @@ pub fn ball_pile(options: SceneOptions, pair: ContactPairMaterial) -> SceneDesc 
     }
     s
 }
+
+/// The scaling scene (`examples/scaling.rs`): `n` steel balls Ø 5 cm on a square grid 0.1 m
+/// apart, 2.5–8.5 cm above a steel table (top face at z = 0), sideways speeds of ±0.1 m/s,
+/// `k_red = 1e-3`. No ball touches another; N²/2 shape pairs for the broad phase.
+pub fn balls_on_table(n: usize) -> SceneDesc {
+    let side = (n as f64).sqrt().ceil() as usize;
+    let width = side as f64 * 0.1 + 0.2;
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions {
+        k_red: 1e-3,
+        ..Default::default()
+    }))
+    .add(fixed_box(
+        "table",
+        [width, width, 0.05],
+        [0.0, 0.0, -0.025],
+        "Steel",
+    ));
+    for k in 0..n {
+        let (i, j) = (k / side, k % side);
+        let r = [
+            0.1 * i as f64 - 0.05 * side as f64,
+            0.1 * j as f64 - 0.05 * side as f64,
+            0.05 + 0.01 * (k % 7) as f64,
+        ];
+        let v = [0.1 * ((k % 3) as f64 - 1.0), 0.0, 0.0];
+        add_free_sphere(
+            &mut s,
+            &format!("b{k}"),
+            0.05,
+            "Steel",
+            None,
+            r,
+            v,
+            [0.0; 3],
+        );
+    }
+    s
+}

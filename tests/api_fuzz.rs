@@ -235,6 +235,7 @@ fn edit(rng: &mut Rng, s: &mut SceneDesc) {
         7 => {
             s.add_force(ForceElement::JointSpringDamper {
                 joint: rng.pick(&JOINTS).to_string(),
+                coordinate: None,
                 stiffness: rng.value(0.0, 100.0),
                 damping: rng.value(0.0, 1.0),
                 offset: rng.value(-1.0, 1.0),

@@ -253,6 +253,7 @@ fn joints_forces_and_scene_options() {
             length0,
         }, ForceElement::JointSpringDamper {
             joint,
+            coordinate: None,
             stiffness: c,
             damping: d,
             offset,

@@ -45,6 +45,7 @@ fn stiff_spring() -> SceneDesc {
         );
     s.add_force(ForceElement::JointSpringDamper {
         joint: "slide".into(),
+        coordinate: None,
         stiffness: 1e15,
         damping: 0.0,
         offset: 0.0,

@@ -20,6 +20,7 @@ mod dae;
 #[cfg(feature = "solver")]
 mod dynamics;
 pub mod geometry;
+mod joints;
 #[cfg(feature = "solver")]
 mod model;
 #[cfg(feature = "solver")]
@@ -44,7 +45,7 @@ mod counting_alloc;
 pub use contact::ContactError;
 pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
-pub use model::{BodyInfo, ContactPairInfo, Model};
+pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]
 pub use results::{
     Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimulationResult,

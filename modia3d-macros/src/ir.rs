@@ -248,6 +248,8 @@ pub enum ForceIr {
     JointSpringDamper {
         /// The joint.
         joint: NameRef,
+        /// `coordinate = "…"`: the expression and its literal value.
+        coordinate: Option<(Expr, Option<String>)>,
         /// `stiffness`.
         stiffness: Num,
         /// `damping`.
@@ -316,6 +318,8 @@ pub enum Item {
         kind: JointKindIr,
         /// `can_collide = …` and its literal value.
         can_collide: Option<(Expr, Option<bool>)>,
+        /// `cut = …` (prefer this joint as the one that closes its loop) and its literal value.
+        cut: Option<(Expr, Option<bool>)>,
     },
     /// A force element.
     Force {

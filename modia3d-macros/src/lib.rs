@@ -62,10 +62,10 @@ use proc_macro::TokenStream;
 /// | constructor | keys (`*` required, `= default`) |
 /// |---|---|
 /// | `Object3D` | `parent` (reference), `translation = [0,0,0]` (`[f64; 3]`, m, in the parent), `rotation` (Cardan angles `[f64; 3]` in rad, x then new y then new z; or a `Matrix3<f64>` whose columns are the frame's axes; or a `Rotation`), `feature` |
-/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false` |
-/// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide` |
-/// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide` |
-/// | `Fix` | `obj1*`, `obj2*`, `can_collide` |
+/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false`, `cut = false` (prefer this joint as the one that closes its kinematic loop: it becomes a cut joint, enforced by constraints) |
+/// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide`, `cut` |
+/// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide`, `cut` |
+/// | `Fix` | `obj1*`, `obj2*`, `can_collide`, `cut` |
 /// | `SpringDamper` | `obj1*`, `obj2*`, `stiffness*` (N/m), `damping = 0` (N·s/m), `length0 = 0` (m) |
 /// | `JointSpringDamper` | `joint*` (reference to a Revolute or Prismatic), `stiffness*`, `damping = 0`, `offset = 0` |
 /// | `ObjectForce` | `object*`, `law*`: a closure `move \|t: f64, m: &ObjectMotion\| -> Wrench` |

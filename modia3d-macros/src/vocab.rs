@@ -106,10 +106,10 @@ pub const PAIR_KEYS: &[&str] = &[
 /// Keys of a joint constructor.
 pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
     match ctor {
-        "Fix" => &["obj1", "obj2", "can_collide"],
-        "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide"],
-        "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide"],
-        _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide"],
+        "Fix" => &["obj1", "obj2", "can_collide", "cut"],
+        "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide", "cut"],
+        "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide", "cut"],
+        _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide", "cut"],
     }
 }
 

@@ -140,6 +140,7 @@ fn add_force(d: &mut SceneDesc, i: usize, f: &ForceSpec) {
             offset,
         } => ForceElement::JointSpringDamper {
             joint: format!("j{body}"),
+            coordinate: None,
             stiffness: *stiffness,
             damping: *damping,
             offset: *offset,

@@ -1,8 +1,15 @@
 //! Contact stage: the contact set (the paper's `contactDict`) and the zero-crossing functions
 //! (docs/contact-model.md §4). `(&ContactPlan, &mut ContactState)` plus the dynamics workspace (read-only poses
-//! and velocities; contact forces are added to `ws.f_ext`). No allocation after construction.
+//! and velocities; contact forces are added to `ws.f_ext`).
+//!
+//! Only pairs the broad phase reports near (and pairs in the contact set) have a state: a slot
+//! with the pair's constants ([`ContactPlan::pair`], computed when the pair is first reported)
+//! and its [`PairState`], found by shape pair through a map with a fast hasher in root
+//! evaluations and by slot index in the residual. Memory is linear in the number of shapes
+//! and near pairs, not in the N²/2 candidate pairs. No allocation once the slot pool and the
+//! map have grown to the largest near set (the warm-up).
 
-use super::preprocess::ContactPlan;
+use super::preprocess::{ContactPlan, PairPlan};
 use super::regularise::{cor_reg, damping_factor, damping_factor_exact};
 use super::response::{pair_response, PairResponse};
 use crate::dynamics::forces::add_world_wrench;
@@ -57,16 +64,45 @@ pub struct PairState {
     pub response: PairResponse,
 }
 
+/// A pair the broad phase reported near, or one in the contact set.
+#[derive(Clone, Debug)]
+pub struct PairSlot {
+    /// Id of the pair ([`ContactPlan::pair_id`]), set when the pair enters the contact set
+    /// (it costs a scan of one row of shapes, so the root functions never compute it).
+    pub id: u32,
+    /// The pair and its constants.
+    pub plan: PairPlan,
+    /// Its contact state.
+    pub state: PairState,
+    /// Evaluation stamp at which the broad phase last reported it.
+    seen: u64,
+    /// The slot holds a pair (else it is on the free list).
+    used: bool,
+}
+
+/// Key of the shape pair `{a, b}` (either order).
+#[inline]
+fn key(a: usize, b: usize) -> u64 {
+    ((a.min(b) as u64) << 32) | a.max(b) as u64
+}
+
 /// The contact set and scratch of a [`ContactPlan`].
 #[derive(Clone, Debug)]
 pub struct ContactState {
-    /// One per candidate pair.
-    pub pairs: Vec<PairState>,
-    /// Indices of the pairs in the contact set.
-    pub active: Vec<u32>,
-    /// Pairs that entered the set at the last event.
+    /// Pair slots (indices are stable while a pair stays near or in contact).
+    slots: Vec<PairSlot>,
+    /// Unused slots.
+    free: Vec<u32>,
+    /// Slot of each shape pair that has one.
+    slot_of: std::collections::HashMap<u64, u32, foldhash::fast::FixedState>,
+    /// Evaluation stamp of the last root or event evaluation.
+    stamp: u64,
+    /// Slots of the pairs in the contact set (slot indices, not pair ids: see
+    /// [`Self::active_pairs`]).
+    active: Vec<u32>,
+    /// Ids of the pairs that entered the set at the last event ([`ContactPlan::pair_id`]).
     pub started: Vec<u32>,
-    /// Pairs that left the set at the last event.
+    /// Ids of the pairs that left the set at the last event.
     pub ended: Vec<u32>,
     /// Narrow-phase calls so far.
     pub narrow_calls: u64,
@@ -75,19 +111,17 @@ pub struct ContactState {
     /// Narrow-phase calls that stopped at the MPR/GJK iteration limit so far (the best iterate
     /// was used; each pair is warned about once, by `tracing::warn!`).
     pub narrow_limits: u64,
-    /// `limit_warned[p]`: pair `p` has been warned about its iteration limit.
-    limit_warned: Vec<bool>,
+    /// Keys of the pairs warned about their iteration limit.
+    limit_warned: Vec<u64>,
     poses: Vec<Isometry3<f64>>,
     aabbs: Vec<crate::geometry::Aabb>,
     /// AABBs loosened by half the margin on every side, for the broad phase.
     grown: Vec<crate::geometry::Aabb>,
     broad: BroadPhase,
-    /// Shape pairs reported by the broad phase at the last evaluation (capacity: all pairs).
+    /// Shape pairs reported by the broad phase at the last evaluation.
     near_shapes: Vec<(u32, u32)>,
-    /// Candidate pairs reported by the broad phase at the last evaluation.
+    /// Slots of the pairs reported by the broad phase at the last evaluation.
     near: Vec<u32>,
-    /// `in_near[p]`: pair `p` is in `near` (else its `z_AB` counts as the margin).
-    in_near: Vec<bool>,
 }
 
 fn to_isometry(t: &Transform) -> Isometry3<f64> {
@@ -97,51 +131,79 @@ fn to_isometry(t: &Transform) -> Isometry3<f64> {
     )
 }
 
-/// Pose of shape `s` in world at the workspace state (`position_velocity` done).
+/// Pose of shape `s` in world at the workspace state (`position_velocity` done). A sphere
+/// (`ShapePlan::round`) gets its position and the identity rotation: its core is a point at
+/// the frame origin, so every query (narrow phase, contact point, AABB) depends on the
+/// position alone, and the rotation matrix → quaternion conversion is skipped.
 pub(crate) fn shape_pose(cp: &ContactPlan, ws: &Workspace, s: usize) -> Isometry3<f64> {
     let sp = &cp.shapes[s];
-    let t = match sp.body {
-        Some(b) => ws.world[b].then(&sp.in_body),
-        None => sp.in_body,
-    };
-    to_isometry(&t)
+    match sp.body {
+        Some(b) if sp.round => {
+            let x = &ws.world[b];
+            Isometry3::from_parts(
+                Translation3::from(x.pos + x.rot * sp.in_body.pos),
+                UnitQuaternion::identity(),
+            )
+        }
+        Some(b) => to_isometry(&ws.world[b].then(&sp.in_body)),
+        None => to_isometry(&sp.in_body),
+    }
 }
 
 impl ContactState {
     /// The state of `cp`: empty contact set.
     pub fn new(cp: &ContactPlan) -> Self {
-        let np = cp.pairs.len();
-        let zero = PairState {
-            in_contact: false,
-            z: f64::INFINITY,
-            delta_dot_minus: 0.0,
-            d: 0.0,
-            geometry: SignedDistance {
-                distance: f64::INFINITY,
-                normal: Vector3::z(),
-                point_a: Point3::origin(),
-                point_b: Point3::origin(),
-            },
-            response: PairResponse::default(),
-        };
         let ns = cp.shapes.len();
-        ContactState {
-            pairs: vec![zero; np],
-            active: Vec::with_capacity(np),
-            started: Vec::with_capacity(np),
-            ended: Vec::with_capacity(np),
+        let mut cs = ContactState {
+            slots: Vec::with_capacity(ns),
+            free: Vec::with_capacity(ns),
+            slot_of: std::collections::HashMap::with_capacity_and_hasher(
+                ns,
+                foldhash::fast::FixedState::default(),
+            ),
+            stamp: 0,
+            active: Vec::with_capacity(ns),
+            started: Vec::with_capacity(ns),
+            ended: Vec::with_capacity(ns),
             narrow_calls: 0,
             aabb_tests: 0,
             narrow_limits: 0,
-            limit_warned: vec![false; np],
+            limit_warned: vec![],
             poses: vec![Isometry3::identity(); ns],
             aabbs: vec![crate::geometry::Aabb::new_invalid(); ns],
             grown: vec![crate::geometry::Aabb::new_invalid(); ns],
             broad: BroadPhase::new(ns),
-            near_shapes: Vec::with_capacity(np),
-            near: Vec::with_capacity(np),
-            in_near: vec![false; np],
+            near_shapes: Vec::with_capacity(ns),
+            near: Vec::with_capacity(ns),
+        };
+        // Shapes fixed to the world: pose and boxes once (the evaluations update moving ones).
+        for (s, sp) in cp.shapes.iter().enumerate() {
+            if sp.body.is_none() {
+                cs.poses[s] = to_isometry(&sp.in_body);
+                cs.aabbs[s] = world_aabb(&sp.shape, &cs.poses[s]);
+                cs.grown[s] = BoundingVolume::loosened(&cs.aabbs[s], 0.5 * cp.margin);
+            }
         }
+        cs
+    }
+
+    /// Poses of the two shapes of the pair in slot `p` at the workspace state (fixed shapes
+    /// keep theirs).
+    #[inline]
+    fn update_pair_poses(&mut self, cp: &ContactPlan, ws: &Workspace, p: usize) {
+        let (a, b) = self.shapes_of(p);
+        for s in [a, b] {
+            if cp.shapes[s].body.is_some() {
+                self.poses[s] = shape_pose(cp, ws, s);
+            }
+        }
+    }
+
+    /// Shape indices of the pair in slot `p`.
+    #[inline]
+    fn shapes_of(&self, p: usize) -> (usize, usize) {
+        let pp = &self.slots[p].plan;
+        (pp.a, pp.b)
     }
 
     fn narrow(
@@ -151,43 +213,54 @@ impl ContactState {
         p: usize,
         t: f64,
     ) -> Result<SignedDistance, ContactError> {
-        let pp = &cp.pairs[p];
+        let (a, b) = self.shapes_of(p);
         self.narrow_calls += 1;
-        let (sd, method) = signed_distance_method(
-            &cp.shapes[pp.a].shape,
-            &self.poses[pp.a],
-            &cp.shapes[pp.b].shape,
-            &self.poses[pp.b],
+        let r = signed_distance_method(
+            &cp.shapes[a].shape,
+            &self.poses[a],
+            &cp.shapes[b].shape,
+            &self.poses[b],
             &cp.narrow,
-        )
-        .map_err(|source| ContactError {
-            pair: cp.pair_name(&plan.scene, p),
-            t,
-            source,
-        })?;
-        if method == Method::IterationLimit {
-            // The iterate is still usable (a lower bound of the distance); say so once per
-            // pair, since a pair that needs more iterations usually does so at every call.
-            self.narrow_limits += 1;
-            if !self.limit_warned[p] {
-                self.limit_warned[p] = true;
-                tracing::warn!(
-                    pair = %cp.pair_name(&plan.scene, p),
-                    t,
-                    max_iterations = cp.narrow.max_iterations,
-                    "the narrow phase stopped at its iteration limit before meeting \
-                     mpr_tolerance; the best iterate is used (raise mpr_max_iterations or \
-                     loosen mpr_tolerance if this repeats)"
-                );
+        );
+        match r {
+            Ok((sd, Method::IterationLimit)) => {
+                self.limit_reached(plan, cp, p, t);
+                Ok(sd)
             }
+            Ok((sd, _)) => Ok(sd),
+            Err(source) => Err(ContactError {
+                pair: cp.pair_name(&plan.scene, &self.slots[p].plan),
+                t,
+                source,
+            }),
         }
-        Ok(sd)
     }
 
-    /// Point of application of pair `p`'s force for its narrow-phase result `sd` (poses of the
-    /// same call).
+    /// The narrow phase of slot `p` stopped at its iteration limit: the iterate is still
+    /// usable (a lower bound of the distance); say so once per pair, since a pair that needs
+    /// more iterations usually does so at every call.
+    #[cold]
+    fn limit_reached(&mut self, plan: &Plan, cp: &ContactPlan, p: usize, t: f64) {
+        self.narrow_limits += 1;
+        let pp = &self.slots[p].plan;
+        let k = key(pp.a, pp.b);
+        if !self.limit_warned.contains(&k) {
+            self.limit_warned.push(k);
+            tracing::warn!(
+                pair = %cp.pair_name(&plan.scene, pp),
+                t,
+                max_iterations = cp.narrow.max_iterations,
+                "the narrow phase stopped at its iteration limit before meeting \
+                 mpr_tolerance; the best iterate is used (raise mpr_max_iterations or \
+                 loosen mpr_tolerance if this repeats)"
+            );
+        }
+    }
+
+    /// Point of application of the force of the pair in slot `p` for its narrow-phase result
+    /// `sd` (poses of the same call).
     fn point(&self, cp: &ContactPlan, p: usize, sd: &SignedDistance) -> Vector3<f64> {
-        let pp = &cp.pairs[p];
+        let pp = &self.slots[p].plan;
         contact_point(
             &cp.shapes[pp.a].shape,
             &self.poses[pp.a],
@@ -196,6 +269,47 @@ impl ContactState {
             sd,
         )
         .coords
+    }
+
+    /// The slot of the candidate pair of shapes `a`, `b`, taken from the free list (or grown)
+    /// with a fresh state if the pair has none; `None` if they cannot meet.
+    fn slot(&mut self, cp: &ContactPlan, a: usize, b: usize) -> Option<u32> {
+        let k = key(a, b);
+        if let Some(&p) = self.slot_of.get(&k) {
+            return Some(p);
+        }
+        let slot = PairSlot {
+            plan: cp.pair(a, b)?,
+            id: u32::MAX,
+            state: PairState::APART,
+            seen: 0,
+            used: true,
+        };
+        let p = match self.free.pop() {
+            Some(p) => {
+                self.slots[p as usize] = slot;
+                p
+            }
+            None => {
+                self.slots.push(slot);
+                (self.slots.len() - 1) as u32
+            }
+        };
+        self.slot_of.insert(k, p);
+        Some(p)
+    }
+
+    /// Frees the slots of pairs neither reported at this evaluation nor in the contact set:
+    /// their state is that of a pair apart, rebuilt when the broad phase reports them again.
+    fn release_far(&mut self) {
+        for p in 0..self.slots.len() {
+            let sl = &mut self.slots[p];
+            if sl.used && sl.seen != self.stamp && !sl.state.in_contact {
+                sl.used = false;
+                self.slot_of.remove(&key(sl.plan.a, sl.plan.b));
+                self.free.push(p as u32);
+            }
+        }
     }
 
     /// Evaluates the collision stage in `mode` at the workspace state (`position_velocity`
@@ -213,69 +327,67 @@ impl ContactState {
             Mode::Continuous => {
                 for k in 0..self.active.len() {
                     let p = self.active[k] as usize;
-                    let pp = &cp.pairs[p];
-                    self.poses[pp.a] = shape_pose(cp, ws, pp.a);
-                    self.poses[pp.b] = shape_pose(cp, ws, pp.b);
+                    self.update_pair_poses(cp, ws, p);
                     let sd = self.narrow(plan, cp, p, t)?;
                     let point = self.point(cp, p, &sd);
-                    let ps = &mut self.pairs[p];
-                    ps.geometry = sd;
-                    ps.z = sd.distance;
-                    apply(cp, p, ps, &point, ws);
+                    let sl = &mut self.slots[p];
+                    sl.state.geometry = sd;
+                    sl.state.z = sd.distance;
+                    apply(cp, &sl.plan, &mut sl.state, &point, ws);
                 }
                 Ok(())
             }
             Mode::ZeroCrossing | Mode::Event => {
-                for s in 0..cp.shapes.len() {
+                for &s in &cp.moving {
                     self.poses[s] = shape_pose(cp, ws, s);
                     self.aabbs[s] = world_aabb(&cp.shapes[s].shape, &self.poses[s]);
                     self.grown[s] = BoundingVolume::loosened(&self.aabbs[s], 0.5 * cp.margin);
                 }
                 // Broad phase: only candidate pairs whose loosened boxes overlap get a z_AB;
                 // the others count as `margin` (see ContactPlan::margin).
-                let pair_of = &cp.pair_of;
                 self.broad.update(
                     &self.grown,
-                    |a, b| pair_of.contains_key(&(a, b)),
+                    |a, b| cp.can_meet(a as usize, b as usize),
                     &mut self.near_shapes,
                 );
                 self.aabb_tests += self.broad.box_tests();
-                for &p in &self.near {
-                    self.in_near[p as usize] = false;
-                }
+                self.stamp += 1;
                 self.near.clear();
-                for &(a, b) in &self.near_shapes {
-                    let p = pair_of[&(a, b)];
-                    self.in_near[p as usize] = true;
-                    self.near.push(p);
+                for k in 0..self.near_shapes.len() {
+                    let (a, b) = self.near_shapes[k];
+                    if let Some(p) = self.slot(cp, a as usize, b as usize) {
+                        self.slots[p as usize].seen = self.stamp;
+                        self.near.push(p);
+                    }
                 }
                 for k in 0..self.near.len() {
                     let p = self.near[k] as usize;
-                    let pp = &cp.pairs[p];
-                    let da = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
+                    let (a, b) = self.shapes_of(p);
+                    let da = aabb_distance(&self.aabbs[a], &self.aabbs[b]);
                     // The AABB distance is a lower bound of the shapes' distance; above the
                     // end level 2ε it decides nothing (see `Hysteresis`), below it the narrow
                     // phase gives the exact value the contact-set decision needs.
                     if da > cp.hysteresis_band().end {
-                        self.pairs[p].z = da;
+                        self.slots[p].state.z = da;
                     } else {
                         let sd = self.narrow(plan, cp, p, t)?;
-                        self.pairs[p].geometry = sd;
-                        self.pairs[p].z = sd.distance;
+                        self.slots[p].state.geometry = sd;
+                        self.slots[p].state.z = sd.distance;
                     }
                 }
                 // A pair still in the set but no longer reported moved far apart in one step:
                 // its z_AB (positive) lets z_1 cross upwards.
                 for k in 0..self.active.len() {
                     let p = self.active[k] as usize;
-                    if !self.in_near[p] {
-                        let pp = &cp.pairs[p];
-                        self.pairs[p].z = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
+                    if self.slots[p].seen != self.stamp {
+                        let pp = self.slots[p].plan;
+                        self.slots[p].state.z = aabb_distance(&self.aabbs[pp.a], &self.aabbs[pp.b]);
                     }
                 }
                 if mode == Mode::Event {
                     self.rebuild(cp, ws);
                 }
+                self.release_far();
                 Ok(())
             }
         }
@@ -289,23 +401,24 @@ impl ContactState {
         // Pairs the broad phase no longer reports are far apart: they leave the set.
         for k in 0..self.active.len() {
             let p = self.active[k] as usize;
-            if !self.in_near[p] {
-                self.pairs[p].in_contact = false;
-                self.pairs[p].response = PairResponse::default();
-                self.ended.push(p as u32);
+            let sl = &mut self.slots[p];
+            if sl.seen != self.stamp {
+                sl.state.in_contact = false;
+                sl.state.response = PairResponse::default();
+                self.ended.push(sl.id);
             }
         }
         self.active.clear();
         for k in 0..self.near.len() {
             let p = self.near[k] as usize;
-            let pp = &cp.pairs[p];
-            let now = self.pairs[p].z < cp.hysteresis_band().decide;
-            let point = if now && !self.pairs[p].in_contact {
-                self.point(cp, p, &self.pairs[p].geometry)
+            let now = self.slots[p].state.z < cp.hysteresis_band().decide;
+            let point = if now && !self.slots[p].state.in_contact {
+                self.point(cp, p, &self.slots[p].state.geometry)
             } else {
                 Vector3::zeros()
             };
-            let ps = &mut self.pairs[p];
+            let sl = &mut self.slots[p];
+            let (pp, ps) = (&sl.plan, &mut sl.state);
             if now && !ps.in_contact {
                 let sd = &ps.geometry;
                 let (v1, _) = point_velocity(ws, cp.shapes[pp.a].body, &point);
@@ -318,9 +431,10 @@ impl ContactState {
                 } else {
                     damping_factor(c, dd, pp.v_min, cp.d_max)
                 };
-                self.started.push(p as u32);
+                sl.id = cp.pair_id(pp.a, pp.b).map_or(u32::MAX, |i| i as u32);
+                self.started.push(sl.id);
             } else if !now && ps.in_contact {
-                self.ended.push(p as u32);
+                self.ended.push(sl.id);
                 ps.response = PairResponse::default();
             }
             ps.in_contact = now;
@@ -338,19 +452,66 @@ impl ContactState {
         let mut z1 = -42.0f64;
         let mut any = false;
         for &p in &self.active {
-            let z = self.pairs[p as usize].z - band.end;
+            let z = self.slots[p as usize].state.z - band.end;
             z1 = if any { z1.max(z) } else { z };
             any = true;
         }
         let mut z2 = cp.margin - band.start;
         for &p in &self.near {
-            let ps = &self.pairs[p as usize];
+            let ps = &self.slots[p as usize].state;
             if !ps.in_contact {
                 z2 = z2.min(ps.z - band.start);
             }
         }
         (z1, z2)
     }
+
+    /// Number of pairs in the contact set.
+    #[cfg(test)]
+    pub fn n_active(&self) -> usize {
+        self.active.len()
+    }
+
+    /// Number of pairs that have a state (reported near at the last root or event
+    /// evaluation, or in the contact set).
+    #[cfg(test)]
+    pub fn pairs_with_state(&self) -> usize {
+        self.slot_of.len()
+    }
+
+    /// The pairs in the contact set: their ids ([`ContactPlan::pair_id`]), constants and
+    /// states.
+    pub fn active_pairs(&self) -> impl Iterator<Item = (usize, &PairPlan, &PairState)> {
+        self.active.iter().map(|&p| {
+            let sl = &self.slots[p as usize];
+            (sl.id as usize, &sl.plan, &sl.state)
+        })
+    }
+
+    /// The state of the pair of shapes `a`, `b` (either order), `None` while the broad phase
+    /// does not report it (apart: not in contact, zero response).
+    pub fn state_of(&self, a: usize, b: usize) -> Option<&PairState> {
+        self.slot_of
+            .get(&key(a, b))
+            .map(|&p| &self.slots[p as usize].state)
+    }
+}
+
+impl PairState {
+    /// The state of a pair apart: not in contact, `z` infinite, zero response.
+    pub const APART: PairState = PairState {
+        in_contact: false,
+        z: f64::INFINITY,
+        delta_dot_minus: 0.0,
+        d: 0.0,
+        geometry: SignedDistance {
+            distance: f64::INFINITY,
+            normal: Vector3::new(0.0, 0.0, 1.0),
+            point_a: Point3::new(0.0, 0.0, 0.0),
+            point_b: Point3::new(0.0, 0.0, 0.0),
+        },
+        response: PairResponse::ZERO,
+    };
 }
 
 /// The levels of the contact-set hysteresis, in values of `z_AB` [m] (signed distance:
@@ -398,9 +559,14 @@ impl ContactPlan {
     }
 }
 
-/// Response of pair `p` in contact, applied to both bodies.
-fn apply(cp: &ContactPlan, p: usize, ps: &mut PairState, point: &Vector3<f64>, ws: &mut Workspace) {
-    let pp = &cp.pairs[p];
+/// Response of pair `pp` in contact (state `ps`), applied to both bodies.
+fn apply(
+    cp: &ContactPlan,
+    pp: &PairPlan,
+    ps: &mut PairState,
+    point: &Vector3<f64>,
+    ws: &mut Workspace,
+) {
     let (ba, bb) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
     let sd = &ps.geometry;
     let (v1, w1) = point_velocity(ws, ba, point);

@@ -14,7 +14,7 @@ use super::contact_set::shape_pose;
 use super::preprocess::ContactPlan;
 use crate::dynamics::{kinematics, Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
-use crate::geometry::{signed_distance_method, CollisionShape};
+use crate::geometry::{signed_distance_method, world_aabb, BroadPhase, CollisionShape};
 use crate::scene::SceneError;
 use nalgebra::{Isometry3, Vector3};
 
@@ -41,8 +41,26 @@ pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneEr
     let poses: Vec<_> = (0..cp.shapes.len())
         .map(|s| shape_pose(cp, &ws, s))
         .collect();
+    // Only pairs whose boxes overlap can penetrate: the broad phase finds them without
+    // looking at all N²/2 candidate pairs.
+    let aabbs: Vec<_> = cp
+        .shapes
+        .iter()
+        .zip(&poses)
+        .map(|(s, p)| world_aabb(&s.shape, p))
+        .collect();
+    let mut overlapping = vec![];
+    BroadPhase::new(aabbs.len()).update(
+        &aabbs,
+        |a, b| cp.can_meet(a as usize, b as usize),
+        &mut overlapping,
+    );
+    overlapping.sort_unstable();
     let mut errors = vec![];
-    for (p, pp) in cp.pairs.iter().enumerate() {
+    for pp in overlapping
+        .iter()
+        .filter_map(|&(a, b)| cp.pair(a as usize, b as usize))
+    {
         let (a, b) = (&cp.shapes[pp.a].shape, &cp.shapes[pp.b].shape);
         let (pa, pb) = (&poses[pp.a], &poses[pp.b]);
         let Ok((sd, method)) = signed_distance_method(a, pa, b, pb, &cp.narrow) else {
@@ -58,7 +76,7 @@ pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneEr
         if depth > limit {
             let centre_gap = (pb * b.centre() - pa * a.centre()).norm();
             let size = a.bounding_radius() + b.bounding_radius();
-            let names = cp.pair_name(&plan.scene, p);
+            let names = cp.pair_name(&plan.scene, &pp);
             let (object1, object2) = names.split_once('|').unwrap_or((&names, ""));
             errors.push(SceneError::InitialPenetration {
                 object1: object1.to_string(),

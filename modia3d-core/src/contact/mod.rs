@@ -17,6 +17,6 @@ mod response;
 mod restitution;
 mod step_guard;
 
-pub use contact_set::{ContactError, ContactState, Mode};
+pub use contact_set::{ContactError, ContactState, Mode, PairState};
 pub(crate) use initial::initial_penetrations;
 pub use preprocess::ContactPlan;

@@ -1,10 +1,14 @@
 //! Contact stage, preprocessing (docs/contact-model.md §2.1): once, when the plan is compiled, the collision
-//! shapes, the candidate pairs (not rigidly attached, not joined by a joint with
-//! `can_collide = false`) and each pair's material and geometry constants. Immutable.
+//! shapes and the rules that make two of them a candidate pair (not rigidly attached, not
+//! joined by a joint with `can_collide = false`), with the material constants per pair of
+//! contact materials. Immutable. The candidate pairs themselves are not stored (there are
+//! N²/2 of them): [`ContactPlan::pair`] gives a pair and its constants on demand, for the
+//! pairs the broad phase reports; [`ContactPlan::candidate_pairs`] enumerates them all (build
+//! time and result queries only).
 
 use crate::dynamics::spatial::Transform;
-use crate::dynamics::ObjectPlan;
-use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape, ShapeKind};
+use crate::dynamics::{BodyId, ObjectPlan};
+use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
 /// A collision shape of the plan.
@@ -13,20 +17,39 @@ pub struct ShapePlan {
     /// Scene object index (the shape frame is the object frame).
     pub object: usize,
     /// Moving body it belongs to; `None` = fixed to the world.
-    pub body: Option<usize>,
+    pub body: Option<BodyId>,
     /// The object frame placed in the body frame (or in world) [m].
     pub in_body: Transform,
     /// The shape, smoothed.
     pub shape: CollisionShape,
     /// Contact material name.
     pub contact_material: String,
+    /// Index of the contact material in the plan's material table.
+    material: usize,
+    /// What the pair's geometry coefficients need of the user shape.
+    geo: ShapeGeo,
     /// `c = E / (1 − ν²)` [N/m²].
     pub c: f64,
+    /// The shape is a sphere: a point core at the shape frame's origin swept by its radius, so
+    /// its geometry depends on the frame's position only (`contact_set.rs` places it without
+    /// its rotation).
+    pub round: bool,
 }
 
-/// A candidate pair with its constants (fixed when the scene is compiled; the damping factor
-/// is fixed when a contact starts).
-#[derive(Clone, Debug)]
+/// What the geometry coefficients of a pair (docs/contact-model.md §3) need of a user shape.
+#[derive(Clone, Copy, Debug)]
+struct ShapeGeo {
+    /// Diameter [m] of a sphere, `None` for other shapes.
+    sphere_diameter: Option<f64>,
+    /// Contact radius [m] in the later Modia3D profile.
+    radius: f64,
+    /// The shape counts as flat in the later profile.
+    flat: bool,
+}
+
+/// A candidate pair with its constants (from the plan, on demand: [`ContactPlan::pair`]; the
+/// damping factor is fixed when a contact starts).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairPlan {
     /// Shape index of object 1 (normal points from it to object 2).
     pub a: usize,
@@ -57,8 +80,18 @@ pub struct PairPlan {
 pub struct ContactPlan {
     /// Collision shapes.
     pub shapes: Vec<ShapePlan>,
-    /// Candidate pairs.
-    pub pairs: Vec<PairPlan>,
+    /// Number of candidate pairs (they are enumerated by [`Self::candidate_pairs`]).
+    pub n_pairs: usize,
+    /// `row_start[a]`: number of candidate pairs `(a', b)` with `a' < a` (len: shapes + 1),
+    /// so that a pair's id (its index in [`Self::candidate_pairs`]) costs one row scan.
+    row_start: Vec<usize>,
+    /// Which objects can meet (rigid clusters, joints with `can_collide = false`).
+    filter: CollisionFilter,
+    /// The pair material of contact materials `i` and `j` at `i · n_materials + j` (`None`: a
+    /// validation error, never in a compiled plan).
+    materials: Vec<Option<PairMaterial>>,
+    /// Number of distinct contact materials.
+    n_materials: usize,
     /// Elastic contact reduction factor [-].
     pub k_red: f64,
     /// Damping bound [s/m].
@@ -73,8 +106,9 @@ pub struct ContactPlan {
     pub exact_restitution: bool,
     /// Narrow-phase options.
     pub narrow: NarrowPhaseOptions,
-    /// Candidate pair index of each shape pair `(a, b)`, `a < b` (the broad phase's filter).
-    pub pair_of: std::collections::HashMap<(u32, u32), u32>,
+    /// Shapes on moving bodies (the others' poses and boxes are computed once, in
+    /// `ContactState::new`).
+    pub moving: Vec<usize>,
     /// Broad-phase margin [m]: pairs whose AABBs are more than this apart on some axis are not
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
     /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
@@ -83,10 +117,19 @@ pub struct ContactPlan {
     pub step_guard: super::step_guard::StepGuard,
 }
 
+/// The constants of a pair of contact materials, the scene's defaults filled in.
+#[derive(Clone, Copy, Debug)]
+struct PairMaterial {
+    cor: f64,
+    mu_k: f64,
+    mu_r: f64,
+    v_min: f64,
+    w_min: f64,
+}
+
 impl ContactPlan {
-    /// Display name of pair `p`: `"<object a>|<object b>"` (the owner part of its signals).
-    pub fn pair_name(&self, scene: &ValidScene, p: usize) -> String {
-        let pp = &self.pairs[p];
+    /// Display name of pair `pp`: `"<object a>|<object b>"` (the owner part of its signals).
+    pub fn pair_name(&self, scene: &ValidScene, pp: &PairPlan) -> String {
         format!(
             "{}|{}",
             scene.objects[self.shapes[pp.a].object].name,
@@ -136,61 +179,52 @@ impl ContactPlan {
                 shape: cs,
                 contact_material: cm.clone(),
                 c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
+                round: matches!(shape, Shape::Sphere { .. }),
+                material: 0, // set below
+                geo: {
+                    let (radius, flat) = contact_radius(shape);
+                    let sphere_diameter = match shape {
+                        Shape::Sphere { diameter } => Some(*diameter),
+                        _ => None,
+                    };
+                    ShapeGeo {
+                        sphere_diameter,
+                        radius,
+                        flat,
+                    }
+                },
             });
         }
         // Which solids can meet: the scene's contact rules (`scene/contact_rules.rs`), which
         // validation also uses to report pairs without a material.
         let filter = CollisionFilter::new(scene);
-        let mut pairs = vec![];
-        for a in 0..shapes.len() {
-            for b in a + 1..shapes.len() {
-                let (sa, sb) = (&shapes[a], &shapes[b]);
-                if !filter.can_meet(sa.object, sb.object) {
-                    continue;
+        // One entry per pair of contact materials (a handful), not per pair of shapes.
+        let mut names: Vec<&str> = vec![];
+        for sp in &mut shapes {
+            sp.material = match names.iter().position(|n| *n == sp.contact_material) {
+                Some(k) => k,
+                None => {
+                    names.push(&sp.contact_material);
+                    names.len() - 1
                 }
-                let Some(m) = scene.contact_pair(&sa.contact_material, &sb.contact_material) else {
-                    continue; // a validation error (`missing_contact_pairs`)
-                };
-                // Keep a sphere first: μ_geo = r1 for sphere–other.
-                let (a, b) = if sb.shape.kind() == ShapeKind::Sphere
-                    && sa.shape.kind() != ShapeKind::Sphere
-                {
-                    (b, a)
-                } else {
-                    (a, b)
-                };
-                let (sa, sb) = (&shapes[a], &shapes[b]);
-                let (mu_geo, c_geo, n_geo) =
-                    geometry_coefficients(opts.contact_profile, scene, sa, sb);
-                pairs.push(PairPlan {
-                    a,
-                    b,
+            };
+        }
+        let n_materials = names.len();
+        let mut materials = Vec::with_capacity(n_materials * n_materials);
+        for a in &names {
+            for b in &names {
+                materials.push(scene.contact_pair(a, b).map(|m| PairMaterial {
                     cor: m.cor,
                     mu_k: m.mu_k,
                     mu_r: m.mu_r,
                     v_min: m.v_min.unwrap_or(opts.v_min),
                     w_min: m.w_min.unwrap_or(opts.w_min),
-                    c_res: 1.0 / (1.0 / sa.c + 1.0 / sb.c),
-                    mu_geo,
-                    c_geo,
-                    n_geo,
-                });
+                }));
             }
         }
         if !errors.is_empty() {
             return Err(errors);
         }
-        if pairs.is_empty() {
-            return Ok(None);
-        }
-        let pair_of = pairs
-            .iter()
-            .enumerate()
-            .map(|(p, pp)| {
-                let (a, b) = (pp.a.min(pp.b) as u32, pp.a.max(pp.b) as u32);
-                ((a, b), p as u32)
-            })
-            .collect();
         // Half the smallest bounding radius: small enough that the broad phase prunes, any
         // positive value gives the same events.
         let margin = 0.5
@@ -198,12 +232,19 @@ impl ContactPlan {
                 .iter()
                 .map(|s| s.shape.bounding_radius())
                 .fold(f64::INFINITY, f64::min);
-        Ok(Some(ContactPlan {
-            step_guard: super::step_guard::StepGuard::new(&shapes, &pairs),
-            pair_of,
+        let moving = (0..shapes.len())
+            .filter(|&s| shapes[s].body.is_some())
+            .collect();
+        let mut cp = ContactPlan {
+            moving,
+            step_guard: super::step_guard::StepGuard::default(),
             margin,
             shapes,
-            pairs,
+            n_pairs: 0,
+            row_start: vec![],
+            filter,
+            materials,
+            n_materials,
             k_red: opts.k_red,
             d_max: opts.d_max,
             cor_min: opts.cor_min,
@@ -215,42 +256,117 @@ impl ContactPlan {
                 max_iterations: opts.mpr_max_iterations,
                 ..Default::default()
             },
-        }))
+        };
+        // Counting is O(N²) in time (a few ns per shape pair); one number per shape is stored.
+        let n = cp.shapes.len();
+        let mut row_start = Vec::with_capacity(n + 1);
+        let mut count = 0;
+        for a in 0..n {
+            row_start.push(count);
+            count += (a + 1..n).filter(|&b| cp.can_meet(a, b)).count();
+        }
+        row_start.push(count);
+        cp.row_start = row_start;
+        cp.n_pairs = count;
+        if cp.n_pairs == 0 {
+            return Ok(None);
+        }
+        cp.step_guard = super::step_guard::StepGuard::new(&cp);
+        Ok(Some(cp))
+    }
+
+    /// Whether shapes `a` and `b` form a candidate pair (either order; the broad phase's
+    /// filter): on bodies that can meet, with a pair material. O(1) for scenes without
+    /// joints that forbid collisions.
+    #[inline]
+    pub fn can_meet(&self, a: usize, b: usize) -> bool {
+        let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
+        a != b
+            && self.materials[sa.material * self.n_materials + sb.material].is_some()
+            && self.filter.can_meet(sa.object, sb.object)
+    }
+
+    /// Candidate pair of shapes `a` and `b` (either order) with its constants, `None` if they
+    /// cannot meet. A sphere comes first (`μ_geo = r_1` for sphere–other), else the lower
+    /// shape index. A few flops: called when the broad phase first reports a pair.
+    pub fn pair(&self, a: usize, b: usize) -> Option<PairPlan> {
+        if !self.can_meet(a, b) {
+            return None;
+        }
+        let (a, b) = (a.min(b), a.max(b));
+        let (a, b) = if self.shapes[b].round && !self.shapes[a].round {
+            (b, a)
+        } else {
+            (a, b)
+        };
+        let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
+        let m = self.materials[sa.material * self.n_materials + sb.material]?;
+        let (mu_geo, c_geo, n_geo) = geometry_coefficients(self.profile, &sa.geo, &sb.geo);
+        Some(PairPlan {
+            a,
+            b,
+            cor: m.cor,
+            mu_k: m.mu_k,
+            mu_r: m.mu_r,
+            v_min: m.v_min,
+            w_min: m.w_min,
+            c_res: 1.0 / (1.0 / sa.c + 1.0 / sb.c),
+            mu_geo,
+            c_geo,
+            n_geo,
+        })
+    }
+
+    /// Id of the candidate pair of shapes `a`, `b` (either order): its index in
+    /// [`Self::candidate_pairs`] (the order of the contact signals); `None` if they cannot
+    /// meet. O(|a − b|): for events and results, not the root functions.
+    pub fn pair_id(&self, a: usize, b: usize) -> Option<usize> {
+        if !self.can_meet(a, b) {
+            return None;
+        }
+        let (lo, hi) = (a.min(b), a.max(b));
+        Some(self.row_start[lo] + (lo + 1..hi).filter(|&c| self.can_meet(lo, c)).count())
+    }
+
+    /// The candidate pair with id `id` (see [`Self::pair_id`]), `None` for `id ≥ n_pairs`.
+    /// O(log N + N).
+    pub fn pair_by_id(&self, id: usize) -> Option<PairPlan> {
+        if id >= self.n_pairs {
+            return None;
+        }
+        let a = self.row_start.partition_point(|&r| r <= id) - 1;
+        let k = id - self.row_start[a];
+        let b = (a + 1..self.shapes.len())
+            .filter(|&b| self.can_meet(a, b))
+            .nth(k)?;
+        self.pair(a, b)
+    }
+
+    /// All candidate pairs, shape pairs in lexicographic order of their lower and higher
+    /// index (the order of the contact signals). O(N²) in time; for build-time checks and
+    /// result queries, never the simulation.
+    pub fn candidate_pairs(&self) -> impl Iterator<Item = PairPlan> + '_ {
+        let n = self.shapes.len();
+        (0..n).flat_map(move |a| (a + 1..n).filter_map(move |b| self.pair(a, b)))
     }
 }
-
-/// The user shape of a shape plan.
-fn user_shape<'a>(scene: &'a ValidScene, s: &ShapePlan) -> &'a Shape {
-    scene.objects[s.object]
-        .solid
-        .as_ref()
-        .and_then(|x| x.shape.as_ref())
-        .expect("collision shapes come from solids with a shape")
-}
-
 /// `(μ_geo, c_geo, n_geo)` of a pair (docs/contact-model.md §3 table; later profile: Hertz for every pair).
-fn geometry_coefficients(
-    profile: ContactProfile,
-    scene: &ValidScene,
-    a: &ShapePlan,
-    b: &ShapePlan,
-) -> (f64, f64, f64) {
-    let (sa, sb) = (user_shape(scene, a), user_shape(scene, b));
+fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) -> (f64, f64, f64) {
     match profile {
-        ContactProfile::Paper2019 => match (sa, sb) {
-            (Shape::Sphere { diameter: d1 }, Shape::Sphere { diameter: d2 }) => {
+        ContactProfile::Paper2019 => match (a.sphere_diameter, b.sphere_diameter) {
+            (Some(d1), Some(d2)) => {
                 let mu = 1.0 / (2.0 / d1 + 2.0 / d2);
                 (mu, 4.0 / 3.0 * mu.sqrt(), 1.5)
             }
-            (Shape::Sphere { diameter }, _) | (_, Shape::Sphere { diameter }) => {
+            (Some(diameter), None) | (None, Some(diameter)) => {
                 let r = 0.5 * diameter;
                 (r, 4.0 / 3.0 * r.sqrt(), 1.5)
             }
-            _ => (1.0, 1.0, 1.0),
+            (None, None) => (1.0, 1.0, 1.0),
         },
         ContactProfile::Modia3DLater => {
-            let (ra, fa) = contact_radius(sa);
-            let (rb, fb) = contact_radius(sb);
+            let (ra, fa) = (a.radius, a.flat);
+            let (rb, fb) = (b.radius, b.flat);
             let curvature = if fa { 0.0 } else { 1.0 / ra } + if fb { 0.0 } else { 1.0 / rb };
             let mu = if curvature > 0.0 {
                 1.0 / curvature

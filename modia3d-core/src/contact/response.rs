@@ -27,6 +27,20 @@ pub struct PairResponse {
     pub normal: Vector3<f64>,
 }
 
+impl PairResponse {
+    /// No contact: everything zero.
+    pub const ZERO: PairResponse = PairResponse {
+        penetration: 0.0,
+        penetration_velocity: 0.0,
+        f_n: 0.0,
+        normal_force: Vector3::new(0.0, 0.0, 0.0),
+        friction_force: Vector3::new(0.0, 0.0, 0.0),
+        rolling_torque: Vector3::new(0.0, 0.0, 0.0),
+        point: Vector3::new(0.0, 0.0, 0.0),
+        normal: Vector3::new(0.0, 0.0, 0.0),
+    };
+}
+
 /// The response law of docs/contact-model.md §3 for pair `pp` with damping factor `d` [s/m] (fixed at contact
 /// start), contact geometry `sd` (normal a → b), the contact point `point` [m] and the
 /// velocities of the two bodies' material points there and their angular velocities (all

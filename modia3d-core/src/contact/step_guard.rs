@@ -8,7 +8,7 @@
 //! costs one pass over the moving collision bodies per step (restarts and steps, never the
 //! residual).
 
-use super::preprocess::{PairPlan, ShapePlan};
+use super::preprocess::{ContactPlan, ShapePlan};
 use crate::dynamics::Workspace;
 use crate::geometry::world_aabb;
 use nalgebra::{Isometry3, Vector3};
@@ -18,29 +18,46 @@ use nalgebra::{Isometry3, Vector3};
 const SAFETY: f64 = 0.25;
 
 /// What the guard needs of a contact plan.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct StepGuard {
     /// min over candidate pairs of `t_a + t_b` [m], `t` the smallest edge of a shape's own
     /// bounding box (its diameter for a sphere, its smallest edge for a box).
     thinnest_pair: f64,
     /// `(body, R)` for every moving body with a collision shape: R [m] bounds the distance of
     /// its shapes' points from the body origin, so `|v| + |ω| R` bounds their speed.
-    reach: Vec<(usize, f64)>,
+    reach: Vec<(crate::dynamics::BodyId, f64)>,
 }
 
 impl StepGuard {
-    /// The guard of these shapes and candidate pairs.
-    pub(crate) fn new(shapes: &[ShapePlan], pairs: &[PairPlan]) -> Self {
+    /// The guard of a contact plan's shapes and candidate pairs.
+    pub(crate) fn new(cp: &ContactPlan) -> Self {
+        let shapes = &cp.shapes;
         let local = |s: &ShapePlan| world_aabb(&s.shape, &Isometry3::identity());
         let thickness = |s: &ShapePlan| {
             let b = local(s);
             (b.maxs - b.mins).min()
         };
-        let thinnest_pair = pairs
-            .iter()
-            .map(|p| thickness(&shapes[p.a]) + thickness(&shapes[p.b]))
-            .fold(f64::INFINITY, f64::min);
-        let mut reach: Vec<(usize, f64)> = vec![];
+        // The thinnest candidate pair without enumerating all pairs: shapes by thickness, and
+        // for each the first partner in that order that can meet it (later ones are thicker).
+        let t: Vec<f64> = shapes.iter().map(thickness).collect();
+        let mut order: Vec<usize> = (0..shapes.len()).collect();
+        order.sort_by(|&i, &j| t[i].total_cmp(&t[j]));
+        let mut thinnest_pair = f64::INFINITY;
+        for (k, &i) in order.iter().enumerate() {
+            if 2.0 * t[i] >= thinnest_pair {
+                break;
+            }
+            for &j in &order[k + 1..] {
+                if t[i] + t[j] >= thinnest_pair {
+                    break;
+                }
+                if cp.can_meet(i, j) {
+                    thinnest_pair = t[i] + t[j];
+                    break;
+                }
+            }
+        }
+        let mut reach: Vec<(crate::dynamics::BodyId, f64)> = vec![];
         for s in shapes {
             let Some(body) = s.body else { continue };
             let b = local(s);

@@ -61,7 +61,7 @@ fn residual_roots_and_events_do_not_allocate() {
     let y = model.plan.y0();
     let n = y.len();
     dae.handle_event(0.0, &y).unwrap();
-    let yp = dae.consistent_derivative(0.0, &y).unwrap();
+    let yp = dae.consistent_derivative(0.0, &mut y.clone()).unwrap();
     let mut res = vec![0.0; n];
     let mut g = vec![0.0; 2];
     // Warm up.
@@ -83,4 +83,41 @@ fn residual_roots_and_events_do_not_allocate() {
     // The consistent derivative solves the residual to round-off of the forces (m g ≈ 8.7 N
     // per ball; 1e-6 is far above round-off and far below any missed term).
     assert!(res.iter().all(|r| r.abs() < 1e-6), "consistent start");
+}
+
+/// Only pairs the broad phase reports near have a state (memory linear in the shapes, not in
+/// the N²/2 candidate pairs). Reference, from the geometry: the balls are 2 cm apart and the
+/// broad phase loosens each box by half the margin, a quarter of the smallest bounding radius
+/// (3 cm): 7.5 mm per side, 1.5 cm per pair < 2 cm, so no ball–ball pair is near and the 8
+/// ball–table pairs (all touching) are the only ones of the 36 candidate pairs with a state.
+#[test]
+fn only_near_pairs_have_a_state() {
+    let model = balls_on_a_table().build().unwrap();
+    let cp = model.contact.clone().expect("candidate pairs");
+    assert_eq!(cp.n_pairs, 8 + 28, "8 ball–table and 28 ball–ball pairs");
+    assert_eq!(model.contact_pairs().len(), cp.n_pairs);
+    let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+    let y = model.plan.y0();
+    dae.handle_event(0.0, &y).unwrap();
+    let cs = dae.contact().unwrap();
+    assert_eq!(cs.pairs_with_state(), 8);
+    assert_eq!(cs.n_active(), 8, "every ball rests on the table");
+    let names = model.contact_pairs();
+    for (id, pp, ps) in cs.active_pairs() {
+        assert!(
+            ps.in_contact && ps.z < 0.0,
+            "penetrating the table by 1e-7 m"
+        );
+        assert_eq!(cs.state_of(pp.b, pp.a), Some(ps), "lookup in either order");
+        // The id is the pair's index among all candidate pairs (the signals' order).
+        assert_eq!(cp.pair_by_id(id), Some(*pp));
+        assert_eq!(cp.pair_id(pp.b, pp.a), Some(id));
+        assert_eq!(names[id].name, cp.pair_name(&model.plan.scene, pp));
+    }
+    // Ids and enumeration agree for every candidate pair.
+    for (id, pp) in cp.candidate_pairs().enumerate() {
+        assert_eq!(cp.pair_id(pp.a, pp.b), Some(id));
+        assert_eq!(cp.pair_by_id(id), Some(pp));
+    }
+    assert_eq!(cp.pair_by_id(cp.n_pairs), None);
 }

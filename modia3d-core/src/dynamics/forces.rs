@@ -4,7 +4,7 @@
 
 use super::kinematics::{object_in_world, point_velocity};
 use super::spatial::Force;
-use super::{InputTarget, Plan, Workspace};
+use super::{BodyId, InputTarget, ObjectId, Plan, Workspace};
 use crate::scene::ValidForce;
 use crate::scene::{ObjectMotion, Wrench};
 use nalgebra::Vector3;
@@ -62,7 +62,7 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 #[inline]
 pub fn add_world_wrench(
     ws: &mut Workspace,
-    b: Option<usize>,
+    b: Option<BodyId>,
     point: &Vector3<f64>,
     force: &Vector3<f64>,
     torque: &Vector3<f64>,
@@ -80,7 +80,7 @@ pub fn add_world_wrench(
 
 /// The motion of object `o` at the current workspace state.
 pub fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
-    let x = object_in_world(plan, ws, o);
+    let x = object_in_world(plan, ws, ObjectId(o));
     let (v, w) = point_velocity(ws, plan.objects[o].body, &x.pos);
     ObjectMotion {
         r_abs: x.pos,
@@ -120,17 +120,19 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
             }
             ValidForce::JointSpringDamper {
                 joint,
+                coordinate,
                 stiffness,
                 damping,
                 offset,
             } => {
-                // Validation admits only Revolute and Prismatic joints, which are in the tree.
+                // Validation admits only joints with scalar coordinates, which are in the tree.
                 let Some(tj) = plan.tree_joint_of[*joint] else {
                     continue;
                 };
                 let j = &plan.joints[tj];
-                ws.tau_applied[j.v_offset] +=
-                    -stiffness * (q[j.q_offset] - offset) - damping * v[j.v_offset];
+                let c = &j.coord.coordinates()[*coordinate];
+                let (qi, vi) = (j.q_offset + c.q, j.v_offset + c.v);
+                ws.tau_applied[vi] += -stiffness * (q[qi] - offset) - damping * v[vi];
             }
             ValidForce::ObjectForce { object, law } => {
                 let m = object_motion(plan, ws, *object);
@@ -163,8 +165,9 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
     for inp in &plan.inputs {
         let u = &ws.inputs[inp.offset..inp.offset + inp.len];
         match inp.target {
-            InputTarget::JointForce { joint } => {
-                let (k, f) = (plan.joints[joint].v_offset, u[0]);
+            InputTarget::JointForce { joint, coordinate } => {
+                let j = &plan.joints[joint];
+                let (k, f) = (j.v_offset + j.coord.coordinates()[coordinate].v, u[0]);
                 ws.tau_applied[k] += f;
             }
             // Enforced in the residual (the acceleration row is replaced).

@@ -1,51 +1,22 @@
 //! Forward kinematics: joint positions and velocities → body placements and spatial velocities
 //! (parents first), and the kinematic part of the residual `q̇ − q̇(q, v)`.
 
-use super::spatial::{axis_angle, quat_rate, quat_to_matrix, Motion, Transform};
-use super::{JointCoord, Plan, Workspace};
+use super::spatial::Transform;
+use super::{BodyId, ObjectId, Plan, Workspace};
 use nalgebra::Vector3;
 
-/// Rate [1/s] at which the free-motion quaternion is pulled back to unit norm; the exact
-/// kinematics preserve the norm, so this only damps the integration error.
-const QUATERNION_NORM_RATE: f64 = 1.0;
-
-/// Computes `ws.x`, `ws.world`, `ws.vj`, `ws.vel` from `q`, `v`.
+/// Computes `ws.x`, `ws.world`, `ws.vj`, `ws.vel` (and `ws.cj` of joints whose motion
+/// subspace depends on `q`) from `q`, `v`; each joint's kind gives its transform and motion.
 pub fn position_velocity(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) {
     for (i, b) in plan.bodies.iter().enumerate() {
         let j = &plan.joints[b.joint];
-        let (qo, vo) = (j.q_offset, j.v_offset);
-        let (xj, vj) = match j.coord {
-            JointCoord::Revolute { axis } => (
-                Transform {
-                    rot: axis_angle(&axis, q[qo]),
-                    pos: Vector3::zeros(),
-                },
-                Motion {
-                    w: axis * v[vo],
-                    v: Vector3::zeros(),
-                },
-            ),
-            JointCoord::Prismatic { axis } => (
-                Transform {
-                    rot: nalgebra::Matrix3::identity(),
-                    pos: axis * q[qo],
-                },
-                Motion {
-                    w: Vector3::zeros(),
-                    v: axis * v[vo],
-                },
-            ),
-            JointCoord::Free => (
-                Transform {
-                    rot: quat_to_matrix(&q[qo + 3..qo + 7]),
-                    pos: Vector3::new(q[qo], q[qo + 1], q[qo + 2]),
-                },
-                Motion {
-                    w: Vector3::new(v[vo], v[vo + 1], v[vo + 2]),
-                    v: Vector3::new(v[vo + 3], v[vo + 4], v[vo + 5]),
-                },
-            ),
-        };
+        let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
+        let vj_ = &v[j.v_offset..j.v_offset + j.coord.nv()];
+        let xj = j.coord.transform(qj);
+        let vj = j.coord.motion(qj, vj_);
+        if j.coord.has_bias() {
+            ws.cj[i] = j.coord.bias(qj, vj_);
+        }
         let x = j.tree.then(&xj);
         ws.x[i] = x;
         ws.vj[i] = vj;
@@ -62,31 +33,15 @@ pub fn position_velocity(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) 
     }
 }
 
-/// Kinematic residual `q̇ − q̇(q, v)` into `res` (len nq).
+/// Kinematic residual `q̇ − q̇(q, v)` into `res` (len nq), joint by joint.
 pub fn position_residual(plan: &Plan, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
     for j in &plan.joints {
-        let (qo, vo) = (j.q_offset, j.v_offset);
-        match j.coord {
-            JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => {
-                res[qo] = qd[qo] - v[vo];
-            }
-            JointCoord::Free => {
-                let quat = &q[qo + 3..qo + 7];
-                let rot = quat_to_matrix(quat);
-                let w = Vector3::new(v[vo], v[vo + 1], v[vo + 2]);
-                let lin = Vector3::new(v[vo + 3], v[vo + 4], v[vo + 5]);
-                let rd = rot * lin;
-                for k in 0..3 {
-                    res[qo + k] = qd[qo + k] - rd[k];
-                }
-                let qr = quat_rate(quat, &w);
-                let n2 = quat.iter().map(|x| x * x).sum::<f64>();
-                let pull = QUATERNION_NORM_RATE * (n2 - 1.0);
-                for k in 0..4 {
-                    res[qo + 3 + k] = qd[qo + 3 + k] - (qr[k] - pull * quat[k]);
-                }
-            }
-        }
+        let (qr, vr) = (
+            j.q_offset..j.q_offset + j.coord.nq(),
+            j.v_offset..j.v_offset + j.coord.nv(),
+        );
+        j.coord
+            .position_residual(&q[qr.clone()], &v[vr], &qd[qr.clone()], &mut res[qr]);
     }
 }
 
@@ -99,7 +54,7 @@ pub fn position_derivative(plan: &Plan, q: &[f64], v: &[f64], qd: &mut [f64]) {
 
 /// Placement of object `o` in world at the current workspace state.
 #[inline]
-pub fn object_in_world(plan: &Plan, ws: &Workspace, o: usize) -> Transform {
+pub fn object_in_world(plan: &Plan, ws: &Workspace, o: ObjectId) -> Transform {
     let op = &plan.objects[o];
     match op.body {
         Some(b) => ws.world[b].then(&op.in_body),
@@ -112,7 +67,7 @@ pub fn object_in_world(plan: &Plan, ws: &Workspace, o: usize) -> Transform {
 #[inline]
 pub fn point_velocity(
     ws: &Workspace,
-    b: Option<usize>,
+    b: Option<BodyId>,
     p: &Vector3<f64>,
 ) -> (Vector3<f64>, Vector3<f64>) {
     match b {

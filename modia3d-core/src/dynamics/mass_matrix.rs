@@ -37,7 +37,7 @@ pub fn tree_mass_matrices(
         for g in groups.iter().filter(|g| c < g.len()) {
             e[g[c]] = 1.0;
         }
-        super::rnea::inverse_dynamics(plan, ws, &e, &Vector3::zeros(), &mut col);
+        super::rnea::inverse_dynamics(plan, ws, q, &e, &Vector3::zeros(), &mut col);
         for (g, m) in groups.iter().zip(&mut blocks).filter(|(g, _)| c < g.len()) {
             for (r, &i) in g.iter().enumerate() {
                 m[(r, c)] = col[i];
@@ -112,7 +112,9 @@ pub fn free_cholesky(
 /// Accelerations `v̇` consistent with `q`, `v` at time `t` [s]: solves `M v̇ = τ_applied − C`,
 /// where `C` holds gravity, velocity terms and external forces, with `extra` adding further
 /// external forces (those of later stages of the pipeline) to `ws.f_ext` after the applied forces
-/// (the workspace then holds positions and velocities at `q`, `v`). `None` if `M` is singular.
+/// (the workspace then holds positions and velocities at `q`, `v`). With closed loops the
+/// constraint multipliers `λ` come with them (`dynamics/loops.rs`, KKT system); empty without.
+/// `None` if `M` (or the KKT matrix) is singular.
 pub fn consistent_accelerations_with(
     plan: &Plan,
     ws: &mut Workspace,
@@ -120,19 +122,24 @@ pub fn consistent_accelerations_with(
     q: &[f64],
     v: &[f64],
     extra: &mut dyn FnMut(&Plan, &mut Workspace),
-) -> Option<Vec<f64>> {
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let nv = plan.nv;
     let blocks = tree_mass_matrices(plan, ws, q);
     position_velocity(plan, ws, q, v);
     applied_forces(plan, ws, t, q, v);
     extra(plan, ws);
     let mut bias = vec![0.0; nv];
-    super::rnea::inverse_dynamics(plan, ws, &vec![0.0; nv], &plan.gravity, &mut bias);
+    super::rnea::inverse_dynamics(plan, ws, q, &vec![0.0; nv], &plan.gravity, &mut bias);
     let mut vd = vec![0.0; nv];
     for (k, p) in plan.prescribed.iter().enumerate() {
         if let Some(i) = p {
             vd[k] = ws.inputs[*i];
         }
+    }
+    if !plan.loops.is_empty() {
+        let rhs: Vec<f64> = (0..nv).map(|k| ws.tau_applied[k] - bias[k]).collect();
+        let lambda = super::loops::kkt_accelerations(plan, ws, q, v, &blocks, &rhs, &mut vd)?;
+        return Some((vd, lambda));
     }
     // Per tree: prescribed accelerations are known; solve M_FF v̇_F = τ_F − C_F − M_FP a_P
     // for the rest of the tree.
@@ -168,7 +175,7 @@ pub fn consistent_accelerations_with(
             vd[group[r]] = y[i];
         }
     }
-    Some(vd)
+    Some((vd, vec![]))
 }
 
 #[cfg(test)]
@@ -263,7 +270,7 @@ mod tests {
         let mut max_err = 0.0f64;
         for k in 0..nv {
             e[k] = 1.0;
-            rnea::inverse_dynamics(plan, &mut ws, &e, &Vector3::zeros(), &mut col);
+            rnea::inverse_dynamics(plan, &mut ws, q, &e, &Vector3::zeros(), &mut col);
             e[k] = 0.0;
             for i in 0..nv {
                 max_err = max_err.max((m[(i, k)] - col[i]).abs());

@@ -4,13 +4,16 @@
 //! workspace.
 
 pub mod forces;
+pub mod ids;
 pub mod kinematics;
+pub mod loops;
 pub mod mass_matrix;
 pub mod plan;
 pub mod rnea;
 pub mod spatial;
 
-pub use plan::{InputTarget, JointCoord, ObjectPlan, Plan};
+pub use ids::{BodyId, IdVec, ObjectId};
+pub use plan::{InputTarget, ObjectPlan, Plan};
 
 use spatial::{Force, Motion, Transform};
 
@@ -19,19 +22,22 @@ use spatial::{Force, Motion, Transform};
 #[derive(Clone, Debug)]
 pub struct Workspace {
     /// Body frame placed in its parent body's frame (world for root bodies).
-    pub x: Vec<Transform>,
+    pub x: IdVec<BodyId, Transform>,
     /// Body frame placed in world.
-    pub world: Vec<Transform>,
+    pub world: IdVec<BodyId, Transform>,
     /// Spatial velocity of the body, resolved in the body frame.
-    pub vel: Vec<Motion>,
+    pub vel: IdVec<BodyId, Motion>,
     /// Joint velocity `S q̇`, resolved in the body frame.
-    pub vj: Vec<Motion>,
+    pub vj: IdVec<BodyId, Motion>,
+    /// Joint bias `c_J = Ṡ q̇`, resolved in the body frame (set only for joints whose `S`
+    /// depends on `q`, see `JointCoord::has_bias`).
+    pub cj: IdVec<BodyId, Motion>,
     /// Spatial acceleration, resolved in the body frame.
-    pub acc: Vec<Motion>,
+    pub acc: IdVec<BodyId, Motion>,
     /// Spatial force transmitted by the body's joint, resolved in the body frame.
-    pub f: Vec<Force>,
+    pub f: IdVec<BodyId, Force>,
     /// External force on the body about its origin, resolved in the body frame.
-    pub f_ext: Vec<Force>,
+    pub f_ext: IdVec<BodyId, Force>,
     /// Generalised forces from joint springs, dampers and inputs (len nv).
     pub tau_applied: Vec<f64>,
     /// Current input values (len `Plan::n_inputs`), 0 until set.
@@ -47,13 +53,14 @@ impl Workspace {
     pub fn new(plan: &Plan) -> Self {
         let nb = plan.bodies.len();
         Workspace {
-            x: vec![Transform::default(); nb],
-            world: vec![Transform::default(); nb],
-            vel: vec![Motion::zero(); nb],
-            vj: vec![Motion::zero(); nb],
-            acc: vec![Motion::zero(); nb],
-            f: vec![Force::default(); nb],
-            f_ext: vec![Force::default(); nb],
+            x: vec![Transform::default(); nb].into(),
+            world: vec![Transform::default(); nb].into(),
+            vel: vec![Motion::zero(); nb].into(),
+            vj: vec![Motion::zero(); nb].into(),
+            cj: vec![Motion::zero(); nb].into(),
+            acc: vec![Motion::zero(); nb].into(),
+            f: vec![Force::default(); nb].into(),
+            f_ext: vec![Force::default(); nb].into(),
             tau_applied: vec![0.0; plan.nv],
             inputs: vec![0.0; plan.n_inputs],
             fault: None,

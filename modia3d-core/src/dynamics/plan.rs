@@ -4,59 +4,23 @@
 //! vector and the inputs and combines mass properties. Objects fixed to the world carry no
 //! states. Touches only scene data.
 
+use super::ids::{BodyId, IdVec, JointId, ObjectId};
 use super::spatial::{Inertia, Transform};
+pub use crate::joints::JointCoord;
 use crate::scene::{SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene};
 use nalgebra::{Isometry3, Vector3};
-
-/// Coordinates of a joint in the tree.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum JointCoord {
-    /// Rotation about a unit axis resolved in the joint frame (= child body frame axis);
-    /// one position `phi` [rad], one velocity `w` [rad/s].
-    Revolute {
-        /// Unit axis (already negated when the joint is traversed from obj2 to obj1).
-        axis: Vector3<f64>,
-    },
-    /// Translation along a unit axis resolved in the joint frame;
-    /// one position `s` [m], one velocity `v` [m/s].
-    Prismatic {
-        /// Unit axis (already negated when traversed from obj2 to obj1).
-        axis: Vector3<f64>,
-    },
-    /// Six degrees of freedom: positions `r` (3, [m], resolved in obj1) and a quaternion
-    /// `(w, x, y, z)` (4); velocities `ω` then `v` of obj2 relative to obj1, both resolved in obj2
-    /// ([rad/s], [m/s]).
-    Free,
-}
-
-impl JointCoord {
-    /// Number of position coordinates.
-    pub fn nq(&self) -> usize {
-        match self {
-            JointCoord::Free => 7,
-            _ => 1,
-        }
-    }
-    /// Number of velocity coordinates.
-    pub fn nv(&self) -> usize {
-        match self {
-            JointCoord::Free => 6,
-            _ => 1,
-        }
-    }
-}
 
 /// A moving body: the objects rigidly attached to each other, moved by one joint.
 #[derive(Clone, Debug)]
 pub struct BodyPlan {
     /// Parent body; `None` = the world.
-    pub parent: Option<usize>,
-    /// Index of its joint in `Plan::joints`.
-    pub joint: usize,
+    pub parent: Option<BodyId>,
+    /// Its joint.
+    pub joint: JointId,
     /// Combined mass properties about the body frame origin, resolved in the body frame.
     pub inertia: Inertia,
-    /// Indices of the scene objects in this body.
-    pub objects: Vec<usize>,
+    /// The scene objects in this body.
+    pub objects: Vec<ObjectId>,
 }
 
 /// A joint of the tree (Fix joints are merged away).
@@ -69,7 +33,7 @@ pub struct JointPlan {
     /// Coordinates.
     pub coord: JointCoord,
     /// The body it moves.
-    pub body: usize,
+    pub body: BodyId,
     /// Placement of the joint frame in the parent body's frame (world for the world cluster).
     pub tree: Transform,
     /// Offset of its positions in the position vector `q`.
@@ -86,7 +50,7 @@ pub struct ObjectPlan {
     /// Name.
     pub name: String,
     /// The moving body it belongs to; `None` = fixed to the world.
-    pub body: Option<usize>,
+    pub body: Option<BodyId>,
     /// Its frame placed in the body frame (or in world) [m].
     pub in_body: Transform,
 }
@@ -94,20 +58,24 @@ pub struct ObjectPlan {
 /// What an input drives, with plan indices.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum InputTarget {
-    /// Generalised force on tree joint `joint` (1 value).
+    /// Generalised force on a scalar coordinate of tree joint `joint` (1 value).
     JointForce {
-        /// Index into `Plan::joints`.
-        joint: usize,
+        /// The tree joint.
+        joint: JointId,
+        /// Index into the kind's scalar coordinates.
+        coordinate: usize,
     },
-    /// Prescribed acceleration of tree joint `joint` (1 value).
+    /// Prescribed acceleration of a scalar coordinate of tree joint `joint` (1 value).
     JointAcceleration {
-        /// Index into `Plan::joints`.
-        joint: usize,
+        /// The tree joint.
+        joint: JointId,
+        /// Index into the kind's scalar coordinates.
+        coordinate: usize,
     },
     /// World force then torque on object `object`'s origin (6 values).
     ObjectWrench {
-        /// Index into `Plan::objects`.
-        object: usize,
+        /// The object.
+        object: ObjectId,
     },
 }
 
@@ -129,14 +97,14 @@ pub struct InputPlan {
 #[derive(Clone, Debug)]
 pub struct Plan {
     /// Moving bodies, parents before children.
-    pub bodies: Vec<BodyPlan>,
+    pub bodies: IdVec<BodyId, BodyPlan>,
     /// Tree joints, `joints[bodies[i].joint]` moves body i.
-    pub joints: Vec<JointPlan>,
+    pub joints: IdVec<JointId, JointPlan>,
     /// Every scene object.
-    pub objects: Vec<ObjectPlan>,
+    pub objects: IdVec<ObjectId, ObjectPlan>,
     /// For each joint of the scene (`scene.joints`), its index in `joints` (`None` for Fix
     /// joints, which are merged away). Force elements refer to scene joints through it.
-    pub tree_joint_of: Vec<Option<usize>>,
+    pub tree_joint_of: Vec<Option<JointId>>,
     /// Number of position coordinates.
     pub nq: usize,
     /// Number of velocity coordinates.
@@ -155,6 +123,9 @@ pub struct Plan {
     pub n_inputs: usize,
     /// For each velocity coordinate, the input offset of its prescribed acceleration, if any.
     pub prescribed: Vec<Option<usize>>,
+    /// The cut joints of closed loops and their kept constraint rows (`dynamics/loops.rs`);
+    /// the rows are chosen by `loops::assemble_initial` when the model is built.
+    pub loops: super::loops::LoopPlan,
 }
 
 fn iso_to_transform(iso: &Isometry3<f64>) -> Transform {
@@ -176,7 +147,7 @@ struct TreeLayout {
     bodies: Vec<BodyPlan>,
     joints: Vec<JointPlan>,
     /// Body of each cluster (`None` for the world's and for clusters not in the tree).
-    cluster_body: Vec<Option<usize>>,
+    cluster_body: Vec<Option<BodyId>>,
     q0: Vec<f64>,
     v0: Vec<f64>,
 }
@@ -243,38 +214,14 @@ fn tree_layout(scene: &ValidScene, in_ref: &[Transform]) -> TreeLayout {
     for e in &topo.tree {
         let sj = &scene.joints[e.joint];
         let body = l.bodies.len();
-        let coord = match &sj.kind {
-            ValidJointKind::Revolute { axis, phi, w } => {
-                l.q0.push(*phi);
-                l.v0.push(*w);
-                JointCoord::Revolute {
-                    axis: if e.flipped { -axis } else { *axis },
-                }
-            }
-            ValidJointKind::Prismatic { axis, s, v } => {
-                l.q0.push(*s);
-                l.v0.push(*v);
-                JointCoord::Prismatic {
-                    axis: if e.flipped { -axis } else { *axis },
-                }
-            }
-            // Never flipped: validation rejects a reversed FreeMotion.
-            ValidJointKind::FreeMotion { r, rot, v, w } => {
-                l.q0.extend_from_slice(r.as_slice());
-                l.q0.extend_from_slice(&[rot.w, rot.i, rot.j, rot.k]);
-                l.v0.extend_from_slice(w.as_slice());
-                l.v0.extend_from_slice((rot.inverse() * v).as_slice());
-                JointCoord::Free
-            }
-            ValidJointKind::Fix => unreachable!("fix joints are merged"),
-        };
+        let coord = JointCoord::new(&sj.kind, e.flipped, &mut l.q0, &mut l.v0);
         let parent_body = l.cluster_body[e.parent_cluster];
-        l.cluster_body[topo.cluster[e.child_obj]] = Some(body);
+        l.cluster_body[topo.cluster[e.child_obj]] = Some(BodyId(body));
         l.joints.push(JointPlan {
             name: sj.name.clone(),
             scene_joint: e.joint,
             coord,
-            body,
+            body: BodyId(body),
             tree: in_ref[e.parent_obj],
             q_offset: nq,
             v_offset: nv,
@@ -284,7 +231,7 @@ fn tree_layout(scene: &ValidScene, in_ref: &[Transform]) -> TreeLayout {
         nv += coord.nv();
         l.bodies.push(BodyPlan {
             parent: parent_body,
-            joint: l.joints.len() - 1,
+            joint: JointId(l.joints.len() - 1),
             inertia: Inertia::zero(),
             objects: vec![],
         });
@@ -297,7 +244,7 @@ fn tree_layout(scene: &ValidScene, in_ref: &[Transform]) -> TreeLayout {
 fn input_layout(
     scene: &ValidScene,
     joints: &[JointPlan],
-    tree_joint_of: &[Option<usize>],
+    tree_joint_of: &[Option<JointId>],
     nv: usize,
 ) -> (Vec<InputPlan>, usize, Vec<Option<usize>>) {
     let mut inputs = vec![];
@@ -305,18 +252,25 @@ fn input_layout(
     let mut prescribed = vec![None; nv];
     for inp in &scene.inputs {
         let (target, len) = match inp.kind {
-            ValidInputKind::JointForce(sj) => match tree_joint_of[sj] {
-                Some(joint) => (InputTarget::JointForce { joint }, 1),
-                None => continue, // validated: scalar joints are in the tree
+            ValidInputKind::JointForce(sj, coordinate) => match tree_joint_of[sj] {
+                Some(joint) => (InputTarget::JointForce { joint, coordinate }, 1),
+                None => continue, // validated: joints with scalar coordinates are in the tree
             },
-            ValidInputKind::JointAcceleration(sj) => match tree_joint_of[sj] {
+            ValidInputKind::JointAcceleration(sj, coordinate) => match tree_joint_of[sj] {
                 Some(joint) => {
-                    prescribed[joints[joint].v_offset] = Some(n_inputs);
-                    (InputTarget::JointAcceleration { joint }, 1)
+                    let j = &joints[joint.index()];
+                    let c = j.coord.coordinates()[coordinate];
+                    prescribed[j.v_offset + c.v] = Some(n_inputs);
+                    (InputTarget::JointAcceleration { joint, coordinate }, 1)
                 }
                 None => continue,
             },
-            ValidInputKind::ObjectWrench(object) => (InputTarget::ObjectWrench { object }, 6),
+            ValidInputKind::ObjectWrench(object) => (
+                InputTarget::ObjectWrench {
+                    object: ObjectId(object),
+                },
+                6,
+            ),
         };
         inputs.push(InputPlan {
             name: inp.name.clone(),
@@ -348,14 +302,15 @@ impl Plan {
         for (i, o) in scene.objects.iter().enumerate() {
             let body = cluster_body[cluster[i]];
             if let Some(b) = body {
-                bodies[b].objects.push(i);
+                bodies[b.index()].objects.push(ObjectId(i));
                 if let Some(s) = &o.solid {
                     let part = Inertia {
                         mass: s.mass.mass,
                         com: s.mass.com,
                         inertia_com: s.mass.inertia,
                     };
-                    bodies[b].inertia = bodies[b].inertia.add_transformed(&part, &in_ref[i]);
+                    bodies[b.index()].inertia =
+                        bodies[b.index()].inertia.add_transformed(&part, &in_ref[i]);
                 }
             }
             objects.push(ObjectPlan {
@@ -366,17 +321,19 @@ impl Plan {
         }
         let mut tree_joint_of = vec![None; scene.joints.len()];
         for (tj, j) in joints.iter().enumerate() {
-            tree_joint_of[j.scene_joint] = Some(tj);
+            tree_joint_of[j.scene_joint] = Some(JointId(tj));
         }
         let (nq, nv) = (q0.len(), v0.len());
         let (inputs, n_inputs, prescribed) = input_layout(&scene, &joints, &tree_joint_of, nv);
+        let loops = super::loops::cut_plans(&scene, &in_ref, &cluster_body);
         Plan {
+            loops,
             inputs,
             n_inputs,
             prescribed,
-            bodies,
-            joints,
-            objects,
+            bodies: bodies.into(),
+            joints: joints.into(),
+            objects: objects.into(),
             tree_joint_of,
             nq,
             nv,
@@ -425,14 +382,17 @@ impl Plan {
         Ok(())
     }
 
-    /// Index of the object with this name.
-    pub fn object_index(&self, name: &str) -> Option<usize> {
-        self.objects.iter().position(|o| o.name == name)
+    /// The object with this name.
+    pub fn object_index(&self, name: &str) -> Option<ObjectId> {
+        self.objects
+            .iter()
+            .position(|o| o.name == name)
+            .map(ObjectId)
     }
 
-    /// Index of the tree joint with this name.
-    pub fn joint_index(&self, name: &str) -> Option<usize> {
-        self.joints.iter().position(|j| j.name == name)
+    /// The tree joint with this name.
+    pub fn joint_index(&self, name: &str) -> Option<JointId> {
+        self.joints.iter().position(|j| j.name == name).map(JointId)
     }
 
     /// The independent joint trees: for each body the index of its tree (one per root body,
@@ -449,7 +409,7 @@ impl Plan {
                     n += 1;
                     n - 1
                 }
-                Some(p) => tree[p],
+                Some(p) => tree[p.index()],
             };
         }
         (tree, n)
@@ -460,7 +420,7 @@ impl Plan {
         let (tree, n) = self.trees();
         let mut groups = vec![vec![]; n];
         for j in &self.joints {
-            groups[tree[j.body]].extend(j.v_offset..j.v_offset + j.coord.nv());
+            groups[tree[j.body.index()]].extend(j.v_offset..j.v_offset + j.coord.nv());
         }
         for g in &mut groups {
             g.sort_unstable();

@@ -12,18 +12,21 @@ pub use parry3d_f64::bounding_volume::Aabb;
 #[inline]
 pub fn world_aabb(shape: &CollisionShape, pose: &Isometry3<f64>) -> Aabb {
     let m = shape.margin();
-    let rot = pose.rotation.to_rotation_matrix();
-    let r = rot.matrix();
+    // The rotation matrix, for the cores that need it (a point needs none).
+    let r = || *pose.rotation.to_rotation_matrix().matrix();
     let (c, half) = match shape.core() {
-        CoreShape::Point { centre } => (pose * centre, Vector3::zeros()),
-        CoreShape::Box { half_extents } => (pose.translation.vector.into(), r.abs() * half_extents),
+        CoreShape::Point { centre } => (super::pose::to_world(pose, centre), Vector3::zeros()),
+        CoreShape::Box { half_extents } => {
+            (pose.translation.vector.into(), r().abs() * half_extents)
+        }
         CoreShape::Ellipsoid { semi_axes } => {
             // Support function in e_i: |A Rᵀ e_i| = norm of row i of R·A.
-            let ra = r * nalgebra::Matrix3::from_diagonal(semi_axes);
+            let ra = r() * nalgebra::Matrix3::from_diagonal(semi_axes);
             let half = Vector3::new(ra.row(0).norm(), ra.row(1).norm(), ra.row(2).norm());
             (pose.translation.vector.into(), half)
         }
         _ => {
+            let r = r();
             let mut lo = Vector3::zeros();
             let mut hi = Vector3::zeros();
             for i in 0..3 {

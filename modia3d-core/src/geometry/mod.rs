@@ -21,6 +21,7 @@ pub mod collision_shape;
 pub mod error;
 pub mod mesh_file;
 pub mod narrow_phase;
+mod pose;
 pub mod shapes;
 pub mod smoothing;
 pub mod support;

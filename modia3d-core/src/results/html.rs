@@ -8,6 +8,7 @@
 
 use super::threejs::write_text;
 use super::{ResultError, SimulationResult};
+use crate::dynamics::{BodyId, ObjectId};
 use crate::scene::ValidJointKind;
 use nalgebra::{Matrix3, Vector3};
 use serde_json::{json, Value};
@@ -114,12 +115,12 @@ impl SimulationResult {
                 "position": position(j.obj2)?, "axis": round(dirs, 1e6)}));
         }
         // Anchors per moving body: joint frames first, then objects with a shape.
-        let body_of = |o: usize| plan.objects.get(o).and_then(|p| p.body);
+        let body_of = |o: usize| plan.objects.get(ObjectId(o)).and_then(|p| p.body);
         let joint_frames: Vec<usize> = scene.joints.iter().flat_map(|j| [j.obj1, j.obj2]).collect();
         let shaped = scene.objects.iter().enumerate().filter(|(_, x)| {
             x.visual.is_some() || x.solid.as_ref().is_some_and(|s| s.shape.is_some())
         });
-        let mut anchors: Vec<(usize, Vec<usize>)> = vec![];
+        let mut anchors: Vec<(BodyId, Vec<usize>)> = vec![];
         for o in joint_frames.iter().copied().chain(shaped.map(|(o, _)| o)) {
             let Some(b) = body_of(o) else { continue };
             match anchors.iter_mut().find(|(body, _)| *body == b) {

@@ -12,7 +12,8 @@ mod threejs;
 
 pub use plot::{PlotFormat, PlotOptions, EVENT_MARKER_COLOR};
 
-use crate::dynamics::{kinematics, JointCoord, Plan, Workspace};
+use crate::dynamics::{kinematics, Plan, Workspace};
+use crate::joints::Source;
 use crate::model::Model;
 use crate::solver::IdaStats;
 use std::io::Write;
@@ -159,6 +160,8 @@ pub struct SimulationResult {
     /// Events in time order.
     pub events: Vec<Event>,
     contacts: Option<ContactRecord>,
+    /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
+    multipliers: Vec<f64>,
 }
 
 #[derive(Clone, Copy)]
@@ -178,7 +181,44 @@ impl SimulationResult {
             stats: SimStats::default(),
             events: vec![],
             contacts: None,
+            multipliers: vec![],
         }
+    }
+
+    pub(crate) fn push_multipliers(&mut self, lambda: &[f64]) {
+        self.multipliers.extend_from_slice(lambda);
+    }
+
+    /// `<cut>.f` (force on obj2 [N]) and `<cut>.t` (torque on obj2 [N·m]) of cut joint `owner`,
+    /// both resolved in obj1's frame; the force acts at obj2's origin, obj1 feels the opposite.
+    fn loop_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let plan = &*self.model.plan;
+        let c = plan.loops.cuts.iter().position(|c| c.name == owner)?;
+        let unit = match field {
+            "f" => "N",
+            "t" => "N·m",
+            _ => return None,
+        };
+        let (nq, m) = (plan.nq, plan.loops.m());
+        let mut ws = Workspace::new(plan);
+        let mut data = Vec::with_capacity(3 * self.time.len());
+        for (k, y) in self.states_iter().enumerate() {
+            let (q, v) = y.split_at(nq);
+            kinematics::position_velocity(plan, &mut ws, q, v);
+            let lambda = self.multipliers.get(k * m..(k + 1) * m)?;
+            let (f, t) = crate::dynamics::loops::cut_wrench(plan, &ws, c, lambda);
+            data.extend_from_slice(if field == "f" {
+                f.as_slice()
+            } else {
+                t.as_slice()
+            });
+        }
+        Some(Signal {
+            name: format!("{owner}.{field}"),
+            unit,
+            dim: 3,
+            data,
+        })
     }
 
     pub(crate) fn enable_contact_record(&mut self) {
@@ -191,7 +231,13 @@ impl SimulationResult {
         let Some(rec) = self.contacts.as_mut() else {
             return;
         };
-        for ps in &cs.pairs {
+        let Some(cp) = self.model.contact.as_deref() else {
+            return;
+        };
+        // Pairs without a state are apart (the contact set only holds near pairs).
+        let apart = crate::contact::PairState::APART;
+        for pp in cp.candidate_pairs() {
+            let ps = cs.state_of(pp.a, pp.b).unwrap_or(&apart);
             let r = &ps.response;
             let on = ps.in_contact;
             rec.data.push(if on { 1.0 } else { 0.0 });
@@ -206,8 +252,9 @@ impl SimulationResult {
     /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
     pub fn contact_pairs(&self) -> Vec<String> {
         match &self.model.contact {
-            Some(cp) => (0..cp.pairs.len())
-                .map(|p| cp.pair_name(&self.model.plan.scene, p))
+            Some(cp) => cp
+                .candidate_pairs()
+                .map(|pp| cp.pair_name(&self.model.plan.scene, &pp))
                 .collect(),
             None => vec![],
         }
@@ -226,7 +273,7 @@ impl SimulationResult {
             "normal" => (12, 3, "1"),
             _ => return None,
         };
-        let np = self.model.contact.as_ref()?.pairs.len();
+        let np = self.model.contact.as_ref()?.n_pairs;
         let stride = np * PAIR_VALUES;
         let base = p * PAIR_VALUES + off;
         let mut data = Vec::with_capacity(dim * self.time.len());
@@ -283,20 +330,18 @@ impl SimulationResult {
         &self.model.plan
     }
 
-    /// `joint.coordinate` names of every tree joint's states.
+    /// `joint.quantity` names of every tree joint's signals (its kind's, in state order).
     fn joint_signal_names(&self) -> impl Iterator<Item = String> + '_ {
         self.model.plan.joints.iter().flat_map(|j| {
-            let sfx: &'static [&'static str] = match j.coord {
-                JointCoord::Revolute { .. } => &["phi", "w"],
-                JointCoord::Prismatic { .. } => &["s", "v"],
-                JointCoord::Free => &["r", "q", "w", "v"],
-            };
-            sfx.iter().map(move |s| format!("{}.{s}", j.name))
+            j.coord
+                .signals()
+                .iter()
+                .map(move |s| format!("{}.{}", j.name, s.name))
         })
     }
 
-    /// Names of all signals: joint coordinates (`rev.phi`, `rev.w`; `slide.s`, `slide.v`;
-    /// `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
+    /// Names of all signals: joint coordinates (each kind's, e.g. `rev.phi`, `rev.w`;
+    /// `slide.s`, `slide.v`; `free.r`, `free.q`, `free.w`, `free.v`) and object motions (`obj.r_abs`, `obj.v_abs`,
     /// `obj.w_abs`, `obj.R_abs`).
     pub fn signal_names(&self) -> Vec<String> {
         let mut names = vec![];
@@ -305,6 +350,10 @@ impl SimulationResult {
             for s in ["r_abs", "v_abs", "w_abs", "R_abs"] {
                 names.push(format!("{}.{s}", o.name));
             }
+        }
+        for c in &self.model.plan.loops.cuts {
+            names.push(format!("{}.f", c.name));
+            names.push(format!("{}.t", c.name));
         }
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
@@ -331,6 +380,9 @@ impl SimulationResult {
     /// [`Self::contact_pairs`]; normal from `a` to `b`, forces and torque on `b`, all in world):
     /// `in_contact` (1/0), `penetration` [m], `f_n` [N], `friction_force` [N],
     /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact.
+    /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
+    /// [N] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
+    /// resolved in obj1's frame (obj1 feels the opposite).
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
             name: name.to_string(),
@@ -352,6 +404,7 @@ impl SimulationResult {
         let full = self
             .full_signal(owner, field)
             .or_else(|| self.contact_signal(owner, field))
+            .or_else(|| self.loop_signal(owner, field))
             .ok_or_else(|| {
                 let names = self.signal_names();
                 let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));
@@ -390,32 +443,25 @@ impl SimulationResult {
             data,
         };
         if let Some(j) = plan.joint_index(owner).and_then(|ji| plan.joints.get(ji)) {
-            let (off, dim, unit) = match (j.coord, field) {
-                (JointCoord::Revolute { .. }, "phi") => (j.q_offset, 1, "rad"),
-                (JointCoord::Revolute { .. }, "w") => (nq + j.v_offset, 1, "rad/s"),
-                (JointCoord::Prismatic { .. }, "s") => (j.q_offset, 1, "m"),
-                (JointCoord::Prismatic { .. }, "v") => (nq + j.v_offset, 1, "m/s"),
-                (JointCoord::Free, "r") => (j.q_offset, 3, "m"),
-                (JointCoord::Free, "q") => (j.q_offset + 3, 4, "1"),
-                (JointCoord::Free, "w") => (nq + j.v_offset, 3, "rad/s"),
-                (JointCoord::Free, "v") => {
-                    // der(r), resolved in obj1: rotate the body-frame velocity.
-                    let mut data = Vec::with_capacity(3 * nt);
-                    let (q, o) = (j.q_offset + 3, nq + j.v_offset + 3);
-                    for y in self.states_iter() {
-                        let rot = crate::dynamics::spatial::quat_to_matrix(y.get(q..q + 4)?);
-                        let v_body = nalgebra::Vector3::from_column_slice(y.get(o..o + 3)?);
-                        data.extend_from_slice((rot * v_body).as_slice());
-                    }
-                    return Some(make("m/s", 3, data));
-                }
-                _ => return None,
-            };
-            let mut data = Vec::with_capacity(dim * nt);
+            let spec = j.coord.signals().iter().find(|s| s.name == field)?;
+            let (q_range, v_range) = (
+                j.q_offset..j.q_offset + j.coord.nq(),
+                nq + j.v_offset..nq + j.v_offset + j.coord.nv(),
+            );
+            let mut data = Vec::with_capacity(spec.dim * nt);
             for y in self.states_iter() {
-                data.extend_from_slice(y.get(off..off + dim)?);
+                let off = match spec.source {
+                    Source::Q(k) => j.q_offset + k,
+                    Source::V(k) => nq + j.v_offset + k,
+                    Source::Derived => {
+                        let (qj, vj) = (y.get(q_range.clone())?, y.get(v_range.clone())?);
+                        j.coord.derived_signal(field, qj, vj, &mut data)?;
+                        continue;
+                    }
+                };
+                data.extend_from_slice(y.get(off..off + spec.dim)?);
             }
-            return Some(make(unit, dim, data));
+            return Some(make(spec.unit, spec.dim, data));
         }
         let o = plan.object_index(owner)?;
         let body = plan.objects.get(o)?.body;

@@ -9,8 +9,9 @@ use super::validate::{SceneError, ValidJointKind, ValidScene};
 
 /// Which objects can collide with which (docs/contact-model.md §2.1, as in Modia3D): two solids meet unless they
 /// are on one rigid body (parent links and `Fix` joints merge objects; everything attached to
-/// the world is one body) or on the two bodies of a Revolute or Prismatic joint with
-/// `can_collide = false`. A FreeMotion is no mechanical connection: it never excludes a pair.
+/// the world is one body) or on the two bodies of a joint with `can_collide = false` that is a
+/// mechanical connection (Revolute, Prismatic, Spherical, Universal, Cylindrical, Planar). A
+/// FreeMotion is no mechanical connection: it never excludes a pair.
 #[derive(Clone, Debug)]
 pub struct CollisionFilter {
     /// Rigid body (a representative object index) of every object.
@@ -28,9 +29,9 @@ impl CollisionFilter {
             .joints
             .iter()
             .filter(|j| {
-                matches!(
+                !matches!(
                     j.kind,
-                    ValidJointKind::Revolute { .. } | ValidJointKind::Prismatic { .. }
+                    ValidJointKind::Fix | ValidJointKind::FreeMotion { .. }
                 ) && !j.can_collide
             })
             .map(|j| (body[j.obj1], body[j.obj2]))

@@ -354,6 +354,68 @@ pub enum JointKind {
         /// Initial angular velocity of obj2 relative to obj1, resolved in obj2 [rad/s].
         w: Vector3<f64>,
     },
+    /// Ball joint: rotation of `obj2` relative to `obj1` about their common origin (a unit
+    /// quaternion internally: no singular angles). Signals `q` (quaternion) and `w`
+    /// (resolved in obj2, [rad/s]).
+    Spherical {
+        /// Initial orientation of obj2 relative to obj1.
+        rot: FreeRotation,
+        /// Initial angular velocity of obj2 relative to obj1, resolved in obj2 [rad/s].
+        w: Vector3<f64>,
+    },
+    /// Cardan (Hooke) joint: rotation `phi1` about `axis1` (fixed in obj1), then `phi2` about
+    /// `axis2` (fixed in obj2; resolved in obj2, which coincides with obj1 at zero angles).
+    /// The axes must be perpendicular. Signals `phi1`, `phi2` [rad], `w1`, `w2` [rad/s].
+    Universal {
+        /// First axis, resolved in obj1 (any non-zero vector; normalised).
+        axis1: Vector3<f64>,
+        /// Second axis, resolved in obj2 (non-zero, perpendicular to `axis1`; normalised).
+        axis2: Vector3<f64>,
+        /// Initial angle about `axis1` [rad].
+        phi1: f64,
+        /// Initial angle about `axis2` [rad].
+        phi2: f64,
+        /// Initial rate of `phi1` [rad/s].
+        w1: f64,
+        /// Initial rate of `phi2` [rad/s].
+        w2: f64,
+    },
+    /// Rotation `phi` about and translation `s` along `axis` (resolved in obj1). Signals
+    /// `phi` [rad], `s` [m], `w` [rad/s], `v` [m/s].
+    Cylindrical {
+        /// Axis, resolved in obj1 (any non-zero vector; normalised).
+        axis: Vector3<f64>,
+        /// Initial angle [rad].
+        phi: f64,
+        /// Initial position [m].
+        s: f64,
+        /// Initial angular velocity [rad/s].
+        w: f64,
+        /// Initial velocity [m/s].
+        v: f64,
+    },
+    /// Motion of `obj2` in the plane through obj1's origin normal to `normal`: obj2's origin
+    /// at `x e1 + y e2`, resolved in obj1, and rotation `phi` about `normal`. The plane axes
+    /// are fixed in obj1: `e1` is the coordinate axis following `normal`'s largest component
+    /// cyclically (x → y → z → x) made perpendicular to `normal`, `e2 = normal × e1` (normal
+    /// z: x, y; normal x: y, z; normal y: z, x). Signals `x`, `y` [m], `phi` [rad], `vx`, `vy`
+    /// (rates of `x`, `y`, [m/s]), `w` [rad/s].
+    Planar {
+        /// Normal of the plane, resolved in obj1 (any non-zero vector; normalised).
+        normal: Vector3<f64>,
+        /// Initial position along `e1` [m].
+        x: f64,
+        /// Initial position along `e2` [m].
+        y: f64,
+        /// Initial angle about `normal` [rad].
+        phi: f64,
+        /// Initial rate of `x` [m/s].
+        vx: f64,
+        /// Initial rate of `y` [m/s].
+        vy: f64,
+        /// Initial rate of `phi` [rad/s].
+        w: f64,
+    },
 }
 
 impl JointKind {
@@ -388,6 +450,47 @@ impl JointKind {
             w: Vector3::zeros(),
         }
     }
+    /// A spherical joint at rest with frames coinciding.
+    pub fn spherical() -> Self {
+        JointKind::Spherical {
+            rot: FreeRotation::Cardan([0.0; 3]),
+            w: Vector3::zeros(),
+        }
+    }
+    /// A universal joint about Modia axes `axis1` (in obj1) and `axis2` (in obj2), ±1..3, at
+    /// rest at zero angles. An invalid axis gives the zero vector, which validation reports.
+    pub fn universal(axis1: i64, axis2: i64) -> Self {
+        JointKind::Universal {
+            axis1: Self::axis_from_index(axis1).unwrap_or_else(Vector3::zeros),
+            axis2: Self::axis_from_index(axis2).unwrap_or_else(Vector3::zeros),
+            phi1: 0.0,
+            phi2: 0.0,
+            w1: 0.0,
+            w2: 0.0,
+        }
+    }
+    /// A cylindrical joint along Modia axis `axis` (±1..3), at rest at zero.
+    pub fn cylindrical(axis: i64) -> Self {
+        JointKind::Cylindrical {
+            axis: Self::axis_from_index(axis).unwrap_or_else(Vector3::zeros),
+            phi: 0.0,
+            s: 0.0,
+            w: 0.0,
+            v: 0.0,
+        }
+    }
+    /// A planar joint with normal along Modia axis `normal` (±1..3), at rest at zero.
+    pub fn planar(normal: i64) -> Self {
+        JointKind::Planar {
+            normal: Self::axis_from_index(normal).unwrap_or_else(Vector3::zeros),
+            x: 0.0,
+            y: 0.0,
+            phi: 0.0,
+            vx: 0.0,
+            vy: 0.0,
+            w: 0.0,
+        }
+    }
     /// A short name for messages.
     pub fn name(&self) -> &'static str {
         match self {
@@ -395,6 +498,10 @@ impl JointKind {
             JointKind::Revolute { .. } => "Revolute",
             JointKind::Prismatic { .. } => "Prismatic",
             JointKind::FreeMotion { .. } => "FreeMotion",
+            JointKind::Spherical { .. } => "Spherical",
+            JointKind::Universal { .. } => "Universal",
+            JointKind::Cylindrical { .. } => "Cylindrical",
+            JointKind::Planar { .. } => "Planar",
         }
     }
 }
@@ -410,10 +517,16 @@ pub struct Joint {
     pub obj2: String,
     /// Kind and initial values.
     pub kind: JointKind,
-    /// Whether solids of the two joined bodies may collide (default false). Applies to
-    /// Revolute and Prismatic joints; a FreeMotion is no mechanical connection and never
+    /// Whether solids of the two joined bodies may collide (default false). Applies to every
+    /// joint that is a mechanical connection (all but FreeMotion); a FreeMotion never
     /// prevents a collision (as in Modia3D).
     pub can_collide: bool,
+    /// Whether this joint should be the one that closes its kinematic loop (default false): a
+    /// cut joint stays out of the spanning joint tree and is enforced by constraints
+    /// (`dynamics/loops.rs`). Marking is a preference: unmarked loop-closing joints are cut
+    /// in declaration order, and a marked joint that is needed to connect a body to the world
+    /// stays in the tree.
+    pub cut: bool,
 }
 
 impl Joint {
@@ -425,7 +538,13 @@ impl Joint {
             obj2: obj2.to_string(),
             kind,
             can_collide: false,
+            cut: false,
         }
+    }
+    /// Marks this joint as the one to cut when it closes a kinematic loop (see [`Joint::cut`]).
+    pub fn cut(mut self, on: bool) -> Self {
+        self.cut = on;
+        self
     }
     /// Sets `can_collide`.
     pub fn can_collide(mut self, on: bool) -> Self {
@@ -513,11 +632,14 @@ pub enum ForceElement {
         /// Unstretched length [m].
         length0: f64,
     },
-    /// Spring and damper on a revolute [N·m/rad, N·m·s/rad] or prismatic [N/m, N·s/m] joint:
-    /// generalised force `−c (x − x0) − d ẋ`.
+    /// Spring and damper on a scalar coordinate of a joint (a rotation [N·m/rad, N·m·s/rad]
+    /// or a translation [N/m, N·s/m]): generalised force `−c (x − x0) − d ẋ`.
     JointSpringDamper {
         /// Name of the joint.
         joint: String,
+        /// The coordinate (`"phi1"`, `"s"`, `"x"`, …; see the joint kinds); `None` for a joint
+        /// with a single scalar coordinate (Revolute, Prismatic).
+        coordinate: Option<String>,
         /// Stiffness.
         stiffness: f64,
         /// Damping.
@@ -538,18 +660,22 @@ pub enum ForceElement {
 /// [`crate::simulation::Simulation`] and are 0 until set.
 #[derive(Clone, Debug, PartialEq)]
 pub enum InputKind {
-    /// A generalised force on a Revolute [N·m] or Prismatic [N] joint (1 value), added to its
-    /// spring-dampers.
+    /// A generalised force on a scalar coordinate of a joint ([N·m] for a rotation, [N] for a
+    /// translation; 1 value), added to its spring-dampers.
     JointForce {
         /// Name of the joint.
         joint: String,
+        /// The coordinate; `None` for a joint with a single scalar coordinate.
+        coordinate: Option<String>,
     },
-    /// Prescribed motion of a Revolute [rad/s²] or Prismatic [m/s²] joint: its acceleration
-    /// (1 value); position and velocity follow by integration, the joint force is whatever
-    /// the motion needs.
+    /// Prescribed motion of a scalar coordinate of a joint: its acceleration ([rad/s²] or
+    /// [m/s²]; 1 value); position and velocity follow by integration, the joint force is
+    /// whatever the motion needs.
     JointAcceleration {
         /// Name of the joint.
         joint: String,
+        /// The coordinate; `None` for a joint with a single scalar coordinate.
+        coordinate: Option<String>,
     },
     /// A force [N] and a torque [N·m], both resolved in world, on an object's origin
     /// (6 values: force x, y, z, then torque x, y, z).
@@ -569,23 +695,36 @@ pub struct Input {
 }
 
 impl Input {
-    /// A generalised force on joint `joint` (1 value, [N·m] or [N]).
+    /// A generalised force on joint `joint`'s single scalar coordinate (1 value, [N·m] or [N]).
     pub fn joint_force(name: &str, joint: &str) -> Self {
         Input {
             name: name.into(),
             kind: InputKind::JointForce {
                 joint: joint.into(),
+                coordinate: None,
             },
         }
     }
-    /// The prescribed acceleration of joint `joint` (1 value, [rad/s²] or [m/s²]).
+    /// The prescribed acceleration of joint `joint`'s single scalar coordinate (1 value,
+    /// [rad/s²] or [m/s²]).
     pub fn joint_acceleration(name: &str, joint: &str) -> Self {
         Input {
             name: name.into(),
             kind: InputKind::JointAcceleration {
                 joint: joint.into(),
+                coordinate: None,
             },
         }
+    }
+    /// Sets the joint coordinate a joint input acts on (`"phi2"`, `"s"`, …); no effect on an
+    /// object wrench.
+    pub fn coordinate(mut self, c: &str) -> Self {
+        if let InputKind::JointForce { coordinate, .. }
+        | InputKind::JointAcceleration { coordinate, .. } = &mut self.kind
+        {
+            *coordinate = Some(c.to_string());
+        }
+        self
     }
     /// A world force and torque on object `object`'s origin (6 values, [N] then [N·m]).
     pub fn object_wrench(name: &str, object: &str) -> Self {

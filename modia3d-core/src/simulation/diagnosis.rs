@@ -17,7 +17,7 @@
 //! Only read at the end of a failed run: allocates freely.
 
 use crate::contact::{ContactPlan, ContactState};
-use crate::dynamics::{JointCoord, Plan};
+use crate::dynamics::{BodyId, ObjectId, Plan};
 use crate::results::Event;
 use crate::scene::ValidForce;
 
@@ -188,7 +188,7 @@ pub(crate) fn busiest_pair(events: &[Event], window: usize) -> Option<(String, u
 }
 
 /// Mass [kg] of body `b` (`None` = the world: infinite).
-fn mass(plan: &Plan, b: Option<usize>) -> f64 {
+fn mass(plan: &Plan, b: Option<BodyId>) -> f64 {
     b.and_then(|b| plan.bodies.get(b))
         .map_or(f64::INFINITY, |b| b.inertia.mass)
 }
@@ -218,10 +218,7 @@ pub(crate) fn stiffest(
     let mut best = SlowCause::Unknown;
     let mut best_t = f64::INFINITY;
     if let (Some(cs), Some(cp)) = (cs, cp) {
-        for &p in &cs.active {
-            let (Some(pp), Some(ps)) = (cp.pairs.get(p as usize), cs.pairs.get(p as usize)) else {
-                continue;
-            };
+        for (_, pp, ps) in cs.active_pairs() {
             let body = |s: usize| cp.shapes.get(s).and_then(|s| s.body);
             let delta = ps.response.penetration;
             let k = cp.k_red * pp.c_res * pp.c_geo * pp.n_geo * delta.powf(pp.n_geo - 1.0);
@@ -231,7 +228,7 @@ pub(crate) fn stiffest(
                 best_t = t;
                 let target = 50.0 * h_budget;
                 best = SlowCause::StiffContact {
-                    pair: cp.pair_name(&plan.scene, p as usize),
+                    pair: cp.pair_name(&plan.scene, pp),
                     period: t,
                     suggested_k_red: cp.k_red * (t / target).powi(2).min(1.0),
                 };
@@ -241,7 +238,10 @@ pub(crate) fn stiffest(
     for f in &plan.scene.forces {
         let (element, m, k) = match f {
             ValidForce::JointSpringDamper {
-                joint, stiffness, ..
+                joint,
+                coordinate,
+                stiffness,
+                ..
             } => {
                 let Some(j) = plan.joints.iter().find(|j| j.scene_joint == *joint) else {
                     continue;
@@ -249,17 +249,26 @@ pub(crate) fn stiffest(
                 let Some(b) = plan.bodies.get(j.body) else {
                     continue;
                 };
-                let m = match j.coord {
-                    JointCoord::Revolute { axis } => {
-                        // About the joint axis through the body frame origin (parallel axes).
-                        let i = &b.inertia;
-                        let c = i.com;
-                        (axis.dot(&(i.inertia_com * axis))
-                            + i.mass * (c.norm_squared() - axis.dot(&c).powi(2)))
-                        .max(0.0)
-                    }
-                    _ => b.inertia.mass,
+                // The inertia the spring's coordinate sees when its body alone moves:
+                // `sᵀ I s` with `s` the coordinate's motion at the initial state (about the
+                // axis through the body frame origin for a rotation, the mass for a
+                // translation).
+                let Some(c) = j.coord.coordinates().get(*coordinate) else {
+                    continue;
                 };
+                let mut unit = [0.0; 6];
+                let Some(qj) = plan.q0.get(j.q_offset..j.q_offset + j.coord.nq()) else {
+                    continue;
+                };
+                if let Some(u) = unit.get_mut(c.v) {
+                    *u = 1.0;
+                }
+                let Some(e) = unit.get(..j.coord.nv()) else {
+                    continue;
+                };
+                let s = j.coord.motion(qj, e);
+                let f = b.inertia.mul_motion(&s);
+                let m = (f.n.dot(&s.w) + f.f.dot(&s.v)).max(0.0);
                 (format!("joint spring of `{}`", j.name), m, *stiffness)
             }
             ValidForce::SpringDamper {
@@ -268,8 +277,10 @@ pub(crate) fn stiffest(
                 stiffness,
                 ..
             } => {
-                let (Some(o1), Some(o2)) = (plan.objects.get(*obj1), plan.objects.get(*obj2))
-                else {
+                let (Some(o1), Some(o2)) = (
+                    plan.objects.get(ObjectId(*obj1)),
+                    plan.objects.get(ObjectId(*obj2)),
+                ) else {
                     continue;
                 };
                 let m = reduced(mass(plan, o1.body), mass(plan, o2.body));

@@ -42,6 +42,7 @@ impl Checker {
             .required(&a, "obj2")
             .and_then(|e| self.reference(e, Kind::Object, "object"));
         let can_collide = a.get("can_collide").map(|c| (c.clone(), lit_bool(c)));
+        let cut = a.get("cut").map(|c| (c.clone(), lit_bool(c)));
         let kind = match kind_name.as_str() {
             "Fix" => Some(JointKindIr::Fix),
             "Revolute" | "Prismatic" => {
@@ -88,6 +89,7 @@ impl Checker {
             obj2: o2?,
             kind: kind?,
             can_collide,
+            cut,
         })
     }
 
@@ -113,7 +115,10 @@ impl Checker {
                 }
             }
             "JointSpringDamper" => {
-                let a = self.args(ctor, &["joint", "stiffness", "damping", "offset"]);
+                let a = self.args(
+                    ctor,
+                    &["joint", "coordinate", "stiffness", "damping", "offset"],
+                );
                 let joint = self
                     .required(&a, "joint")
                     .and_then(|e| self.reference(e, Kind::Joint, "joint"));
@@ -121,6 +126,7 @@ impl Checker {
                 let damping = self.num(&a, "damping", false);
                 ForceIr::JointSpringDamper {
                     joint: joint?,
+                    coordinate: a.get("coordinate").map(|e| (e.clone(), lit_str(e))),
                     stiffness: stiffness?,
                     damping,
                     offset: a.get("offset").cloned(),

@@ -123,6 +123,7 @@ pub fn item(it: &Item) -> TokenStream {
             obj2,
             kind,
             can_collide,
+            cut,
         } => {
             let (n, o1, o2) = (
                 scoped(&name.to_string()),
@@ -131,7 +132,8 @@ pub fn item(it: &Item) -> TokenStream {
             );
             let (kind, init) = joint_kind(kind);
             let c = can_collide.as_ref().map(|(c, _)| quote!(.can_collide(#c)));
-            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #init);)
+            let cut = cut.as_ref().map(|(c, _)| quote!(.cut(#c)));
+            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #cut #init);)
         }
         Item::Force { name, force, .. } => {
             let v = self::force(&name.to_string(), force);
@@ -453,11 +455,16 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
         }
         ForceIr::JointSpringDamper {
             joint,
+            coordinate,
             stiffness,
             damping,
             offset,
         } => {
             let j = scoped(&joint.path);
+            let co = match coordinate {
+                Some((e, _)) => quote!(::core::option::Option::Some(#to_string(#e))),
+                None => quote!(::core::option::Option::None),
+            };
             let c = &stiffness.expr;
             let d = num_or(damping, quote!(0.0));
             let off = offset
@@ -467,6 +474,7 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
             quote! {
                 #fe::JointSpringDamper {
                     joint: #to_string(#j),
+                    coordinate: #co,
                     stiffness: #c,
                     damping: #d,
                     offset: #off,

@@ -6,6 +6,7 @@
 
 use super::SignedDistance;
 use crate::geometry::collision_shape::CollisionShape;
+use crate::geometry::pose::{rotate, to_local, to_world};
 use crate::geometry::support::CoreShape;
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -47,8 +48,8 @@ pub fn sphere_sphere(
     b: &CollisionShape,
     pose_b: &Isometry3<f64>,
 ) -> SignedDistance {
-    let ca = pose_a * a.centre();
-    let cb = pose_b * b.centre();
+    let ca = to_world(pose_a, &a.centre());
+    let cb = to_world(pose_b, &b.centre());
     let d = cb - ca;
     let dist = d.norm();
     let n = if dist > 0.0 { d / dist } else { Vector3::z() };
@@ -149,12 +150,12 @@ pub fn sphere_core(
     b: &CollisionShape,
     pose_b: &Isometry3<f64>,
 ) -> SignedDistance {
-    let ca = pose_a * a.centre();
-    let p_local = pose_b.inverse_transform_point(&ca);
+    let ca = to_world(pose_a, &a.centre());
+    let p_local = to_local(pose_b, &ca);
     let (q, dist, n_local) = closest_on_core(b.core(), &p_local);
     // n_local points from b's core to a's centre; the normal a → b is its opposite.
-    let n = -(pose_b.rotation * n_local);
-    assemble(ca, pose_b * q, dist, n, a.margin(), b.margin())
+    let n = -rotate(pose_b, &n_local);
+    assemble(ca, to_world(pose_b, &q), dist, n, a.margin(), b.margin())
 }
 
 /// Capsule `a` against capsule `b`: closest points of the two core segments (Ericson,

@@ -74,11 +74,23 @@ pub enum SceneError {
         /// The object named twice.
         object: String,
     },
-    /// A closed kinematic chain.
-    #[error("kinematic loop through {}: closed chains are not supported yet; remove a joint or parent link of the loop", list(.objects))]
+    /// A rigid loop: parent links and Fix joints only, or a moving joint whose two ends belong
+    /// to one rigid part (it could never move). Closed chains with moving joints are allowed.
+    #[error("rigid kinematic loop through {}: these objects are already rigidly connected (parent links and Fix joints), so the loop cannot move; remove a joint or parent link of the loop", list(.objects))]
     KinematicLoop {
         /// The objects (or joints) on the loop.
         objects: Vec<String>,
+    },
+    /// A closed loop whose constraints cannot be satisfied near the given initial coordinates
+    /// (link lengths or axes that do not fit together).
+    #[error("kinematic loop closed by joint `{cut}` (through {}) cannot close: after assembly its constraint residual is {residual:.3e} (metres or radians, largest component); check the lengths, axes and initial coordinates of the loop's bodies", list(.joints))]
+    ImpossibleLoop {
+        /// The cut joint that closes the loop.
+        cut: String,
+        /// The joints of the loop.
+        joints: Vec<String>,
+        /// Largest remaining constraint residual, [m] for translations, [rad]-like for rotations.
+        residual: f64,
     },
     /// Objects that are neither attached nor jointed to the world.
     #[error("object `{object}` is not connected to the world: give it a parent or connect it with a joint (a FreeMotion for a free body)")]
@@ -124,6 +136,19 @@ pub enum SceneError {
         /// Its obj2.
         obj2: String,
     },
+    /// A joint that cannot be traversed from obj2 to obj1 (Spherical, Universal, Planar: its
+    /// coordinates are defined from obj1's side) whose obj1 lies on the far side of the world.
+    #[error("{kind} joint `{joint}`: obj1 `{obj1}` must lie on the world side of obj2 `{obj2}`; swap obj1 and obj2 (and, for a Universal joint, axis1 and axis2)")]
+    ReversedJoint {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: &'static str,
+        /// Its obj1.
+        obj1: String,
+        /// Its obj2.
+        obj2: String,
+    },
     /// A collision-enabled solid without a shape.
     #[error("solid `{object}` takes part in collisions but has no shape: give it a shape or set `collision` to false")]
     CollisionWithoutShape {
@@ -163,13 +188,23 @@ pub enum SceneError {
         /// The two shapes' centres coincide.
         coincident: bool,
     },
-    /// A joint spring-damper on a joint without a scalar coordinate.
-    #[error("joint spring-damper on `{joint}`: a {kind} joint has no scalar coordinate; use a Revolute or Prismatic joint")]
+    /// A joint spring-damper or joint input on a joint without a scalar coordinate.
+    #[error("joint spring-damper or input on `{joint}`: a {kind} joint has no scalar coordinate; use a joint with one (Revolute, Prismatic, Cylindrical, Universal, Planar)")]
     NoScalarCoordinate {
         /// The joint.
         joint: String,
         /// Its kind.
         kind: &'static str,
+    },
+    /// A joint spring-damper or joint input that names no coordinate of a joint with several.
+    #[error("{referrer}: a {kind} joint has the coordinates {coordinates}; name one (`coordinate = \"…\"`)")]
+    AmbiguousCoordinate {
+        /// The spring-damper or input, in words.
+        referrer: String,
+        /// The joint's kind.
+        kind: &'static str,
+        /// Its coordinates, listed.
+        coordinates: String,
     },
 }
 

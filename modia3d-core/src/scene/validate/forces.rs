@@ -4,7 +4,7 @@
 use super::{
     did_you_mean, Checker, Names, SceneError, ValidForce, ValidInput, ValidInputKind, ValidJoint,
 };
-use crate::scene::desc::{ForceElement, InputKind, JointKind, SceneDesc};
+use crate::scene::desc::{ForceElement, InputKind, SceneDesc};
 
 /// Every force element resolved and checked.
 pub(super) fn forces(
@@ -42,6 +42,7 @@ pub(super) fn forces(
             }
             ForceElement::JointSpringDamper {
                 joint,
+                coordinate,
                 stiffness,
                 damping,
                 offset,
@@ -50,29 +51,17 @@ pub(super) fn forces(
                 c.non_negative(|| what("stiffness"), *stiffness);
                 c.non_negative(|| what("damping"), *damping);
                 c.finite(|| what("offset"), &[*offset]);
-                match names.joint_index.get(joint.as_str()) {
-                    None => c.errors.push(SceneError::Unknown {
-                        referrer: "joint spring-damper".into(),
-                        kind: "joint",
-                        name: joint.clone(),
-                        hint: did_you_mean(joint, desc.joints.iter().map(|j| j.name.as_str())),
-                    }),
-                    Some(&ji) => {
-                        let k = &desc.joints[ji].kind;
-                        if !matches!(k, JointKind::Revolute { .. } | JointKind::Prismatic { .. }) {
-                            c.errors.push(SceneError::NoScalarCoordinate {
-                                joint: joint.clone(),
-                                kind: k.name(),
-                            });
-                        } else if let Some(valid) = joints.iter().position(|vj| vj.name == *joint) {
-                            forces.push(ValidForce::JointSpringDamper {
-                                joint: valid,
-                                stiffness: *stiffness,
-                                damping: *damping,
-                                offset: *offset,
-                            });
-                        }
-                    }
+                let referrer = format!("spring-damper on joint `{joint}`");
+                if let Some((valid, coordinate)) =
+                    joint_coordinate(c, desc, names, joints, &referrer, joint, coordinate)
+                {
+                    forces.push(ValidForce::JointSpringDamper {
+                        joint: valid,
+                        coordinate,
+                        stiffness: *stiffness,
+                        damping: *damping,
+                        offset: *offset,
+                    });
                 }
             }
             ForceElement::ObjectForce { object, law } => {
@@ -106,37 +95,29 @@ pub(super) fn inputs(
                 name: inp.name.clone(),
             });
         }
-        let joint = |c: &mut Checker, jn: &str| -> Option<usize> {
-            let Some(&ji) = names.joint_index.get(jn) else {
-                c.errors.push(SceneError::Unknown {
-                    referrer: format!("input `{}`", inp.name),
-                    kind: "joint",
-                    name: jn.to_string(),
-                    hint: did_you_mean(jn, desc.joints.iter().map(|j| j.name.as_str())),
-                });
-                return None;
-            };
-            let k = &desc.joints[ji].kind;
-            if !matches!(k, JointKind::Revolute { .. } | JointKind::Prismatic { .. }) {
-                c.errors.push(SceneError::NoScalarCoordinate {
-                    joint: jn.to_string(),
-                    kind: k.name(),
-                });
-                return None;
-            }
-            joints.iter().position(|vj| vj.name == jn)
+        let referrer = format!("input `{}`", inp.name);
+        let joint = |c: &mut Checker, jn: &str, co: &Option<String>| {
+            joint_coordinate(c, desc, names, joints, &referrer, jn, co)
         };
         let kind = match &inp.kind {
-            InputKind::JointForce { joint: jn } => joint(c, jn).map(ValidInputKind::JointForce),
-            InputKind::JointAcceleration { joint: jn } => {
-                let j = joint(c, jn);
-                if j.is_some() && !driven.insert(jn.as_str()) {
-                    c.errors.push(SceneError::DuplicateName {
-                        kind: "prescribed-acceleration joint",
-                        name: jn.clone(),
-                    });
+            InputKind::JointForce {
+                joint: jn,
+                coordinate,
+            } => joint(c, jn, coordinate).map(|(j, k)| ValidInputKind::JointForce(j, k)),
+            InputKind::JointAcceleration {
+                joint: jn,
+                coordinate,
+            } => {
+                let j = joint(c, jn, coordinate);
+                if let Some((_, k)) = j {
+                    if !driven.insert((jn.as_str(), k)) {
+                        c.errors.push(SceneError::DuplicateName {
+                            kind: "prescribed-acceleration joint",
+                            name: jn.clone(),
+                        });
+                    }
                 }
-                j.map(ValidInputKind::JointAcceleration)
+                j.map(|(j, k)| ValidInputKind::JointAcceleration(j, k))
             }
             InputKind::ObjectWrench { object } => names
                 .resolve(c, format!("input `{}`", inp.name), object)
@@ -151,4 +132,66 @@ pub(super) fn inputs(
     }
 
     inputs
+}
+
+/// The validated joint and the index of its scalar coordinate `coordinate` (`None`: its only
+/// one) that a spring-damper or input (`referrer`) acts on; errors for an unknown joint, a kind
+/// without scalar coordinates, an unknown coordinate name, or no name where several exist.
+fn joint_coordinate(
+    c: &mut Checker,
+    desc: &SceneDesc,
+    names: &Names,
+    joints: &[ValidJoint],
+    referrer: &str,
+    joint: &str,
+    coordinate: &Option<String>,
+) -> Option<(usize, usize)> {
+    let Some(&ji) = names.joint_index.get(joint) else {
+        c.errors.push(SceneError::Unknown {
+            referrer: referrer.to_string(),
+            kind: "joint",
+            name: joint.to_string(),
+            hint: did_you_mean(joint, desc.joints.iter().map(|j| j.name.as_str())),
+        });
+        return None;
+    };
+    let kind = desc.joints[ji].kind.name();
+    let coords = crate::joints::info(kind).map_or(&[][..], |i| i.coordinates);
+    if coords.is_empty() {
+        c.errors.push(SceneError::NoScalarCoordinate {
+            joint: joint.to_string(),
+            kind,
+        });
+        return None;
+    }
+    let k = match coordinate {
+        None if coords.len() == 1 => 0,
+        None => {
+            c.errors.push(SceneError::AmbiguousCoordinate {
+                referrer: referrer.to_string(),
+                kind,
+                coordinates: coords
+                    .iter()
+                    .map(|c| format!("`{}`", c.name))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+            return None;
+        }
+        Some(name) => match coords.iter().position(|c| c.name == name) {
+            Some(k) => k,
+            None => {
+                c.errors.push(SceneError::Unknown {
+                    referrer: format!("{referrer} (a {kind} joint)"),
+                    kind: "joint coordinate",
+                    name: name.clone(),
+                    hint: did_you_mean(name, coords.iter().map(|c| c.name)),
+                });
+                return None;
+            }
+        },
+    };
+    // A joint with an invalid value was dropped (its error is reported).
+    let valid = joints.iter().position(|vj| vj.name == joint)?;
+    Some((valid, k))
 }

@@ -105,6 +105,74 @@ pub enum ValidJointKind {
         /// Initial angular velocity, resolved in obj2 [rad/s].
         w: Vector3<f64>,
     },
+    /// Ball joint.
+    Spherical {
+        /// Initial orientation relative to obj1.
+        rot: UnitQuaternion<f64>,
+        /// Initial angular velocity, resolved in obj2 [rad/s].
+        w: Vector3<f64>,
+    },
+    /// Cardan joint with unit, exactly perpendicular axes.
+    Universal {
+        /// First axis (fixed in obj1), unit.
+        axis1: Vector3<f64>,
+        /// Second axis (fixed in obj2), unit, perpendicular to `axis1`.
+        axis2: Vector3<f64>,
+        /// Initial angles [rad].
+        phi1: f64,
+        /// See `phi1`.
+        phi2: f64,
+        /// Initial rates [rad/s].
+        w1: f64,
+        /// See `w1`.
+        w2: f64,
+    },
+    /// Rotation about and translation along a unit axis.
+    Cylindrical {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Initial angle [rad].
+        phi: f64,
+        /// Initial position [m].
+        s: f64,
+        /// Initial angular velocity [rad/s].
+        w: f64,
+        /// Initial velocity [m/s].
+        v: f64,
+    },
+    /// Planar motion normal to a unit normal.
+    Planar {
+        /// Unit normal.
+        normal: Vector3<f64>,
+        /// Initial positions [m] (resolved in obj1) and angle [rad].
+        x: f64,
+        /// See `x`.
+        y: f64,
+        /// See `x`.
+        phi: f64,
+        /// Initial rates [m/s], [rad/s].
+        vx: f64,
+        /// See `vx`.
+        vy: f64,
+        /// See `vx`.
+        w: f64,
+    },
+}
+
+impl ValidJointKind {
+    /// The kind's name, as [`crate::JointKind::name`].
+    pub fn name(&self) -> &'static str {
+        match self {
+            ValidJointKind::Fix => "Fix",
+            ValidJointKind::Revolute { .. } => "Revolute",
+            ValidJointKind::Prismatic { .. } => "Prismatic",
+            ValidJointKind::FreeMotion { .. } => "FreeMotion",
+            ValidJointKind::Spherical { .. } => "Spherical",
+            ValidJointKind::Universal { .. } => "Universal",
+            ValidJointKind::Cylindrical { .. } => "Cylindrical",
+            ValidJointKind::Planar { .. } => "Planar",
+        }
+    }
 }
 
 /// A resolved joint.
@@ -120,6 +188,8 @@ pub struct ValidJoint {
     pub kind: ValidJointKind,
     /// Whether the joined bodies may collide.
     pub can_collide: bool,
+    /// Whether the user prefers this joint to be cut if it closes a loop.
+    pub cut: bool,
 }
 
 /// A resolved force element.
@@ -142,6 +212,9 @@ pub enum ValidForce {
     JointSpringDamper {
         /// Joint index.
         joint: usize,
+        /// Index of the coordinate among the kind's scalar coordinates
+        /// (`joints::KindInfo::coordinates`).
+        coordinate: usize,
         /// Stiffness.
         stiffness: f64,
         /// Damping.
@@ -191,10 +264,11 @@ pub struct ValidInput {
 /// What a resolved input drives.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ValidInputKind {
-    /// Generalised force on a scalar joint (index into `ValidScene::joints`).
-    JointForce(usize),
-    /// Prescribed acceleration of a scalar joint (index into `ValidScene::joints`).
-    JointAcceleration(usize),
+    /// Generalised force on a scalar coordinate of a joint (index into `ValidScene::joints`,
+    /// index of the coordinate among the kind's scalar coordinates).
+    JointForce(usize, usize),
+    /// Prescribed acceleration of a scalar coordinate of a joint (as `JointForce`).
+    JointAcceleration(usize, usize),
     /// World force and torque on an object (index into `ValidScene::objects`).
     ObjectWrench(usize),
 }
