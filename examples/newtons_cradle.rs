@@ -27,7 +27,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("ball{b}: v_x = {v:+.5} m/s");
     }
     // Two seconds of swinging for the animation (three.js JSON, glTF, HTML player).
-    let anim = model.simulate(&SimOptions::new(2.0).tolerance(1e-8).interval(0.01))?;
+    // Contact results give the player its contact points and force arrows.
+    let anim = model.simulate(
+        &SimOptions::new(2.0)
+            .tolerance(1e-8)
+            .interval(0.01)
+            .contact_results(true),
+    )?;
     std::fs::create_dir_all("out")?;
     anim.write_threejs_json("out/newtons_cradle.json")?;
     anim.write_gltf("out/newtons_cradle.gltf")?;

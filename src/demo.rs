@@ -62,7 +62,7 @@ pub fn add_free_sphere(
     w: [f64; 3],
 ) {
     let mut solid = Solid::new(Shape::Sphere { diameter })
-        .material(material)
+        .solid_material(material)
         .collision(true);
     if let Some(cm) = contact_material {
         solid = solid.contact_material(cm);
@@ -124,6 +124,27 @@ pub fn sphere_on_plane(
     s
 }
 
+/// Rebound speed over impact speed of the free object `ball` of `model` that starts 1e-5 m
+/// from a plane, moving at `v0` [m/s] towards it along −z without gravity (as
+/// [`sphere_on_plane`] builds it): simulated for 1e-5/`v0` + 0.05 s at rtol 1e-9, the final
+/// `ball.v_abs[2]` over `v0`. `Ok(None)` when no contact ended (the ball did not rebound).
+pub fn rebound_ratio(model: &Model, v0: f64) -> Result<Option<f64>, SimError> {
+    let res = model.simulate(
+        &SimOptions::new(1e-5 / v0 + 0.05)
+            .tolerance(1e-9)
+            .interval(1e-3)
+            .progress(false),
+    )?;
+    if !res.events.iter().any(|e| !e.ended.is_empty()) {
+        return Ok(None);
+    }
+    let vz = res
+        .signal("ball.v_abs[2]")
+        .map(|s| s.values())
+        .unwrap_or_default();
+    Ok(vz.last().map(|v| v / v0))
+}
+
 /// A steel table (top at z = 0) and `n` free bodies of `shape` (height `h` \[m\] when resting,
 /// orientation `angles`) stacked, each touching the one below (gap 0), at rest.
 pub fn stack(shape: Shape, h: f64, angles: [f64; 3], n: usize, k_red: f64) -> SceneDesc {
@@ -158,7 +179,7 @@ pub fn stack(shape: Shape, h: f64, angles: [f64; 3], n: usize, k_red: f64) -> Sc
     s
 }
 
-/// The built-in Steel–Steel pair material (`CONTACT_PAIR_MATERIALS`): cor 0.7, μ_k 0.5,
+/// The built-in Steel–Steel pair material (`builtin_contact_pair("Steel", "Steel")`): cor 0.7, μ_k 0.5,
 /// μ_r 0.001.
 pub const STEEL_STEEL: ContactPairMaterial = ContactPairMaterial::new(0.7, 0.5, 0.001);
 

@@ -207,9 +207,9 @@ pub mod prelude {
         Axis, BodyInfo, ContactPairInfo, ContactPairMaterial, ContactPhase, ContactProfile, Event,
         Feature, ForceElement, ForceFn, FreeRotation, Input, InputError, InputKind, Joint,
         JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef, Model, Object3D, ObjectMotion,
-        ResultError, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Shape, Signal,
-        SimError, SimErrorKind, SimOptions, SimStats, SimWarning, Simulation, SimulationResult,
-        Solid, SolidMaterial, Wrench,
+        PlotFormat, PlotOptions, ResultError, Rotation, SceneDesc, SceneError, SceneErrors,
+        SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats, SimWarning,
+        Simulation, SimulationResult, Solid, SolidMaterial, Wrench,
     };
     pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};

@@ -1,5 +1,6 @@
-//! The HTML player in headless Chromium: the page renders the scene (non-background pixels in a
-//! screenshot) and reports the object count, with WebGL and with the Canvas 2D fallback.
+//! The HTML player (three.js, inlined) in headless Chromium: it loads offline and renders the
+//! scene, plays, and when scrubbed (`?t=`) draws a marked body where the result has it; joints
+//! and rods are drawn; contact arrows appear during a contact and only then.
 //!
 //! Needs Debian's `chromium`; installs it with apt-get when missing and running as root, and
 //! otherwise skips with a message.
@@ -62,7 +63,10 @@ fn chromium() -> Result<PathBuf, String> {
 
 /// Runs Chromium headless on `url` with `extra` flags and a fresh profile; returns stdout.
 fn run_chromium(chromium: &Path, url: &str, extra: &[&str], dir: &Path) -> String {
-    let profile = dir.join(format!("profile-{}", extra.len()));
+    static RUNS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = RUNS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let profile = dir.join(format!("profile-{n}"));
+    let out_path = dir.join(format!("stdout-{n}.html"));
     let mut child = Command::new(chromium)
         .args([
             "--headless",
@@ -74,12 +78,16 @@ fn run_chromium(chromium: &Path, url: &str, extra: &[&str], dir: &Path) -> Strin
             "--disable-component-update",
             "--disable-sync",
             "--virtual-time-budget=3000",
+            // WebGL without a GPU: SwiftShader through ANGLE.
+            "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader",
             "--window-size=800,600",
         ])
         .arg(format!("--user-data-dir={}", profile.display()))
         .args(extra)
         .arg(url)
-        .stdout(Stdio::piped())
+        // To a file: the dumped DOM (three.js inlined) is larger than a pipe's buffer.
+        .stdout(std::fs::File::create(&out_path).expect("stdout file"))
         .stderr(Stdio::null())
         .spawn()
         .expect("start chromium");
@@ -91,9 +99,10 @@ fn run_chromium(chromium: &Path, url: &str, extra: &[&str], dir: &Path) -> Strin
         }
         std::thread::sleep(Duration::from_millis(50));
     }
-    let out = child.wait_with_output().unwrap();
     std::fs::remove_dir_all(&profile).ok();
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    let out = std::fs::read(&out_path).unwrap_or_default();
+    std::fs::remove_file(&out_path).ok();
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// The value of attribute `attr` of the element `#modia3d-info` in a dumped DOM.
@@ -104,9 +113,8 @@ fn info_attr(dom: &str, attr: &str) -> Option<String> {
     Some(v[..v.find('"')?].to_string())
 }
 
-/// Pixels of the screenshot, below the info line, that differ clearly from the background (the
-/// light floor grid does not count).
-fn drawn_pixels(png_path: &Path) -> (usize, usize) {
+/// The screenshot as (width, height, RGB or RGBA bytes, channels).
+fn screenshot(png_path: &Path) -> (usize, usize, Vec<u8>, usize) {
     let decoder = png::Decoder::new(std::fs::File::open(png_path).unwrap());
     let mut reader = decoder.read_info().unwrap();
     let mut buf = vec![0; reader.output_buffer_size()];
@@ -117,9 +125,15 @@ fn drawn_pixels(png_path: &Path) -> (usize, usize) {
         c => panic!("unexpected colour type {c:?}"),
     };
     assert_eq!(info.bit_depth, png::BitDepth::Eight);
-    let (w, h) = (info.width as usize, info.height as usize);
+    (info.width as usize, info.height as usize, buf, channels)
+}
+
+/// Pixels between the info line and the control bar that differ clearly from the background
+/// (the light floor grid does not count), and all pixels.
+fn drawn_pixels(png_path: &Path) -> (usize, usize) {
+    let (w, h, buf, channels) = screenshot(png_path);
     let mut drawn = 0;
-    for y in 40..h {
+    for y in 40..h - 50 {
         for x in 0..w {
             let p = &buf[(y * w + x) * channels..][..3];
             if (0..3).any(|i| p[i].abs_diff(BACKGROUND[i]) > 50) {
@@ -175,58 +189,201 @@ fn double_pendulum() -> SimulationResult {
         .unwrap()
 }
 
-#[test]
-fn html_player_renders_the_scene_in_headless_chromium() {
+/// Headless Chromium, a scratch directory and the page of `result`; `None` (test skipped with
+/// a message) when Chromium cannot be had.
+fn page_of(result: &SimulationResult, test: &str) -> Option<(PathBuf, PathBuf, PathBuf)> {
     let chromium = match chromium() {
         Ok(p) => p,
         Err(why) => {
-            println!("SKIPPED html_player_renders_the_scene_in_headless_chromium: {why}");
-            return;
+            println!("SKIPPED {test}: {why}");
+            return None;
         }
     };
-    let result = double_pendulum();
-    let dir = std::env::temp_dir().join(format!("modia3d-browser-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("modia3d-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let page = dir.join("player.html");
     result.write_html(&page).unwrap();
     let html = std::fs::read_to_string(&page).unwrap();
+    // three.js names URLs in comments and has loaders; the page loads nothing from a URL.
+    for needle in ["src=\"http", "import(\"http", "from \"http", "from 'http"] {
+        assert!(!html.contains(needle), "no network reference `{needle}`");
+    }
+    Some((chromium, dir, page))
+}
+
+/// Loads and plays: the page reports the three objects, the renderer, two revolute joints
+/// with their rods (each rod body has a joint frame at each end), frames drawn and a time that
+/// advanced; the screenshot has the rods and ball drawn (thousands of pixels, not half the
+/// screen).
+#[test]
+fn html_player_loads_and_plays_in_headless_chromium() {
+    let result = double_pendulum();
+    let Some((chromium, dir, page)) = page_of(&result, "player-plays") else {
+        return;
+    };
+    let url = format!("file://{}", page.display());
+    // Frames per virtual second vary with the machine's load (seen: 1 to 21 in 3 s); the first
+    // frame starts the clock, so playing shows from the second frame on: up to four tries.
+    let mut dom = String::new();
+    for _ in 0..4 {
+        dom = run_chromium(&chromium, &url, &["--dump-dom"], &dir);
+        let frames = info_attr(&dom, "data-frames-drawn").and_then(|f| f.parse::<u64>().ok());
+        if frames.is_some_and(|f| f >= 2) {
+            break;
+        }
+    }
+    let attr = |a: &str| info_attr(&dom, a).unwrap_or_else(|| panic!("{a}; DOM: {dom:.3000}"));
+    assert_eq!(attr("data-object-count"), "3", "rod1, rod2 and ball");
+    assert!(dom.contains("drag to orbit"), "DOM: {dom:.3000}");
+    assert_eq!(attr("data-joint-count"), "2");
+    // rev1's frame top1 and rev2's frame bottom1 on body 1 (+ rod1), top2 and ball on body 2.
+    let rods: usize = attr("data-rod-count").parse().unwrap();
+    assert!(rods >= 3, "{rods} rods");
+    let frames: u64 = attr("data-frames-drawn").parse().unwrap();
+    let t: f64 = attr("data-time").parse().unwrap();
+    // Each frame after the first advances the time by its duration, capped at 0.1 s.
     assert!(
-        !html.contains("http://") && !html.contains("https://"),
-        "no network references"
+        frames >= 2 && t > 0.0 && t <= 0.1 * frames as f64,
+        "playing: {frames} frames, t = {t}"
     );
 
-    for (query, renderers) in [
-        ("", &["webgl", "canvas2d"][..]),
-        ("?renderer=2d", &["canvas2d"][..]),
-    ] {
-        let url = format!("file://{}{query}", page.display());
+    let shot = dir.join("play.png");
+    run_chromium(
+        &chromium,
+        &url,
+        &[&format!("--screenshot={}", shot.display())],
+        &dir,
+    );
+    let (drawn, total) = drawn_pixels(&shot);
+    println!("{frames} frames, t = {t} s, {drawn} of {total} pixels drawn");
+    assert!(
+        drawn > 1000 && drawn < total / 2,
+        "{drawn} of {total} pixels drawn"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A rubber ball (Ø 10 cm) dropped 0.3 m onto a concrete table with contact results: the
+/// contact lasts ~8 ms (Hertz, E ≈ 2 MPa), so a 1 ms grid has points inside it.
+fn rubber_ball() -> SimulationResult {
+    let mut s = SceneDesc::new();
+    s.add(modia3d::demo::world(SceneOptions::default()))
+        .add(modia3d::demo::fixed_box(
+            "table",
+            [0.6, 0.6, 0.1],
+            [0.0, 0.0, -0.05],
+            "Concrete",
+        ));
+    let r = [0.0, 0.0, 0.35];
+    modia3d::demo::add_free_sphere(
+        &mut s,
+        "ball",
+        0.1,
+        "NaturalRubber",
+        None,
+        r,
+        [0.0; 3],
+        [0.0; 3],
+    );
+    s.build()
+        .unwrap()
+        .simulate(
+            &SimOptions::new(0.5)
+                .tolerance(1e-6)
+                .interval(1e-3)
+                .contact_results(true)
+                .progress(false),
+        )
+        .unwrap()
+}
+
+/// Scrubbed to three output times (falling, in contact, after the rebound) the page draws the
+/// ball where the result has it: the drawn position (the ball's three.js object in the scene's
+/// world frame, after the animation mixer set the time) equals `ball.r_abs` to 1e-5 m (three.js
+/// keeps keyframes and matrices in float32: ~1e-7 relative at 0.35 m, so 1e-5 m is loose yet
+/// 1/5000 of the ball's diameter). In the screenshot the pixel where the page projects the
+/// ball's centre is the dark rubber, not the light background, and the hover tip there names
+/// `ball`. A contact arrow is drawn at the
+/// time in contact and none at the other two.
+#[test]
+fn scrubbed_pose_matches_the_result_and_contact_arrows_appear_during_contact() {
+    let result = rubber_ball();
+    let time = result.time().to_vec();
+    let on = result
+        .signal("table|ball.in_contact")
+        .or_else(|_| result.signal("ball|table.in_contact"))
+        .unwrap()
+        .values();
+    let first = on
+        .iter()
+        .position(|&v| v > 0.5)
+        .expect("the ball hits the table");
+    let len = on[first..].iter().take_while(|&&v| v > 0.5).count();
+    assert!(len >= 3, "{len} output points in the contact");
+    // The middle of the first contact phase: the force is near its peak.
+    let k_contact = first + len / 2;
+    let k_fall = k_contact / 2;
+    let k_after = (k_contact + 150).min(time.len() - 1);
+    assert!(on[k_after] < 0.5 && on[k_fall] < 0.5);
+    let r = result.signal("ball.r_abs").unwrap();
+    let Some((chromium, dir, page)) = page_of(&result, "player-scrub") else {
+        return;
+    };
+    for (k, contact) in [(k_fall, false), (k_contact, true), (k_after, false)] {
+        let url = format!("file://{}?t={:e}&probe=ball", page.display(), time[k]);
         let dom = run_chromium(&chromium, &url, &["--dump-dom"], &dir);
-        let count = info_attr(&dom, "data-object-count").expect("#modia3d-info in the DOM");
-        assert_eq!(count, "3", "rod1, rod2 and ball; DOM: {dom:.2000}");
-        let frames: u64 = info_attr(&dom, "data-frames-drawn")
-            .unwrap()
-            .parse()
-            .unwrap();
-        assert!(frames >= 1, "frames drawn: {frames}");
-        assert!(
-            renderers.iter().any(|r| dom.contains(&format!("· {r}<"))),
-            "renderer {renderers:?} expected; DOM: {dom:.2000}"
+        let attr = |a: &str| info_attr(&dom, a).unwrap_or_else(|| panic!("{a}; DOM: {dom:.3000}"));
+        let drawn: Vec<f64> = attr("data-probe-position")
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let want = r.at(k).unwrap();
+        println!("t = {}: drawn {drawn:?}, result {want:?}", time[k]);
+        for i in 0..3 {
+            assert!(
+                (drawn[i] - want[i]).abs() < 1e-5,
+                "t = {}: {drawn:?} vs {want:?}",
+                time[k]
+            );
+        }
+        assert_eq!(
+            attr("data-probe-hover"),
+            "ball",
+            "the hover tip's name at the ball"
+        );
+        let t: f64 = attr("data-time").parse().unwrap();
+        assert_eq!(t, time[k], "paused at the time asked for");
+        let arrows: usize = attr("data-contacts-visible").parse().unwrap();
+        assert_eq!(
+            arrows,
+            usize::from(contact),
+            "contact arrows at t = {}",
+            time[k]
         );
 
-        let shot = dir.join(format!("shot{}.png", query.len()));
+        let shot = dir.join(format!("scrub{k}.png"));
         run_chromium(
             &chromium,
             &url,
             &[&format!("--screenshot={}", shot.display())],
             &dir,
         );
-        let (drawn, total) = drawn_pixels(&shot);
-        println!("{url}: {frames} frames, {drawn} of {total} pixels drawn");
-        // Two 5 cm × 1 m rods and a 20 cm ball framed in 800 × 600: thousands of pixels, and
-        // far from all of them.
+        let (w, h, buf, channels) = screenshot(&shot);
+        let view: Vec<f64> = attr("data-probe-view")
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        // The screenshot's viewport differs from the DOM dump's: place by half heights.
+        let half = h as f64 / 2.0;
+        let pixel = [
+            (w as f64 / 2.0 + view[0] * half).round() as usize,
+            (half - view[1] * half).round() as usize,
+        ];
+        let p = &buf[(pixel[1] * w + pixel[0]) * channels..][..3];
         assert!(
-            drawn > 1000 && drawn < total / 2,
-            "{drawn} of {total} pixels drawn"
+            p.iter().all(|&c| c < 120),
+            "t = {}: the ball's centre pixel {pixel:?} is {p:?}",
+            time[k]
         );
     }
     std::fs::remove_dir_all(&dir).ok();

@@ -92,7 +92,7 @@ fn a_missing_pair_material_names_both_materials_and_objects() {
             "floor",
             [1.0, 1.0, 0.1],
             [0.0, 0.0, -0.05],
-            "DryWood",
+            "BilliardTable",
         ))
         .add(ball("ball"))
         .add_joint(Joint::new("free", "world", "ball", JointKind::free()));
@@ -101,17 +101,23 @@ fn a_missing_pair_material_names_both_materials_and_objects() {
         matches!(
             &err.0[0],
             SceneError::MissingContactPair { material1, material2, object1, object2 }
-                if material1 == "DryWood" && material2 == "Steel" && object1 == "floor" && object2 == "ball"
+                if material1 == "BilliardTable" && material2 == "Steel" && object1 == "floor" && object2 == "ball"
         ),
         "{err}"
     );
     let msg = err.to_string();
     assert!(
-        msg.contains("`DryWood`") && msg.contains("`Steel`") && msg.contains("add_contact_pair"),
+        msg.contains("`BilliardTable`")
+            && msg.contains("`Steel`")
+            && msg.contains("add_contact_pair"),
         "{msg}"
     );
     // Defining the pair (either order) fixes it.
-    s.add_contact_pair("Steel", "DryWood", ContactPairMaterial::new(0.5, 0.4, 0.01));
+    s.add_contact_pair(
+        "Steel",
+        "BilliardTable",
+        ContactPairMaterial::new(0.5, 0.4, 0.01),
+    );
     assert_eq!(pair_count(&s), 1);
 }
 

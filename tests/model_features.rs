@@ -396,7 +396,7 @@ model! {
     pub Contacts(k_red: f64 = 1e-3, pair: ContactPairMaterial = ContactPairMaterial::new(0.5, 0.2, 0.01),
                  other: &'static str = "Rubber", profile: ContactProfile = ContactProfile::Paper2019) {
         world = Object3D(feature = Scene(gravity = [0.0, 0.0, -1.0], contact_detection = true,
-                                         exact_restitution = true, k_red = k_red,
+                                         exact_restitution = true, average_missing_pairs = true, k_red = k_red,
                                          d_max = 2000.0, cor_min = 0.01, v_min = 0.02, w_min = 0.03,
                                          hysteresis = 1e-13, mpr_tolerance = 1e-10, mpr_max_iterations = 50,
                                          smoothing_radius = 0.002, profile = Modia3DLater)),
@@ -438,6 +438,7 @@ fn scene_options_and_contact_pairs() {
         smoothing_radius: 0.002,
         contact_profile: ContactProfile::Modia3DLater,
         exact_restitution: true,
+        average_missing_pairs: true,
     }))
     .add_solid_material(
         "oak",

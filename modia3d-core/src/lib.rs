@@ -48,7 +48,8 @@ pub use geometry::{Axis, Shape};
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]
 pub use results::{
-    ContactPhase, Event, ResultError, Signal, SimStats, SimWarning, SimulationResult,
+    ContactPhase, Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimWarning,
+    SimulationResult, EVENT_MARKER_COLOR,
 };
 pub use scene::{
     ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,

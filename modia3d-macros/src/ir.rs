@@ -76,6 +76,9 @@ pub struct SceneIr {
     pub contact_detection: Option<(Expr, Option<bool>)>,
     /// `exact_restitution = …` (`bool`; no scene rule depends on it).
     pub exact_restitution: Option<Expr>,
+    /// `average_missing_pairs = …` and its literal value (a missing pair is averaged from its
+    /// self-pairs instead of an error; a non-literal value is taken as `true` by the rules).
+    pub average_missing_pairs: Option<(Expr, Option<bool>)>,
     /// The `f64` options that were given.
     pub numbers: Vec<Num>,
     /// `mpr_max_iterations = …` (`u32`).

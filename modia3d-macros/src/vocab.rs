@@ -58,6 +58,7 @@ pub const SCENE_KEYS: &[&str] = &[
     "gravity",
     "contact_detection",
     "exact_restitution",
+    "average_missing_pairs",
     "k_red",
     "d_max",
     "cor_min",

@@ -14,6 +14,8 @@ pub(crate) struct AnimObject {
     pub shapes: Vec<Shape>,
     /// Whether it moves (belongs to a moving body); fixed objects get no keyframe tracks.
     pub moving: bool,
+    /// Display colour of its solid's built-in material (`palette.json`), if any.
+    pub color: Option<[u8; 3]>,
     /// Position of the object frame origin in world, per time point \[m\].
     pub positions: Vec<[f64; 3]>,
     /// Orientation object → world as a unit quaternion `[x, y, z, w]` per time point, with the
@@ -81,6 +83,11 @@ impl SimulationResult {
                 name: op.name.clone(),
                 shapes,
                 moving: op.body.is_some(),
+                color: so
+                    .solid
+                    .as_ref()
+                    .and_then(|s| s.material_name.as_deref())
+                    .and_then(crate::scene::builtin_material_color),
                 positions: positions.collect(),
                 rotations,
             });

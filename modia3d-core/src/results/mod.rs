@@ -14,6 +14,8 @@ mod plot;
 mod threejs;
 mod warnings;
 
+pub use plot::{PlotFormat, PlotOptions, EVENT_MARKER_COLOR};
+
 use crate::dynamics::{kinematics, Plan, Workspace};
 use crate::joints::Source;
 use crate::model::Model;

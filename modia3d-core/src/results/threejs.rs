@@ -121,7 +121,10 @@ impl SimulationResult {
         for (i, o) in objects.iter().enumerate() {
             let mat = uuid(2, i);
             materials.push(json!({"uuid": mat, "type": "MeshStandardMaterial",
-                "name": o.name, "color": COLORS.iter().cycle().nth(i), "roughness": 0.6,
+                "name": o.name, "color": o.color
+                    .map(|[r, g, b]| u32::from_be_bytes([0, r, g, b]))
+                    .or_else(|| COLORS.iter().cycle().nth(i).copied()),
+                "roughness": 0.6,
                 "metalness": 0.1, "side": 2}));
             let mut meshes = vec![];
             for (s, shape) in o.shapes.iter().enumerate() {

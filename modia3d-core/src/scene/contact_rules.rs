@@ -82,7 +82,8 @@ pub fn colliding_objects(scene: &ValidScene) -> Vec<usize> {
 /// [`SceneError::MissingContactPair`] for every pair of contact materials that two colliding
 /// solids which can meet ([`CollisionFilter`]) need and neither the scene nor the built-in
 /// palette defines; once per material pair, naming the first two objects that need it (in
-/// declaration order).
+/// declaration order). A pair averaged from its self-pairs (`SceneOptions::average_missing_pairs`)
+/// is not an error but is warned about here, once per material pair.
 pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
     let objects = colliding_objects(scene);
     let filter = CollisionFilter::new(scene);
@@ -98,7 +99,11 @@ pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
     for (k, &a) in objects.iter().enumerate() {
         for &b in &objects[k + 1..] {
             let (ma, mb) = (material(a), material(b));
-            if !filter.can_meet(a, b) || scene.contact_pair(ma, mb).is_some() {
+            if !filter.can_meet(a, b) {
+                continue;
+            }
+            let averaged = scene.averaged_contact_pair(ma, mb);
+            if averaged.is_none() && scene.contact_pair(ma, mb).is_some() {
                 continue;
             }
             let key = if ma <= mb { (ma, mb) } else { (mb, ma) };
@@ -106,6 +111,20 @@ pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
                 continue;
             }
             seen.push(key);
+            if let Some(m) = averaged {
+                tracing::warn!(
+                    "no contact-pair material for `{ma}` and `{mb}` (solids `{}` and `{}` can \
+                     collide): using the mean of the self-pairs `{ma}|{ma}` and `{mb}|{mb}` \
+                     (cor {}, mu_k {}, mu_r {}) because SceneOptions::average_missing_pairs is \
+                     on; define the pair to silence this",
+                    scene.objects[a].name,
+                    scene.objects[b].name,
+                    m.cor,
+                    m.mu_k,
+                    m.mu_r
+                );
+                continue;
+            }
             errors.push(SceneError::MissingContactPair {
                 material1: ma.to_string(),
                 material2: mb.to_string(),

@@ -100,6 +100,12 @@ pub struct SceneOptions {
     /// (regularised) cor whatever the masses, stiffness, speed and exponent
     /// (`docs/contact-model.md` §3); `d_max` still caps it.
     pub exact_restitution: bool,
+    /// A contact-pair material `a|b` that neither the scene nor the built-in palette defines is
+    /// taken as the mean of the self-pairs `a|a` and `b|b` (cor, μ_k, μ_r; Modia3D's rule),
+    /// with a warning through `tracing` naming the pair (default `false`: a missing pair is
+    /// [`SceneError::MissingContactPair`](crate::scene::SceneError::MissingContactPair)). A
+    /// pair whose self-pairs are missing too stays an error.
+    pub average_missing_pairs: bool,
 }
 
 impl Default for SceneOptions {
@@ -118,6 +124,7 @@ impl Default for SceneOptions {
             smoothing_radius: crate::geometry::DEFAULT_SMOOTHING_RADIUS,
             contact_profile: ContactProfile::Paper2019,
             exact_restitution: false,
+            average_missing_pairs: false,
         }
     }
 }
@@ -188,10 +195,17 @@ impl Solid {
             ..Default::default()
         }
     }
-    /// Sets the solid material by palette name.
-    pub fn material(mut self, name: &str) -> Self {
+    /// Sets the solid material by name: a built-in one (see
+    /// [`builtin_palette`](crate::scene::builtin_palette): `"Steel"`, `"Aluminium"`,
+    /// `"NaturalRubber"`, …) or one added with `SceneDesc::add_solid_material` or a JSON
+    /// palette. The same key as `model!`'s `solid_material = "Steel"`.
+    pub fn solid_material(mut self, name: &str) -> Self {
         self.material = Some(MaterialRef::Name(name.to_string()));
         self
+    }
+    /// The former name of [`solid_material`](Self::solid_material), kept as an alias.
+    pub fn material(self, name: &str) -> Self {
+        self.solid_material(name)
     }
     /// Sets the solid material by value.
     pub fn material_value(mut self, m: SolidMaterial) -> Self {

@@ -1,6 +1,7 @@
-//! Scene stage: solid materials and contact-pair materials, their built-in palettes (data from
-//! Modia3D.jl's palettes, see `reference/materials.md`) and user palettes loaded from JSON.
-//! Plain data; validation checks the ranges.
+//! Scene stage: solid materials and contact-pair materials, the built-in palette (the file
+//! `palette.json` beside this one, compiled in: engineering materials with E, ν, density and
+//! contact pairs with cor, μ_k, μ_r, every row citing its source) and user palettes loaded
+//! from JSON. Plain data; validation checks the ranges.
 
 use serde::de::{Deserializer, Error as _, MapAccess, Visitor};
 use serde::Deserialize;
@@ -20,16 +21,151 @@ pub struct SolidMaterial {
     pub poisson_ratio: f64,
 }
 
-/// The built-in solid materials: (name, material).
-pub const SOLID_MATERIALS: &[(&str, SolidMaterial)] = &[
-    ("Steel", mat(8000.0, 2.0e11, 0.30)),
-    ("Aluminium", mat(2700.0, 6.9e10, 0.32)),
-    ("DryWood", mat(700.0, 1.1e10, 0.40)),
-    ("BilliardBall", mat(1768.0, 5.4e9, 0.34)),
-    ("BilliardTable", mat(700.0, 1.1e10, 0.40)),
-    ("BilliardCushion", mat(700.0, 1.1e10, 0.40)),
-    ("BilliardCue", mat(700.0, 1.1e10, 0.40)),
-];
+/// A built-in solid material: its name, data and the keys of its sources.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuiltinSolid {
+    /// The name, e.g. `"Steel"`.
+    pub name: String,
+    /// Density [kg/m³], Young's modulus [N/m²], Poisson's ratio [-].
+    pub material: SolidMaterial,
+    /// Keys into [`BuiltinPalette::sources`].
+    pub source: Vec<String>,
+    /// Display colour (sRGB) the HTML player draws solids of this material in.
+    pub color: [u8; 3],
+}
+
+/// A built-in contact-pair material: its two contact material names, data and sources.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuiltinPair {
+    /// The two contact material names (any order).
+    pub materials: [String; 2],
+    /// cor, μ_k, μ_r.
+    pub material: ContactPairMaterial,
+    /// Keys into [`BuiltinPalette::sources`].
+    pub source: Vec<String>,
+}
+
+/// The built-in palette, read once from `modia3d-core/src/scene/palette.json` (compiled in):
+/// the common engineering materials — `Steel`, `StainlessSteel`, `Aluminium`, `Brass`,
+/// `Copper`, `Titanium`, `CastIron`, `Glass`, `Concrete`, `Granite`, `NaturalRubber`,
+/// `Neoprene`, `PTFE`, `Nylon` (PA), `ABS`, `PVC`, `POM`, `DryWood`, `WetWood`, `Ice`,
+/// `Ceramic` (alumina) — and Modia3D's billiard set (`BilliardBall`, `BilliardTable`,
+/// `BilliardCushion`, `BilliardCue`), with contact pairs for every self-pair and the common
+/// combinations (most against `Steel`); each row cites its source (handbooks and papers, listed
+/// in [`sources`](Self::sources)). A pair that is missing is an error when a scene needs it,
+/// unless `SceneOptions::average_missing_pairs` is set: then the mean of the two self-pairs is
+/// used (Modia3D's rule), with a warning.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuiltinPalette {
+    /// Citations by key.
+    pub sources: BTreeMap<String, String>,
+    /// The solid materials, sorted by name.
+    pub solids: Vec<BuiltinSolid>,
+    /// The contact-pair materials, in the file's order.
+    pub pairs: Vec<BuiltinPair>,
+}
+
+/// The palette file's text.
+pub const PALETTE_JSON: &str = include_str!("palette.json");
+
+/// The palette file's layout (each row with a `source` list).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PaletteFile {
+    #[allow(dead_code)]
+    about: String,
+    sources: BTreeMap<String, String>,
+    solid: serde_json::Map<String, serde_json::Value>,
+    contact_pairs: Vec<PairRow>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SolidRow {
+    density: f64,
+    young_modulus: f64,
+    poisson_ratio: f64,
+    color: String,
+    source: Vec<String>,
+}
+
+/// `#rrggbb` → RGB.
+fn parse_color(text: &str) -> Option<[u8; 3]> {
+    let hex = text.strip_prefix('#').filter(|h| h.len() == 6)?;
+    let byte = |i: usize| u8::from_str_radix(hex.get(i..i + 2)?, 16).ok();
+    Some([byte(0)?, byte(2)?, byte(4)?])
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PairRow {
+    materials: [String; 2],
+    cor: f64,
+    mu_k: f64,
+    mu_r: f64,
+    source: Vec<String>,
+}
+
+impl BuiltinPalette {
+    /// Parses a palette in the layout of `palette.json` (`about`, `sources`, `solid` with
+    /// `source` lists, `contact_pairs` with `source` lists); `Err` says what is wrong.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let file: PaletteFile = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let mut solids = vec![];
+        for (name, value) in file.solid {
+            let row: SolidRow = serde_json::from_value(value)
+                .map_err(|e| format!("solid material `{name}`: {e}"))?;
+            let color = parse_color(&row.color).ok_or_else(|| {
+                format!(
+                    "solid material `{name}`: colour `{}` is not #rrggbb",
+                    row.color
+                )
+            })?;
+            solids.push(BuiltinSolid {
+                name,
+                material: mat(row.density, row.young_modulus, row.poisson_ratio),
+                source: row.source,
+                color,
+            });
+        }
+        let pairs = file
+            .contact_pairs
+            .into_iter()
+            .map(|r| BuiltinPair {
+                materials: r.materials,
+                material: ContactPairMaterial::new(r.cor, r.mu_k, r.mu_r),
+                source: r.source,
+            })
+            .collect();
+        Ok(BuiltinPalette {
+            sources: file.sources,
+            solids,
+            pairs,
+        })
+    }
+}
+
+/// The built-in palette (parsed on first use; the file is checked by the crate's tests, so
+/// parsing cannot fail in a released build — should it, the palette is empty and every
+/// built-in name is reported unknown rather than panicking).
+pub fn builtin_palette() -> &'static BuiltinPalette {
+    static PALETTE: std::sync::OnceLock<BuiltinPalette> = std::sync::OnceLock::new();
+    PALETTE.get_or_init(|| {
+        BuiltinPalette::parse(PALETTE_JSON).unwrap_or(BuiltinPalette {
+            sources: BTreeMap::new(),
+            solids: vec![],
+            pairs: vec![],
+        })
+    })
+}
+
+/// Names of the built-in solid materials, in the palette's order.
+pub fn builtin_solid_names<'a>() -> impl Iterator<Item = &'a str> {
+    builtin_palette()
+        .solids
+        .iter()
+        .map(|s| -> &'a str { s.name.as_str() })
+}
 
 const fn mat(density: f64, young_modulus: f64, poisson_ratio: f64) -> SolidMaterial {
     SolidMaterial {
@@ -39,12 +175,22 @@ const fn mat(density: f64, young_modulus: f64, poisson_ratio: f64) -> SolidMater
     }
 }
 
+/// The display colour (sRGB) of a built-in solid material.
+pub fn builtin_material_color(name: &str) -> Option<[u8; 3]> {
+    builtin_palette()
+        .solids
+        .iter()
+        .find(|s| s.name == name)
+        .map(|s| s.color)
+}
+
 /// Looks up a built-in solid material by name.
 pub fn builtin_solid_material(name: &str) -> Option<SolidMaterial> {
-    SOLID_MATERIALS
+    builtin_palette()
+        .solids
         .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, m)| *m)
+        .find(|s| s.name == name)
+        .map(|s| s.material)
 }
 
 /// Response data of a pair of contact materials (the order of the pair does not matter).
@@ -90,52 +236,33 @@ impl ContactPairMaterial {
     }
 }
 
-/// The built-in contact-pair materials: (name 1, name 2, material).
-pub const CONTACT_PAIR_MATERIALS: &[(&str, &str, ContactPairMaterial)] = &[
-    ("Steel", "Steel", ContactPairMaterial::new(0.7, 0.5, 0.001)),
-    (
-        "DryWood",
-        "DryWood",
-        ContactPairMaterial::new(0.6, 0.3, 0.001),
-    ),
-    (
-        "BilliardBall",
-        "BilliardBall",
-        ContactPairMaterial::new(1.0, 0.0, 0.0),
-    ),
-    (
-        "BilliardBall",
-        "BilliardTable",
-        ContactPairMaterial::new(0.0, 0.8, 0.01),
-    ),
-    (
-        "BilliardBall",
-        "BilliardCushion",
-        ContactPairMaterial::new(0.98, 0.0, 0.0),
-    ),
-    (
-        "BilliardBall",
-        "BilliardCue",
-        ContactPairMaterial::new(0.98, 0.0, 0.0),
-    ),
-    (
-        "BilliardTable",
-        "BilliardCue",
-        ContactPairMaterial::new(0.0, 0.8, 0.01),
-    ),
-    (
-        "BilliardCue",
-        "BilliardCue",
-        ContactPairMaterial::new(0.98, 0.0, 0.0),
-    ),
-];
-
 /// Looks up a built-in contact-pair material (either order).
 pub fn builtin_contact_pair(a: &str, b: &str) -> Option<ContactPairMaterial> {
-    CONTACT_PAIR_MATERIALS
+    builtin_palette()
+        .pairs
         .iter()
-        .find(|(x, y, _)| (*x == a && *y == b) || (*x == b && *y == a))
-        .map(|(_, _, m)| *m)
+        .find(|p| {
+            let [x, y] = &p.materials;
+            (x == a && y == b) || (x == b && y == a)
+        })
+        .map(|p| p.material)
+}
+
+/// The mean of two contact-pair materials (cor, μ_k, μ_r; `v_min`/`w_min` the mean of those
+/// given, else the one given): Modia3D's rule for a pair `a|b` that is not defined, from the
+/// self-pairs `a|a` and `b|b` (used only with `SceneOptions::average_missing_pairs`).
+pub fn average_pair(p: &ContactPairMaterial, q: &ContactPairMaterial) -> ContactPairMaterial {
+    let mean = |x: Option<f64>, y: Option<f64>| match (x, y) {
+        (Some(x), Some(y)) => Some(0.5 * (x + y)),
+        (x, y) => x.or(y),
+    };
+    ContactPairMaterial {
+        cor: 0.5 * (p.cor + q.cor),
+        mu_k: 0.5 * (p.mu_k + q.mu_k),
+        mu_r: 0.5 * (p.mu_r + q.mu_r),
+        v_min: mean(p.v_min, q.v_min),
+        w_min: mean(p.w_min, q.w_min),
+    }
 }
 
 /// One entry of the `contact_pairs` list of a material file.

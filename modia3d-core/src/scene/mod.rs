@@ -11,8 +11,10 @@ mod validate;
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
 pub use desc::*;
 pub use materials::{
-    builtin_contact_pair, builtin_solid_material, ContactPairEntry, ContactPairMaterial,
-    MaterialFileError, MaterialPalette, SolidMaterial, CONTACT_PAIR_MATERIALS, SOLID_MATERIALS,
+    average_pair, builtin_contact_pair, builtin_material_color, builtin_palette,
+    builtin_solid_material, builtin_solid_names, BuiltinPair, BuiltinPalette, BuiltinSolid,
+    ContactPairEntry, ContactPairMaterial, MaterialFileError, MaterialPalette, SolidMaterial,
+    PALETTE_JSON,
 };
 /// Closest candidate to a misspelt name (shared with the `model!` macro's messages).
 #[doc(hidden)]

@@ -200,6 +200,9 @@ impl Checker {
         let gravity = a.get("gravity").cloned();
         let contact_detection = a.get("contact_detection").map(|c| (c.clone(), lit_bool(c)));
         let exact_restitution = a.get("exact_restitution").cloned();
+        let average_missing_pairs = a
+            .get("average_missing_pairs")
+            .map(|c| (c.clone(), lit_bool(c)));
         let mut numbers = vec![];
         for key in SCENE_NUMBERS {
             if let Some(n) = self.num(a, key, false) {
@@ -234,6 +237,7 @@ impl Checker {
             gravity,
             contact_detection,
             exact_restitution,
+            average_missing_pairs,
             numbers,
             mpr_max_iterations,
             profile,

@@ -352,6 +352,9 @@ fn scene_options(s: &SceneIr) -> TokenStream {
     if let Some(e) = &s.exact_restitution {
         fields.push(quote!(exact_restitution: #e));
     }
+    if let Some((e, _)) = &s.average_missing_pairs {
+        fields.push(quote!(average_missing_pairs: #e));
+    }
     for n in &s.numbers {
         let (k, v) = (format_ident!("{}", n.key), &n.expr);
         fields.push(quote!(#k: #v));

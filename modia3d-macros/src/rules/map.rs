@@ -6,7 +6,7 @@ use super::{is_stand_in, Probe};
 use crate::check::{compact, Errors};
 use crate::ir::{FeatureIr, ForceIr, InputIr, Ir, Item, MaterialName, Parent, SolidIr};
 use crate::names::NameRef;
-use modia3d_core::scene::{SceneError, SOLID_MATERIALS};
+use modia3d_core::scene::{builtin_solid_names, SceneError};
 use proc_macro2::{Ident, Span};
 use std::collections::HashMap;
 
@@ -135,9 +135,8 @@ impl<'a> Mapper<'a> {
                     Some(h) => format!("did you mean `{h}`?"),
                     None => format!(
                         "the built-in ones are {}; or define it in the block: `{} = SolidMaterial(…)`",
-                        SOLID_MATERIALS
-                            .iter()
-                            .map(|(n, _)| format!("`{n}`"))
+                        builtin_solid_names()
+                            .map(|n| format!("`{n}`"))
                             .collect::<Vec<_>>()
                             .join(", "),
                         name.to_lowercase().replace(|c: char| !c.is_alphanumeric(), "_"),

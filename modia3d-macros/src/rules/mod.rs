@@ -384,6 +384,10 @@ impl<'a> Probe<'a> {
         if let Some((_, lit)) = &s.contact_detection {
             o.contact_detection = lit.unwrap_or(false);
         }
+        if let Some((_, lit)) = &s.average_missing_pairs {
+            // A run-time value may be true: report no missing pair that averaging would fill.
+            o.average_missing_pairs = lit.unwrap_or(true);
+        }
         for n in &s.numbers {
             let v = self.scalar(owner, n);
             let field = match n.key {

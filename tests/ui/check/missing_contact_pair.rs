@@ -1,9 +1,9 @@
 use modia3d::prelude::*;
 
 model! {
-    /// A steel ball and a wooden ball over a table of a block material: no built-in pairs for
-    /// Steel–DryWood, Steel–oak, DryWood–oak (each reported once, on the later solid's
-    /// material). Steel–Steel and DryWood–DryWood are built in.
+    /// Steel balls and one with the contact material of a billiard ball over a table of a
+    /// block material: no built-in pairs for Steel–BilliardBall, Steel–oak, BilliardBall–oak
+    /// (each reported once, on the later solid's material). Steel–Steel is built in.
     pub M {
         world = Object3D(feature = Scene()),
         oak   = SolidMaterial(density = 700.0, young_modulus = 1.1e10, poisson_ratio = 0.4),
@@ -14,7 +14,7 @@ model! {
         ball2 = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel",
                                          collision = true)),
         wood  = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel",
-                                         contact_material = "DryWood", collision = true)),
+                                         contact_material = "BilliardBall", collision = true)),
         free1 = FreeMotion(obj1 = world, obj2 = ball),
         free2 = FreeMotion(obj1 = world, obj2 = ball2),
         free3 = FreeMotion(obj1 = world, obj2 = wood),

@@ -17,7 +17,7 @@ mod options;
 pub use error::{did_you_mean, SceneError, SceneErrors};
 
 use super::desc::{ForceElement, SceneDesc};
-use super::materials::{builtin_contact_pair, ContactPairMaterial, SolidMaterial};
+use super::materials::{average_pair, builtin_contact_pair, ContactPairMaterial, SolidMaterial};
 use crate::geometry::Shape;
 use crate::scene::desc::SceneOptions;
 use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
@@ -276,13 +276,34 @@ pub enum ValidInputKind {
 impl ValidScene {
     /// The contact-pair material of contact materials `a` and `b` (either order): the last
     /// user definition, else the built-in palette.
+    /// With `SceneOptions::average_missing_pairs`, a pair defined in neither is the mean of
+    /// the two self-pairs ([`averaged_contact_pair`](Self::averaged_contact_pair)).
     pub fn contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
+        self.defined_contact_pair(a, b)
+            .or_else(|| self.averaged_contact_pair(a, b))
+    }
+
+    /// The pair as defined by the scene or the built-in palette, without averaging.
+    fn defined_contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
         self.contact_pairs
             .iter()
             .rev()
             .find(|(x, y, _)| (x == a && y == b) || (x == b && y == a))
             .map(|(_, _, m)| *m)
             .or_else(|| builtin_contact_pair(a, b))
+    }
+
+    /// The mean of the self-pairs `a|a` and `b|b` when `a|b` is not defined, both self-pairs
+    /// are and `SceneOptions::average_missing_pairs` is on; `None` otherwise.
+    pub fn averaged_contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
+        if !self.options.average_missing_pairs || self.defined_contact_pair(a, b).is_some() {
+            return None;
+        }
+        let (p, q) = (
+            self.defined_contact_pair(a, a)?,
+            self.defined_contact_pair(b, b)?,
+        );
+        Some(average_pair(&p, &q))
     }
 }
 

@@ -135,11 +135,10 @@ pub(super) fn objects(
                                 name: n.clone(),
                                 hint: did_you_mean(
                                     n,
-                                    materials.keys().copied().chain(
-                                        crate::scene::materials::SOLID_MATERIALS
-                                            .iter()
-                                            .map(|(n, _)| *n),
-                                    ),
+                                    materials
+                                        .keys()
+                                        .copied()
+                                        .chain(crate::scene::materials::builtin_solid_names()),
                                 ),
                             });
                             (Some(n.clone()), None)
