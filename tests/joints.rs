@@ -128,6 +128,69 @@ fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
     assert!(qn < 1e-9, "quaternion norm error {qn:e}");
 }
 
+/// Steady precession of a spinning symmetric bob on a Spherical joint: inertia `diag(A, A, C)`
+/// about its centre (symmetry axis = the rod), rod tilted by α from the vertical, the rod
+/// precessing about the vertical at `Ω` while the bob spins about the rod. Torque balance about
+/// the pivot for motion that is rigid in the precessing frame, `Ω ẑ × H = r_c × (−m g ẑ)` with
+/// `H = A'(ω − ω₃ e₃) + C ω₃ e₃`, `A' = A + m L²`, gives `C ω₃ Ω − A' Ω² cos α = −m g L`
+/// (with `C = A` and no spin this is the conical pendulum). For `Ω = 1.5 Ω_conical` the spin
+/// component `ω₃ = (A' Ω² cos α − m g L)/(C Ω)` makes the orbit steady: the azimuth advances as
+/// `Ω t` and the height stays `−L cos α`, to 1e-8 over two precession periods at rtol 1e-11.
+#[test]
+fn spinning_bob_on_a_spherical_joint_precesses_at_the_closed_form_rate() {
+    let (m, l, a, c, alpha) = (1.5, 0.8, 0.03, 0.05, 0.6f64);
+    let omega = 1.5 * (G / (l * alpha.cos())).sqrt();
+    let a_pivot = a + m * l * l;
+    let w3 = (a_pivot * omega * omega * alpha.cos() - m * G * l) / (c * omega);
+    // ω = Ω ẑ + s e₃ with ω·e₃ = w3: s = w3 − Ω cos α; resolved in the tilted pivot frame.
+    let spin = w3 - omega * alpha.cos();
+    let w_body = Vector3::new(-alpha.sin() * omega, 0.0, alpha.cos() * omega + spin);
+    let period = 2.0 * PI / omega;
+    let mut s = SceneDesc::new();
+    s.add(world([0.0, 0.0, -G]))
+        .add(Object3D::new("pivot"))
+        .add(
+            Object3D::new("bob")
+                .parent("pivot")
+                .translation([0.0, 0.0, -l])
+                .solid(explicit(m, Matrix3::from_diagonal(&Vector3::new(a, a, c)))),
+        )
+        .add_joint(Joint::new(
+            "ball",
+            "world",
+            "pivot",
+            JointKind::Spherical {
+                rot: FreeRotation::Cardan([0.0, alpha, 0.0]),
+                w: w_body,
+            },
+        ));
+    let res = s
+        .build()
+        .unwrap()
+        .simulate(
+            &SimOptions::new(2.0 * period)
+                .tolerance(1e-11)
+                .atol(1e-12)
+                .interval(period / 50.0)
+                .progress(false),
+        )
+        .unwrap();
+    let r = res.signal("bob.r_abs").unwrap();
+    let (mut worst_angle, mut worst_height) = (0.0f64, 0.0f64);
+    for (k, &t) in res.time().iter().enumerate() {
+        let p = Vector3::from_column_slice(r.at(k).unwrap());
+        let da = (p.y.atan2(p.x) - PI - omega * t + PI).rem_euclid(2.0 * PI) - PI;
+        worst_angle = worst_angle.max(da.abs() / (2.0 * PI));
+        worst_height = worst_height.max((p.z + l * alpha.cos()).abs() / l);
+    }
+    println!("precession: azimuth error {worst_angle:.2e} rev, height {worst_height:.2e} L (spin {spin:.3} rad/s)");
+    assert!(
+        worst_angle < 1e-8,
+        "azimuth error {worst_angle:e} of a revolution"
+    );
+    assert!(worst_height < 1e-8, "height error {worst_height:e} L");
+}
+
 /// Cardan shaft kinematics: input shaft about x at `ω1`, cross (Universal: axis1 = y in the
 /// input shaft, axis2 = z in the output shaft), output shaft axis `e = (cos β, sin β, 0)`.
 /// For input angle θ the joint angles that keep the output on `e` are
