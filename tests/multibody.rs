@@ -3,6 +3,9 @@
 
 use modia3d::prelude::*;
 
+mod energy;
+use energy::energy;
+
 const G: f64 = 9.81;
 
 fn world(gravity: [f64; 3]) -> Object3D {
@@ -21,29 +24,6 @@ fn explicit(mass: f64, inertia: Matrix3<f64>) -> Solid {
         },
         ..Default::default()
     }
-}
-
-/// Kinetic + potential energy of solids whose centre of mass is at their object origin:
-/// (object name, mass [kg], inertia about the centre of mass in the object frame [kg·m²]).
-fn energy(res: &SimulationResult, parts: &[(&str, f64, Matrix3<f64>)], g: f64) -> Vec<f64> {
-    let n = res.time().len();
-    let mut e = vec![0.0; n];
-    for (name, m, inertia) in parts {
-        let r = res.signal(&format!("{name}.r_abs")).unwrap();
-        let v = res.signal(&format!("{name}.v_abs")).unwrap();
-        let w = res.signal(&format!("{name}.w_abs")).unwrap();
-        let rot = res.signal(&format!("{name}.R_abs")).unwrap();
-        for (k, ek) in e.iter_mut().enumerate() {
-            let rm = Matrix3::from_row_slice(rot.at(k).unwrap());
-            let wv = Vector3::from_column_slice(w.at(k).unwrap());
-            let vv = Vector3::from_column_slice(v.at(k).unwrap());
-            let i_world = rm * inertia * rm.transpose();
-            *ek += m * g * r.at(k).unwrap()[2]
-                + 0.5 * m * vv.norm_squared()
-                + 0.5 * wv.dot(&(i_world * wv));
-        }
-    }
-    e
 }
 
 fn rod_inertia(m: f64, l: f64, d: f64) -> Matrix3<f64> {
@@ -76,7 +56,7 @@ fn double_pendulum_conserves_energy() {
         ("rod1", m, rod_inertia(m, l, d)),
         ("rod2", m, rod_inertia(m, l, d)),
     ];
-    let e = energy(&res, &parts, G);
+    let e = energy(&res, &parts, Vector3::new(0.0, 0.0, -G));
     // Scale: the potential energy range m g l.
     let scale = m * G * l;
     let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / scale;

@@ -45,7 +45,7 @@ mod counting_alloc;
 pub use contact::ContactError;
 pub use geometry::{Axis, Shape};
 #[cfg(feature = "solver")]
-pub use model::{BodyInfo, ContactPairInfo, Model};
+pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]
 pub use results::{Event, ResultError, Signal, SimStats, SimulationResult};
 pub use scene::{

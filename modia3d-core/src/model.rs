@@ -60,6 +60,22 @@ pub struct BodyInfo {
     pub mass: f64,
 }
 
+/// A closed kinematic loop of a model: its cut joint and how its constraints were assembled
+/// (see `dynamics/loops.rs`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoopInfo {
+    /// The cut joint (kept out of the joint tree, enforced by constraints); its constraint
+    /// force and torque are the signals `<cut>.f` [N] and `<cut>.t` [N·m].
+    pub cut: String,
+    /// The joints of the loop, the cut joint first.
+    pub joints: Vec<String>,
+    /// Number of constraint rows kept (independent) for this cut joint.
+    pub rows: usize,
+    /// Rows dropped as redundant, `"<cut>.<row>"` (`x`, `y`, `z`: translations along obj1's
+    /// axes; `rot_x`…: rotations; `align0`…: axis alignments).
+    pub dropped: Vec<String>,
+}
+
 impl SceneDesc {
     /// Validates and compiles the scene into a runnable model.
     pub fn build(&self) -> Result<Model, SceneErrors> {
@@ -72,7 +88,9 @@ impl Model {
     /// initial penetrations come last: they need the compiled plans and the initial state (see
     /// `Plan::check_inertia` for why they are not validation checks; `contact/initial.rs`).
     pub(crate) fn compile(valid: ValidScene) -> Result<Model, SceneErrors> {
-        let plan = Plan::compile(valid);
+        let mut plan = Plan::compile(valid);
+        // Closed loops: redundant rows dropped, q0 and v0 projected onto the constraints.
+        crate::dynamics::loops::assemble_initial(&mut plan).map_err(|e| SceneErrors(vec![e]))?;
         let contact = ContactPlan::compile(&plan.scene, &plan.objects).map_err(SceneErrors)?;
         plan.check_inertia()?;
         if let Some(cp) = &contact {
@@ -140,7 +158,37 @@ impl Model {
             .collect()
     }
 
-    /// Number of unknowns `y = [q; v]` of the DAE.
+    /// The closed kinematic loops, one per cut joint; empty for a tree.
+    pub fn loops(&self) -> Vec<LoopInfo> {
+        let lp = &self.plan.loops;
+        lp.cuts
+            .iter()
+            .enumerate()
+            .map(|(c, cut)| LoopInfo {
+                cut: cut.name.clone(),
+                joints: cut.loop_joints.clone(),
+                rows: lp.kept.iter().filter(|k| k.0 == c).count(),
+                dropped: lp
+                    .dropped
+                    .iter()
+                    .filter(|d| {
+                        d.strip_prefix(cut.name.as_str())
+                            .is_some_and(|r| r.starts_with('.'))
+                    })
+                    .cloned()
+                    .collect(),
+            })
+            .collect()
+    }
+
+    /// The coordinates treated as independent when the loops were closed at the initial state
+    /// (`"joint.phi"`, `"joint.s"`, `"free.w[0]"`…): the build kept them at the given values and
+    /// moved the others onto the constraints. Empty without loops.
+    pub fn independent_coordinates(&self) -> Vec<String> {
+        crate::dynamics::loops::independent_names(&self.plan, &self.plan.loops.independent)
+    }
+
+    /// Number of unknowns `y = [q; v]` of the DAE (without the loop multipliers).
     pub fn state_len(&self) -> usize {
         self.plan.nq + self.plan.nv
     }

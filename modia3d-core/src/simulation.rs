@@ -53,6 +53,18 @@ pub enum SimErrorKind {
         /// The torque returned [N·m], resolved in world.
         torque: [f64; 3],
     },
+    /// A kinematic loop could not be closed again at a restart (an event or an input change).
+    #[error("kinematic loop closed by joint `{cut}` (through {joints:?}) does not close at t = {t} s: constraint residual {residual:.3e} after projection; the mechanism reached a position its links cannot take (a singular or locked position), check the drive and its inputs")]
+    LoopClosure {
+        /// The cut joint.
+        cut: String,
+        /// The joints of its loop.
+        joints: Vec<String>,
+        /// Largest remaining residual ([m] or [1]).
+        residual: f64,
+        /// Time [s].
+        t: f64,
+    },
     /// The integrator failed.
     #[error(transparent)]
     Solver(#[from] IdaError),
@@ -104,12 +116,50 @@ impl From<UserFault> for SimErrorKind {
     }
 }
 
+/// Absolute tolerances of the `n` unknowns: `atol` for every state; with closed loops, the
+/// multipliers `λ`, `μ` (algebraic, left out of the error test) get `LOOP_MULTIPLIER_ATOL`
+/// in IDA's Newton convergence test (see `dynamics/loops.rs`).
+fn loop_atol(plan: &crate::dynamics::Plan, n: usize, atol: f64) -> Atol {
+    if plan.loops.m() == 0 {
+        return Atol::Scalar(atol);
+    }
+    let states = plan.nq + plan.nv;
+    Atol::Vector(
+        (0..n)
+            .map(|i| {
+                if i < states {
+                    atol
+                } else {
+                    LOOP_MULTIPLIER_ATOL
+                }
+            })
+            .collect(),
+    )
+}
+
+/// First step of a run with closed loops, as a fraction of its span (see `Simulation::new`).
+const LOOP_FIRST_STEP: f64 = 1e-6;
+
+/// Absolute tolerance of the loop multipliers in IDA's Newton test [N, N·m for λ; m/s, rad/s
+/// for μ]. They are out of the error test, so this only sets how exactly each corrector solve
+/// must fix them: with the states' atol (1e-12 at rtol 1e-10) the index-2 multipliers, whose
+/// round-off grows like the iteration matrix's condition (∝ 1/h²), never pass it and the first
+/// step fails at h ≈ 1e-17 (measured on the four-bar; 1e-6 fails, 1e-3 and 1 pass, 1e-3
+/// conserves the free four-bar's energy better).
+const LOOP_MULTIPLIER_ATOL: f64 = 1e-3;
+
 /// The error of [`MultibodyDae::consistent_derivative`] at time `t` [s].
 fn derivative_error(e: DerivativeError, t: f64) -> SimErrorKind {
     match e {
         DerivativeError::Singular => SimErrorKind::Inconsistent { t },
         DerivativeError::Contact(c) => c.into(),
         DerivativeError::User(f) => f.into(),
+        DerivativeError::Loop(f) => SimErrorKind::LoopClosure {
+            cut: f.cut,
+            joints: f.joints,
+            residual: f.residual,
+            t,
+        },
     }
 }
 
@@ -251,18 +301,35 @@ impl Simulation {
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
         }
-        let yp0 = match dae.consistent_derivative(t0, &y0) {
+        let yp0 = match dae.consistent_derivative(t0, &mut y0) {
             Ok(yp0) => yp0,
             Err(e) => return Err(fail(derivative_error(e, t0), result)),
         };
         let root_functions = dae.num_roots_public();
         let ida_opts = IdaOptions {
             rtol: opts.rtol,
-            atol: Atol::Scalar(opts.atol.unwrap_or(0.01 * opts.rtol)),
+            atol: loop_atol(&plan, y0.len(), opts.atol.unwrap_or(0.01 * opts.rtol)),
             max_step: opts.max_step,
             // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts).
             root_directions: (root_functions == 2).then(|| vec![1, -1]),
             structured_jacobian: opts.structured_jacobian,
+            // Closed loops: λ and μ are algebraic and left out of the error test
+            // (dynamics/loops.rs).
+            differential: (plan.loops.m() > 0).then(|| {
+                let n = y0.len();
+                (0..n).map(|i| i < plan.nq + plan.nv).collect()
+            }),
+            suppress_algebraic_error: plan.loops.m() > 0,
+            // A stricter Newton test for the index-2 multipliers: on the free four-bar at rtol
+            // 1e-10 it takes 11,400 steps over 5 s instead of 16,300 (fewer error-test failures
+            // from inexact λ) and drifts less in energy.
+            nonlinear_convergence_coefficient: (plan.loops.m() > 0).then_some(0.05),
+            // IDA's own first step comes from ‖y'‖ and, with velocities starting at zero and
+            // large accelerations, can be 1e-17 s, where the index-2 iteration matrix (condition
+            // ∝ 1/h²) defeats Newton's method (Andrews' squeezer fails at t = 0 so); a first
+            // step of 1e-6 of the run is cut by the error test if too large.
+            init_step: (plan.loops.m() > 0)
+                .then(|| LOOP_FIRST_STEP * (opts.stop_time - opts.start_time)),
             ..IdaOptions::default()
         };
         record(&mut dae, &mut result, t0, &y0, opts.contact_results);
@@ -584,11 +651,11 @@ impl Simulation {
 
     /// Re-initialises IDA at `t` with the current `y` and a consistent `y'`.
     fn restart(&mut self, t: f64) -> Result<(), SimErrorKind> {
-        let y = self.ida.y().to_vec();
+        let mut y = self.ida.y().to_vec();
         let yp = self
             .ida
             .system_mut()
-            .consistent_derivative(t, &y)
+            .consistent_derivative(t, &mut y)
             .map_err(|e| derivative_error(e, t))?;
         self.ida.reinit(t, &y, &yp)?;
         Ok(())
@@ -679,6 +746,9 @@ fn record(
     // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
     let n = dae.plan().nq + dae.plan().nv;
     result.push(t, y.get(..n).unwrap_or(y));
+    // Constraint multipliers of closed loops (their forces are signals).
+    let m = dae.plan().loops.m();
+    result.push_multipliers(y.get(n..n + m).unwrap_or(&[]));
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.
         let _ = dae.update_contacts(t, y);

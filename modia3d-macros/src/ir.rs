@@ -326,6 +326,8 @@ pub enum Item {
         kind: JointKindIr,
         /// `can_collide = …` and its literal value.
         can_collide: Option<(Expr, Option<bool>)>,
+        /// `cut = …` (prefer this joint as the one that closes its loop) and its literal value.
+        cut: Option<(Expr, Option<bool>)>,
     },
     /// A force element.
     Force {

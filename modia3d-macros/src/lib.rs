@@ -62,14 +62,14 @@ use proc_macro::TokenStream;
 /// | constructor | keys (`*` required, `= default`) |
 /// |---|---|
 /// | `Object3D` | `parent` (reference), `translation = [0,0,0]` (`[f64; 3]`, m, in the parent), `rotation` (Cardan angles `[f64; 3]` in rad, x then new y then new z; or a `Matrix3<f64>` whose columns are the frame's axes; or a `Rotation`), `feature` |
-/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false` |
-/// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide` |
-/// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide` |
-/// | `Spherical` | `obj1*`, `obj2*`, `rot = Var(init = …)` (Cardan angles or a `UnitQuaternion<f64>`), `w = Var(init = [f64; 3])` (rad/s, resolved in obj2), `can_collide` |
-/// | `Universal` | `obj1*`, `obj2*`, `axis1*` (fixed in obj1), `axis2*` (fixed in obj2, perpendicular to `axis1`; each as `axis`), `phi1`, `phi2` (rad), `w1`, `w2` (rad/s) as `Var(init = …)`, `can_collide` |
-/// | `Cylindrical` | `obj1*`, `obj2*`, `axis = 3`, `phi` (rad), `s` (m), `w` (rad/s), `v` (m/s) as `Var(init = …)`, `can_collide` |
-/// | `Planar` | `obj1*`, `obj2*`, `normal = 3` (as `axis`), `x`, `y` (m, resolved in obj1 along the plane axes: normal z → x, y; x → y, z; y → z, x), `phi` (rad), `vx`, `vy` (m/s), `w` (rad/s) as `Var(init = …)`, `can_collide` |
-/// | `Fix` | `obj1*`, `obj2*`, `can_collide` |
+/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false`, `cut = false` (prefer this joint as the one that closes its kinematic loop: it becomes a cut joint, enforced by constraints) |
+/// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide`, `cut` |
+/// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide`, `cut` |
+/// | `Spherical` | `obj1*`, `obj2*`, `rot = Var(init = …)` (Cardan angles or a `UnitQuaternion<f64>`), `w = Var(init = [f64; 3])` (rad/s, resolved in obj2), `can_collide`, `cut` |
+/// | `Universal` | `obj1*`, `obj2*`, `axis1*` (fixed in obj1), `axis2*` (fixed in obj2, perpendicular to `axis1`; each as `axis`), `phi1`, `phi2` (rad), `w1`, `w2` (rad/s) as `Var(init = …)`, `can_collide`, `cut` |
+/// | `Cylindrical` | `obj1*`, `obj2*`, `axis = 3`, `phi` (rad), `s` (m), `w` (rad/s), `v` (m/s) as `Var(init = …)`, `can_collide`, `cut` |
+/// | `Planar` | `obj1*`, `obj2*`, `normal = 3` (as `axis`), `x`, `y` (m, resolved in obj1 along the plane axes: normal z → x, y; x → y, z; y → z, x), `phi` (rad), `vx`, `vy` (m/s), `w` (rad/s) as `Var(init = …)`, `can_collide`, `cut` |
+/// | `Fix` | `obj1*`, `obj2*`, `can_collide`, `cut` |
 /// | `SpringDamper` | `obj1*`, `obj2*`, `stiffness*` (N/m), `damping = 0` (N·s/m), `length0 = 0` (m) |
 /// | `JointSpringDamper` | `joint*` (a joint with scalar coordinates), `coordinate` (`"phi2"`, `"s"`, …; needed on a joint with several), `stiffness*`, `damping = 0`, `offset = 0` |
 /// | `ObjectForce` | `object*`, `law*`: a closure `move \|t: f64, m: &ObjectMotion\| -> Wrench` |

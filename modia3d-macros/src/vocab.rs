@@ -109,10 +109,10 @@ pub const PAIR_KEYS: &[&str] = &[
 /// Keys of a joint constructor.
 pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
     match ctor {
-        "Fix" => &["obj1", "obj2", "can_collide"],
-        "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide"],
-        "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide"],
-        "Spherical" => &["obj1", "obj2", "rot", "w", "can_collide"],
+        "Fix" => &["obj1", "obj2", "can_collide", "cut"],
+        "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide", "cut"],
+        "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide", "cut"],
+        "Spherical" => &["obj1", "obj2", "rot", "w", "can_collide", "cut"],
         "Universal" => &[
             "obj1",
             "obj2",
@@ -123,8 +123,9 @@ pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
             "w1",
             "w2",
             "can_collide",
+            "cut",
         ],
-        "Cylindrical" => &["obj1", "obj2", "axis", "phi", "s", "w", "v", "can_collide"],
+        "Cylindrical" => &["obj1", "obj2", "axis", "phi", "s", "w", "v", "can_collide", "cut"],
         "Planar" => &[
             "obj1",
             "obj2",
@@ -136,8 +137,9 @@ pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
             "vy",
             "w",
             "can_collide",
+            "cut",
         ],
-        _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide"],
+        _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide", "cut"],
     }
 }
 

@@ -6,6 +6,7 @@
 
 use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::forces::UserFault;
+use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
 use crate::scene::ValidForce;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
@@ -21,6 +22,8 @@ pub struct MultibodyDae {
     /// The collision pipeline, `None` without candidate pairs.
     contact_plan: Option<Arc<ContactPlan>>,
     ws: Workspace,
+    /// Scratch of the loop constraints (empty without cut joints).
+    lw: LoopWork,
     contact: Option<ContactState>,
     /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
     /// fail); reported by the driver.
@@ -47,7 +50,8 @@ impl TreeBlocks {
         if n_blocks < 2 {
             return None;
         }
-        let mut block_of = vec![0; plan.nq + plan.nv];
+        let m = plan.loops.m();
+        let mut block_of = vec![0; plan.nq + plan.nv + 2 * m];
         for j in &plan.joints {
             let blk = of_body[j.body.index()];
             block_of[j.q_offset..j.q_offset + j.coord.nq()].fill(blk);
@@ -55,6 +59,21 @@ impl TreeBlocks {
             block_of[v0..v0 + j.coord.nv()].fill(blk);
         }
         let mut couplings = vec![];
+        // A loop's rows (λ and μ) belong to the tree of obj2 (else obj1) and couple both trees.
+        let base = plan.nq + plan.nv;
+        for (i, &(c, _)) in plan.loops.kept.iter().enumerate() {
+            let cut = &plan.loops.cuts[c];
+            let tree = |b: Option<crate::dynamics::ids::BodyId>| b.map(|b| of_body[b.index()]);
+            let (b1, b2) = (tree(cut.body1), tree(cut.body2));
+            let own = b2.or(b1).unwrap_or(0);
+            block_of[base + i] = own;
+            block_of[base + m + i] = own;
+            if let (Some(x), Some(y)) = (b1, b2) {
+                if x != y {
+                    couplings.push((x, y));
+                }
+            }
+        }
         for f in &plan.scene.forces {
             if let ValidForce::SpringDamper { obj1, obj2, .. } = f {
                 if let (Some(a), Some(b)) = (plan.objects[*obj1].body, plan.objects[*obj2].body) {
@@ -83,10 +102,12 @@ impl MultibodyDae {
         let contact_plan = contact;
         let contact = contact_plan.as_deref().map(ContactState::new);
         let blocks = TreeBlocks::new(&plan);
+        let lw = LoopWork::new(&plan);
         MultibodyDae {
             plan,
             contact_plan,
             ws,
+            lw,
             contact,
             root_error: None,
             blocks,
@@ -167,18 +188,25 @@ impl MultibodyDae {
 
     /// Derivative `y'` consistent with `y` at time `t` [s], contact forces of the current set
     /// included; an error if the mass matrix is singular there, the narrow phase fails or a
-    /// user force law panics or returns a non-finite wrench.
+    /// user force law panics or returns a non-finite wrench. With closed loops `y` is first
+    /// projected onto the constraints (positions and velocities, `loops::project`) and its
+    /// multipliers are set (`λ` consistent, `μ = 0`).
     pub fn consistent_derivative(
         &mut self,
         t: f64,
-        y: &[f64],
+        y: &mut [f64],
     ) -> Result<Vec<f64>, DerivativeError> {
-        let (nq, nv) = (self.plan.nq, self.plan.nv);
+        let (nq, nv, m) = (self.plan.nq, self.plan.nv, self.plan.loops.m());
         if nq + nv == 0 {
             return Ok(vec![0.0; self.len()]);
         }
-        let (q, v) = y.split_at(nq);
-        let mut yp = vec![0.0; nq + nv];
+        let (q, rest) = y.split_at_mut(nq);
+        let (v, mult) = rest.split_at_mut(nv);
+        if !self.plan.loops.is_empty() {
+            crate::dynamics::loops::project(&self.plan, &mut self.ws, q, v)
+                .map_err(DerivativeError::Loop)?;
+        }
+        let mut yp = vec![0.0; nq + nv + 2 * m];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
         let contact = &mut self.contact;
         let contact_plan = self.contact_plan.as_deref();
@@ -203,8 +231,12 @@ impl MultibodyDae {
         if let Some(e) = failed {
             return Err(DerivativeError::Contact(e));
         }
-        let vd = vd.ok_or(DerivativeError::Singular)?;
-        yp[nq..].copy_from_slice(&vd);
+        let (vd, lambda) = vd.ok_or(DerivativeError::Singular)?;
+        yp[nq..nq + nv].copy_from_slice(&vd);
+        if m > 0 {
+            mult[..m].copy_from_slice(&lambda);
+            mult[m..].fill(0.0);
+        }
         Ok(yp)
     }
 
@@ -224,13 +256,15 @@ pub enum DerivativeError {
     Contact(ContactError),
     /// A user force law failed.
     User(UserFault),
+    /// A kinematic loop does not close at the current state.
+    Loop(crate::dynamics::loops::LoopFailure),
 }
 
 impl DaeSystem for MultibodyDae {
     /// `nq + nv`, or 1 for a scene without unknowns (every body fixed): IDA needs n ≥ 1, so
     /// such a scene integrates one dummy state with `ẏ = 0` and its signals stay constant.
     fn len(&self) -> usize {
-        (self.plan.nq + self.plan.nv).max(1)
+        (self.plan.nq + self.plan.nv + 2 * self.plan.loops.m()).max(1)
     }
 
     fn residual(
@@ -246,9 +280,13 @@ impl DaeSystem for MultibodyDae {
             res[0] = yp[0];
             return Ok(());
         }
-        let (q, v) = y.split_at(nq);
-        let (qd, vd) = yp.split_at(nq);
-        let (res_q, res_v) = res.split_at_mut(nq);
+        let (nv, m) = (plan.nv, plan.loops.m());
+        let (q, rest) = y.split_at(nq);
+        let (v, mult) = rest.split_at(nv);
+        let (qd, rest) = yp.split_at(nq);
+        let vd = &rest[..nv];
+        let (res_q, rest) = res.split_at_mut(nq);
+        let (res_v, res_c) = rest.split_at_mut(nv);
         kinematics::position_velocity(plan, &mut self.ws, q, v);
         forces::applied_forces(plan, &mut self.ws, t, q, v);
         if let Some(f) = &self.ws.fault {
@@ -263,7 +301,20 @@ impl DaeSystem for MultibodyDae {
             cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
                 .map_err(|e| ResidualError::Fatal(e.to_string()))?;
         }
-        kinematics::position_residual(plan, q, v, qd, res_q);
+        if m > 0 {
+            // Stabilised index 2 (dynamics/loops.rs): kinematics at v + Gᵀμ, constraint
+            // wrenches of λ as external forces, then g(q) = 0 and G v = 0.
+            let (lambda, mu) = mult.split_at(m);
+            self.lw.evaluate(plan, &self.ws);
+            self.lw.stabilised_velocity(plan, &self.ws, q, v, mu);
+            self.lw.apply_forces(plan, &mut self.ws, lambda);
+            kinematics::position_residual(plan, q, &self.lw.w, qd, res_q);
+            let (res_g, res_gv) = res_c.split_at_mut(m);
+            res_g.copy_from_slice(&self.lw.g);
+            res_gv.copy_from_slice(&self.lw.gv);
+        } else {
+            kinematics::position_residual(plan, q, v, qd, res_q);
+        }
         rnea::inverse_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;

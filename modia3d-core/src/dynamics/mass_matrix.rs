@@ -112,7 +112,9 @@ pub fn free_cholesky(
 /// Accelerations `v̇` consistent with `q`, `v` at time `t` [s]: solves `M v̇ = τ_applied − C`,
 /// where `C` holds gravity, velocity terms and external forces, with `extra` adding further
 /// external forces (those of later stages of the pipeline) to `ws.f_ext` after the applied forces
-/// (the workspace then holds positions and velocities at `q`, `v`). `None` if `M` is singular.
+/// (the workspace then holds positions and velocities at `q`, `v`). With closed loops the
+/// constraint multipliers `λ` come with them (`dynamics/loops.rs`, KKT system); empty without.
+/// `None` if `M` (or the KKT matrix) is singular.
 pub fn consistent_accelerations_with(
     plan: &Plan,
     ws: &mut Workspace,
@@ -120,7 +122,7 @@ pub fn consistent_accelerations_with(
     q: &[f64],
     v: &[f64],
     extra: &mut dyn FnMut(&Plan, &mut Workspace),
-) -> Option<Vec<f64>> {
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let nv = plan.nv;
     let blocks = tree_mass_matrices(plan, ws, q);
     position_velocity(plan, ws, q, v);
@@ -133,6 +135,11 @@ pub fn consistent_accelerations_with(
         if let Some(i) = p {
             vd[k] = ws.inputs[*i];
         }
+    }
+    if !plan.loops.is_empty() {
+        let rhs: Vec<f64> = (0..nv).map(|k| ws.tau_applied[k] - bias[k]).collect();
+        let lambda = super::loops::kkt_accelerations(plan, ws, q, v, &blocks, &rhs, &mut vd)?;
+        return Some((vd, lambda));
     }
     // Per tree: prescribed accelerations are known; solve M_FF v̇_F = τ_F − C_F − M_FP a_P
     // for the rest of the tree.
@@ -168,7 +175,7 @@ pub fn consistent_accelerations_with(
             vd[group[r]] = y[i];
         }
     }
-    Some(vd)
+    Some((vd, vec![]))
 }
 
 #[cfg(test)]

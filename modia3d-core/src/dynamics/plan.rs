@@ -123,6 +123,9 @@ pub struct Plan {
     pub n_inputs: usize,
     /// For each velocity coordinate, the input offset of its prescribed acceleration, if any.
     pub prescribed: Vec<Option<usize>>,
+    /// The cut joints of closed loops and their kept constraint rows (`dynamics/loops.rs`);
+    /// the rows are chosen by `loops::assemble_initial` when the model is built.
+    pub loops: super::loops::LoopPlan,
 }
 
 fn iso_to_transform(iso: &Isometry3<f64>) -> Transform {
@@ -322,7 +325,9 @@ impl Plan {
         }
         let (nq, nv) = (q0.len(), v0.len());
         let (inputs, n_inputs, prescribed) = input_layout(&scene, &joints, &tree_joint_of, nv);
+        let loops = super::loops::cut_plans(&scene, &in_ref, &cluster_body);
         Plan {
+            loops,
             inputs,
             n_inputs,
             prescribed,

@@ -158,6 +158,8 @@ pub struct SimulationResult {
     /// Events in time order.
     pub events: Vec<Event>,
     contacts: Option<ContactRecord>,
+    /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
+    multipliers: Vec<f64>,
 }
 
 #[derive(Clone, Copy)]
@@ -177,7 +179,44 @@ impl SimulationResult {
             stats: SimStats::default(),
             events: vec![],
             contacts: None,
+            multipliers: vec![],
         }
+    }
+
+    pub(crate) fn push_multipliers(&mut self, lambda: &[f64]) {
+        self.multipliers.extend_from_slice(lambda);
+    }
+
+    /// `<cut>.f` (force on obj2 [N]) and `<cut>.t` (torque on obj2 [N·m]) of cut joint `owner`,
+    /// both resolved in obj1's frame; the force acts at obj2's origin, obj1 feels the opposite.
+    fn loop_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let plan = &*self.model.plan;
+        let c = plan.loops.cuts.iter().position(|c| c.name == owner)?;
+        let unit = match field {
+            "f" => "N",
+            "t" => "N·m",
+            _ => return None,
+        };
+        let (nq, m) = (plan.nq, plan.loops.m());
+        let mut ws = Workspace::new(plan);
+        let mut data = Vec::with_capacity(3 * self.time.len());
+        for (k, y) in self.states_iter().enumerate() {
+            let (q, v) = y.split_at(nq);
+            kinematics::position_velocity(plan, &mut ws, q, v);
+            let lambda = self.multipliers.get(k * m..(k + 1) * m)?;
+            let (f, t) = crate::dynamics::loops::cut_wrench(plan, &ws, c, lambda);
+            data.extend_from_slice(if field == "f" {
+                f.as_slice()
+            } else {
+                t.as_slice()
+            });
+        }
+        Some(Signal {
+            name: format!("{owner}.{field}"),
+            unit,
+            dim: 3,
+            data,
+        })
     }
 
     pub(crate) fn enable_contact_record(&mut self) {
@@ -303,6 +342,10 @@ impl SimulationResult {
                 names.push(format!("{}.{s}", o.name));
             }
         }
+        for c in &self.model.plan.loops.cuts {
+            names.push(format!("{}.f", c.name));
+            names.push(format!("{}.t", c.name));
+        }
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
                 for f in [
@@ -328,6 +371,9 @@ impl SimulationResult {
     /// [`Self::contact_pairs`]; normal from `a` to `b`, forces and torque on `b`, all in world):
     /// `in_contact` (1/0), `penetration` [m], `f_n` [N], `friction_force` [N],
     /// `rolling_torque` [N·m], `point` [m], `normal` [1]; zero while not in contact.
+    /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
+    /// [N] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
+    /// resolved in obj1's frame (obj1 feels the opposite).
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
             name: name.to_string(),
@@ -349,6 +395,7 @@ impl SimulationResult {
         let full = self
             .full_signal(owner, field)
             .or_else(|| self.contact_signal(owner, field))
+            .or_else(|| self.loop_signal(owner, field))
             .ok_or_else(|| {
                 let names = self.signal_names();
                 let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));

@@ -507,6 +507,12 @@ pub struct Joint {
     /// joint that is a mechanical connection (all but FreeMotion); a FreeMotion never
     /// prevents a collision (as in Modia3D).
     pub can_collide: bool,
+    /// Whether this joint should be the one that closes its kinematic loop (default false): a
+    /// cut joint stays out of the spanning joint tree and is enforced by constraints
+    /// (`dynamics/loops.rs`). Marking is a preference: unmarked loop-closing joints are cut
+    /// in declaration order, and a marked joint that is needed to connect a body to the world
+    /// stays in the tree.
+    pub cut: bool,
 }
 
 impl Joint {
@@ -518,7 +524,13 @@ impl Joint {
             obj2: obj2.to_string(),
             kind,
             can_collide: false,
+            cut: false,
         }
+    }
+    /// Marks this joint as the one to cut when it closes a kinematic loop (see [`Joint::cut`]).
+    pub fn cut(mut self, on: bool) -> Self {
+        self.cut = on;
+        self
     }
     /// Sets `can_collide`.
     pub fn can_collide(mut self, on: bool) -> Self {

@@ -7,8 +7,14 @@
 //! plan, which only lays the tree out. Touches only resolved scene data.
 //!
 //! The choice of the tree is one function, [`spanning_tree`]: it returns the tree edges and the
-//! joints that close loops. Today every loop-closing joint is an error; closed chains with cut
-//! joints would keep them instead.
+//! joints that close loops. A loop-closing joint becomes a *cut joint*: it stays out of the tree
+//! and the plan enforces it by constraints (`dynamics/loops.rs`). The tree is breadth-first from
+//! the world over the joints in declaration order, first without the joints the user marked
+//! (`Joint::cut`), then with them, so a marked joint is cut whenever it closes a loop, and
+//! otherwise the loop's last-reached joint in declaration order is. Still errors: a loop whose
+//! only moving joint joins two objects of one rigid part (it locks nothing and cannot move), a
+//! loop of parent links and Fix joints only, and an object that is obj2 of two joints of which
+//! more than one is no part of any loop (a body moved by two joints without a loop).
 
 use super::validate::{SceneError, ValidJoint, ValidJointKind, ValidObject};
 use std::collections::{HashMap, VecDeque};
@@ -38,6 +44,18 @@ pub struct Topology {
     pub world_cluster: usize,
     /// The moving joints of the tree, parents before children.
     pub tree: Vec<TreeEdge>,
+    /// The cut joints, one per independent loop, in the order the tree search met them.
+    pub cuts: Vec<CutEdge>,
+}
+
+/// A joint that closes a kinematic loop, kept out of the tree (see the module docs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CutEdge {
+    /// Index into `ValidScene::joints`.
+    pub joint: usize,
+    /// The joints of its loop (indices into `ValidScene::joints`): the cut joint first, then the
+    /// tree joints of both ends' paths up to their common ancestor.
+    pub loop_joints: Vec<usize>,
 }
 
 struct UnionFind(Vec<usize>);
@@ -73,7 +91,6 @@ pub(crate) fn check_topology(
     errors: &mut Vec<SceneError>,
 ) -> Topology {
     parent_cycles(objects, suspect, errors);
-    let extra_movers = two_parents(objects, joints, errors);
     let n = objects.len();
     let names =
         |ids: &[usize]| -> Vec<String> { ids.iter().map(|&i| objects[i].name.clone()).collect() };
@@ -94,23 +111,41 @@ pub(crate) fn check_topology(
     let cluster: Vec<usize> = (0..n).map(|i| uf.find(i)).collect();
     let Some(world) = world else {
         // No world (reported): no tree to check against.
+        two_parents(objects, joints, &vec![false; joints.len()], errors);
         return Topology {
             cluster,
             world_cluster: 0,
             tree: vec![],
+            cuts: vec![],
         };
     };
     let world_cluster = cluster[world];
     let candidates: Vec<usize> = (0..joints.len())
-        .filter(|&j| joints[j].kind != ValidJointKind::Fix && !extra_movers[j])
+        .filter(|&j| joints[j].kind != ValidJointKind::Fix)
         .collect();
     let (tree, closing, reached_by) =
         spanning_tree(joints, &cluster, world_cluster, &candidates, n);
+    let mut cuts = vec![];
+    let mut on_loop = vec![false; joints.len()];
     for j in closing {
-        errors.push(SceneError::KinematicLoop {
-            objects: names(&loop_objects(joints, &cluster, &reached_by, j)),
+        if cluster[joints[j].obj1] == cluster[joints[j].obj2] {
+            // Both ends in one rigid part: the joint can never move.
+            errors.push(SceneError::KinematicLoop {
+                objects: names(&[joints[j].obj1, joints[j].obj2]),
+            });
+            on_loop[j] = true; // reported: no follow-up `TwoParents`
+            continue;
+        }
+        let loop_joints = loop_joints(joints, &cluster, &reached_by, j);
+        for &k in &loop_joints {
+            on_loop[k] = true;
+        }
+        cuts.push(CutEdge {
+            joint: j,
+            loop_joints,
         });
     }
+    two_parents(objects, joints, &on_loop, errors);
     for e in &tree {
         let sj = &joints[e.joint];
         let reversible = crate::joints::info(sj.kind.name()).is_none_or(|i| i.reversible);
@@ -154,13 +189,14 @@ pub(crate) fn check_topology(
         cluster,
         world_cluster,
         tree,
+        cuts,
     }
 }
 
-/// The spanning joint tree: breadth-first over clusters through the `candidates` (moving
-/// joints, in declaration order) from the world cluster. Returns the tree edges, the joints
-/// that close a loop (both ends already reached), and for each cluster the tree edge that
-/// reached it (parent cluster, joint).
+/// The spanning joint tree: breadth-first over clusters from the world cluster through the
+/// `candidates` (moving joints, in declaration order), first through the joints not marked
+/// `cut`, then through all. Returns the tree edges, the joints that close a loop (both ends
+/// already reached), and for each cluster the tree edge that reached it (parent cluster, joint).
 #[allow(clippy::type_complexity)]
 pub(crate) fn spanning_tree(
     joints: &[ValidJoint],
@@ -173,52 +209,61 @@ pub(crate) fn spanning_tree(
     visited[world_cluster] = true;
     let mut used = vec![false; joints.len()];
     let mut reached_by: Vec<Option<(usize, usize)>> = vec![None; n];
-    let mut queue = VecDeque::from([world_cluster]);
     let (mut tree, mut closing) = (vec![], vec![]);
-    while let Some(c) = queue.pop_front() {
-        for &j in candidates {
-            if used[j] {
-                continue;
+    let unmarked: Vec<usize> = candidates
+        .iter()
+        .copied()
+        .filter(|&j| !joints[j].cut)
+        .collect();
+    for phase in [&unmarked[..], candidates] {
+        // Every cluster reached so far is searched again with the joints of this phase.
+        let mut queue: VecDeque<usize> = std::iter::once(world_cluster)
+            .chain(tree.iter().map(|e: &TreeEdge| cluster[e.child_obj]))
+            .collect();
+        while let Some(c) = queue.pop_front() {
+            for &j in phase {
+                if used[j] {
+                    continue;
+                }
+                let sj = &joints[j];
+                let (child_obj, parent_obj, flipped) = if cluster[sj.obj1] == c {
+                    (sj.obj2, sj.obj1, false)
+                } else if cluster[sj.obj2] == c {
+                    (sj.obj1, sj.obj2, true)
+                } else {
+                    continue;
+                };
+                used[j] = true;
+                let cc = cluster[child_obj];
+                if visited[cc] {
+                    closing.push(j);
+                    continue;
+                }
+                visited[cc] = true;
+                reached_by[cc] = Some((c, j));
+                tree.push(TreeEdge {
+                    joint: j,
+                    parent_cluster: c,
+                    child_obj,
+                    parent_obj,
+                    flipped,
+                });
+                queue.push_back(cc);
             }
-            let sj = &joints[j];
-            let (child_obj, parent_obj, flipped) = if cluster[sj.obj1] == c {
-                (sj.obj2, sj.obj1, false)
-            } else if cluster[sj.obj2] == c {
-                (sj.obj1, sj.obj2, true)
-            } else {
-                continue;
-            };
-            used[j] = true;
-            let cc = cluster[child_obj];
-            if visited[cc] {
-                closing.push(j);
-                continue;
-            }
-            visited[cc] = true;
-            reached_by[cc] = Some((c, j));
-            tree.push(TreeEdge {
-                joint: j,
-                parent_cluster: c,
-                child_obj,
-                parent_obj,
-                flipped,
-            });
-            queue.push_back(cc);
         }
     }
     (tree, closing, reached_by)
 }
 
-/// The objects of the loop closed by joint `j`: both ends' tree paths up to their common
-/// ancestor, closed by `j`, without repetitions.
-fn loop_objects(
+/// The joints of the loop closed by joint `j`: `j`, then the tree joints of both ends' paths
+/// up to their common ancestor.
+fn loop_joints(
     joints: &[ValidJoint],
     cluster: &[usize],
     reached_by: &[Option<(usize, usize)>],
     j: usize,
 ) -> Vec<usize> {
     let sj = &joints[j];
-    // (cluster, joint to its parent cluster) up to the world.
     let path = |mut k: usize| {
         let mut p = vec![];
         loop {
@@ -231,25 +276,16 @@ fn loop_objects(
         }
     };
     let (p1, p2) = (path(cluster[sj.obj1]), path(cluster[sj.obj2]));
-    let mut ids = vec![sj.obj1, sj.obj2];
-    for p in [&p1, &p2] {
+    let mut out = vec![j];
+    for (p, other) in [(&p1, &p2), (&p2, &p1)] {
         for &(k, via) in p {
-            if p1.iter().any(|x| x.0 == k) && p2.iter().any(|x| x.0 == k) {
+            if other.iter().any(|x| x.0 == k) {
                 break; // common ancestor reached
             }
-            if let Some(via) = via {
-                let tj = &joints[via];
-                ids.extend([tj.obj1, tj.obj2]);
-            }
+            out.extend(via);
         }
     }
-    let mut seen = vec![];
-    ids.retain(|i| {
-        let new = !seen.contains(i);
-        seen.push(*i);
-        new
-    });
-    ids
+    out
 }
 
 /// Reports parent chains that do not end at a root, and cuts each cycle.
@@ -286,28 +322,28 @@ fn parent_cycles(objects: &mut [ValidObject], suspect: &mut [bool], errors: &mut
     }
 }
 
-/// Reports objects that are obj2 of several joints; returns, per joint, whether it is such a
-/// second (or later) mover, which the tree then leaves out (no follow-up loop error).
+/// Reports objects that are obj2 of several joints of which more than one lies on no loop
+/// (`on_loop`, per joint): such an object is moved by two joints without a loop. Two joints
+/// that move one object and close a loop together are a closed chain, not an error.
 fn two_parents(
     objects: &[ValidObject],
     joints: &[ValidJoint],
+    on_loop: &[bool],
     errors: &mut Vec<SceneError>,
-) -> Vec<bool> {
+) {
     let mut movers: HashMap<usize, Vec<usize>> = HashMap::new();
     for (k, j) in joints.iter().enumerate() {
         movers.entry(j.obj2).or_default().push(k);
     }
-    let mut two: Vec<_> = movers.into_iter().filter(|(_, v)| v.len() > 1).collect();
+    let mut two: Vec<_> = movers
+        .into_iter()
+        .filter(|(_, v)| v.iter().filter(|&&k| !on_loop[k]).count() > 1)
+        .collect();
     two.sort();
-    let mut extra = vec![false; joints.len()];
     for (o, js) in two {
-        for &k in &js[1..] {
-            extra[k] = true;
-        }
         errors.push(SceneError::TwoParents {
             object: objects[o].name.clone(),
             joints: js.iter().map(|&k| joints[k].name.clone()).collect(),
         });
     }
-    extra
 }

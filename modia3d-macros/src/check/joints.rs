@@ -70,6 +70,7 @@ impl Checker {
             .required(&a, "obj2")
             .and_then(|e| self.reference(e, Kind::Object, "object"));
         let can_collide = a.get("can_collide").map(|c| (c.clone(), lit_bool(c)));
+        let cut = a.get("cut").map(|c| (c.clone(), lit_bool(c)));
         let kind = match kind_name.as_str() {
             "Fix" => Some(JointKindIr::Fix),
             "Revolute" | "Prismatic" => {
@@ -128,6 +129,7 @@ impl Checker {
             obj2: o2?,
             kind: kind?,
             can_collide,
+            cut,
         })
     }
 

@@ -125,6 +125,7 @@ pub fn item(it: &Item) -> TokenStream {
             obj2,
             kind,
             can_collide,
+            cut,
         } => {
             let (n, o1, o2) = (
                 scoped(&name.to_string()),
@@ -133,7 +134,8 @@ pub fn item(it: &Item) -> TokenStream {
             );
             let (kind, init) = joint_kind(kind);
             let c = can_collide.as_ref().map(|(c, _)| quote!(.can_collide(#c)));
-            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #init);)
+            let cut = cut.as_ref().map(|(c, _)| quote!(.cut(#c)));
+            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #cut #init);)
         }
         Item::Force { name, force, .. } => {
             let v = self::force(&name.to_string(), force);

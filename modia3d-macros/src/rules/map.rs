@@ -521,7 +521,7 @@ impl<'a> Mapper<'a> {
             syn::Error::new(
                 obj2.span,
                 format!(
-                    "kinematic loop: joint `{name}` joins `{}` and `{}`, which are already connected (hint: closed chains are not supported; remove this joint or a `parent` of the loop)",
+                    "rigid kinematic loop: joint `{name}` joins `{}` and `{}`, which are already rigidly connected by `parent` links and Fix joints, so it can never move (hint: remove this joint or a `parent` of the loop; closed chains of moving joints are fine)",
                     obj1.path, obj2.path
                 ),
             ),

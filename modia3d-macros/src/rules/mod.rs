@@ -250,6 +250,7 @@ impl<'a> Probe<'a> {
                 obj2,
                 kind,
                 can_collide,
+                cut,
             } => {
                 let kind = match kind {
                     JointKindIr::Fix => JointKind::Fix,
@@ -277,8 +278,12 @@ impl<'a> Probe<'a> {
                 };
                 let (o1, o2) = (obj(obj1), obj(obj2));
                 let collide = can_collide.as_ref().and_then(|c| c.1).unwrap_or(false);
-                self.desc
-                    .add_joint(Joint::new(&name.to_string(), o1, o2, kind).can_collide(collide));
+                let cut = cut.as_ref().and_then(|c| c.1).unwrap_or(false);
+                self.desc.add_joint(
+                    Joint::new(&name.to_string(), o1, o2, kind)
+                        .can_collide(collide)
+                        .cut(cut),
+                );
             }
             Item::Force { name, force, .. } => {
                 let f = match force {

@@ -74,11 +74,23 @@ pub enum SceneError {
         /// The object named twice.
         object: String,
     },
-    /// A closed kinematic chain.
-    #[error("kinematic loop through {}: closed chains are not supported yet; remove a joint or parent link of the loop", list(.objects))]
+    /// A rigid loop: parent links and Fix joints only, or a moving joint whose two ends belong
+    /// to one rigid part (it could never move). Closed chains with moving joints are allowed.
+    #[error("rigid kinematic loop through {}: these objects are already rigidly connected (parent links and Fix joints), so the loop cannot move; remove a joint or parent link of the loop", list(.objects))]
     KinematicLoop {
         /// The objects (or joints) on the loop.
         objects: Vec<String>,
+    },
+    /// A closed loop whose constraints cannot be satisfied near the given initial coordinates
+    /// (link lengths or axes that do not fit together).
+    #[error("kinematic loop closed by joint `{cut}` (through {}) cannot close: after assembly its constraint residual is {residual:.3e} (metres or radians, largest component); check the lengths, axes and initial coordinates of the loop's bodies", list(.joints))]
+    ImpossibleLoop {
+        /// The cut joint that closes the loop.
+        cut: String,
+        /// The joints of the loop.
+        joints: Vec<String>,
+        /// Largest remaining constraint residual, [m] for translations, [rad]-like for rotations.
+        residual: f64,
     },
     /// Objects that are neither attached nor jointed to the world.
     #[error("object `{object}` is not connected to the world: give it a parent or connect it with a joint (a FreeMotion for a free body)")]

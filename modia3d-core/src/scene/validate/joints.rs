@@ -50,6 +50,7 @@ pub(super) fn joints(
             obj2: o2,
             kind,
             can_collide: j.can_collide,
+            cut: j.cut,
         });
     }
 

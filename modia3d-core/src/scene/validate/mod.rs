@@ -188,6 +188,8 @@ pub struct ValidJoint {
     pub kind: ValidJointKind,
     /// Whether the joined bodies may collide.
     pub can_collide: bool,
+    /// Whether the user prefers this joint to be cut if it closes a loop.
+    pub cut: bool,
 }
 
 /// A resolved force element.

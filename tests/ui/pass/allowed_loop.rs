@@ -1,3 +1,5 @@
+//! A closed chain of moving joints is accepted: `slide` closes the loop world → body → frame →
+//! world and becomes a cut joint (enforced by constraints when the model is built).
 use modia3d::prelude::*;
 
 model! {
