@@ -125,7 +125,17 @@ pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
             "can_collide",
             "cut",
         ],
-        "Cylindrical" => &["obj1", "obj2", "axis", "phi", "s", "w", "v", "can_collide", "cut"],
+        "Cylindrical" => &[
+            "obj1",
+            "obj2",
+            "axis",
+            "phi",
+            "s",
+            "w",
+            "v",
+            "can_collide",
+            "cut",
+        ],
         "Planar" => &[
             "obj1",
             "obj2",
