@@ -199,7 +199,7 @@ fn spinning_bob_on_a_spherical_joint_precesses_at_the_closed_form_rate() {
 /// the joint's motion subspace must then be `ω1 cos β / (1 − sin²β cos²θ)` along `e` and zero
 /// across it, to 1e-9 (relative to ω1): everything is closed form, so only round-off
 /// (~1e-15) remains. This checks the joint's velocity map alone, at 24 input angles; the loop
-/// test above runs the whole mechanism.
+/// test below runs the whole mechanism.
 #[test]
 fn universal_joint_reproduces_the_cardan_speed_ratio() {
     let (beta, w1) = (0.5f64, 3.0);
