@@ -288,3 +288,34 @@ fn the_later_modia3d_profile_is_an_option() {
     );
     assert_eq!(res.events.len(), 1, "one contact start, never ends");
 }
+
+/// Every joint that is a mechanical connection keeps its two bodies apart unless
+/// `can_collide` is set (the rule `scene/contact_rules.rs` shares with `model!`): a ball joined
+/// to a free ball by each new kind forms no pair without `can_collide` and exactly one with it.
+#[test]
+fn new_joints_exclude_their_bodies_from_contact_unless_can_collide() {
+    for kind in [
+        JointKind::spherical(),
+        JointKind::universal(1, 2),
+        JointKind::cylindrical(3),
+        JointKind::planar(3),
+    ] {
+        let name = kind.name();
+        let scene = |can_collide: bool| {
+            let mut s = SceneDesc::new();
+            s.add(demo::world(SceneOptions::default()))
+                .add(ball("a"))
+                .add(
+                    Object3D::new("mount")
+                        .parent("a")
+                        .translation([0.0, 0.0, 0.3]),
+                )
+                .add(ball("b"))
+                .add_joint(Joint::new("free", "world", "a", JointKind::free()))
+                .add_joint(Joint::new("j", "mount", "b", kind.clone()).can_collide(can_collide));
+            s
+        };
+        assert_eq!(pair_count(&scene(false)), 0, "{name} without can_collide");
+        assert_eq!(pair_count(&scene(true)), 1, "{name} with can_collide");
+    }
+}

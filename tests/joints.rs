@@ -128,6 +128,69 @@ fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
     assert!(qn < 1e-9, "quaternion norm error {qn:e}");
 }
 
+/// Steady precession of a spinning symmetric bob on a Spherical joint: inertia `diag(A, A, C)`
+/// about its centre (symmetry axis = the rod), rod tilted by α from the vertical, the rod
+/// precessing about the vertical at `Ω` while the bob spins about the rod. Torque balance about
+/// the pivot for motion that is rigid in the precessing frame, `Ω ẑ × H = r_c × (−m g ẑ)` with
+/// `H = A'(ω − ω₃ e₃) + C ω₃ e₃`, `A' = A + m L²`, gives `C ω₃ Ω − A' Ω² cos α = −m g L`
+/// (with `C = A` and no spin this is the conical pendulum). For `Ω = 1.5 Ω_conical` the spin
+/// component `ω₃ = (A' Ω² cos α − m g L)/(C Ω)` makes the orbit steady: the azimuth advances as
+/// `Ω t` and the height stays `−L cos α`, to 1e-8 over two precession periods at rtol 1e-11.
+#[test]
+fn spinning_bob_on_a_spherical_joint_precesses_at_the_closed_form_rate() {
+    let (m, l, a, c, alpha) = (1.5, 0.8, 0.03, 0.05, 0.6f64);
+    let omega = 1.5 * (G / (l * alpha.cos())).sqrt();
+    let a_pivot = a + m * l * l;
+    let w3 = (a_pivot * omega * omega * alpha.cos() - m * G * l) / (c * omega);
+    // ω = Ω ẑ + s e₃ with ω·e₃ = w3: s = w3 − Ω cos α; resolved in the tilted pivot frame.
+    let spin = w3 - omega * alpha.cos();
+    let w_body = Vector3::new(-alpha.sin() * omega, 0.0, alpha.cos() * omega + spin);
+    let period = 2.0 * PI / omega;
+    let mut s = SceneDesc::new();
+    s.add(world([0.0, 0.0, -G]))
+        .add(Object3D::new("pivot"))
+        .add(
+            Object3D::new("bob")
+                .parent("pivot")
+                .translation([0.0, 0.0, -l])
+                .solid(explicit(m, Matrix3::from_diagonal(&Vector3::new(a, a, c)))),
+        )
+        .add_joint(Joint::new(
+            "ball",
+            "world",
+            "pivot",
+            JointKind::Spherical {
+                rot: FreeRotation::Cardan([0.0, alpha, 0.0]),
+                w: w_body,
+            },
+        ));
+    let res = s
+        .build()
+        .unwrap()
+        .simulate(
+            &SimOptions::new(2.0 * period)
+                .tolerance(1e-11)
+                .atol(1e-12)
+                .interval(period / 50.0)
+                .progress(false),
+        )
+        .unwrap();
+    let r = res.signal("bob.r_abs").unwrap();
+    let (mut worst_angle, mut worst_height) = (0.0f64, 0.0f64);
+    for (k, &t) in res.time().iter().enumerate() {
+        let p = Vector3::from_column_slice(r.at(k).unwrap());
+        let da = (p.y.atan2(p.x) - PI - omega * t + PI).rem_euclid(2.0 * PI) - PI;
+        worst_angle = worst_angle.max(da.abs() / (2.0 * PI));
+        worst_height = worst_height.max((p.z + l * alpha.cos()).abs() / l);
+    }
+    println!("precession: azimuth error {worst_angle:.2e} rev, height {worst_height:.2e} L (spin {spin:.3} rad/s)");
+    assert!(
+        worst_angle < 1e-8,
+        "azimuth error {worst_angle:e} of a revolution"
+    );
+    assert!(worst_height < 1e-8, "height error {worst_height:e} L");
+}
+
 /// Cardan shaft kinematics: input shaft about x at `ω1`, cross (Universal: axis1 = y in the
 /// input shaft, axis2 = z in the output shaft), output shaft axis `e = (cos β, sin β, 0)`.
 /// For input angle θ the joint angles that keep the output on `e` are
@@ -135,8 +198,8 @@ fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
 /// derivatives of these closed forms. The output's angular velocity the library computes from
 /// the joint's motion subspace must then be `ω1 cos β / (1 − sin²β cos²θ)` along `e` and zero
 /// across it, to 1e-9 (relative to ω1): everything is closed form, so only round-off
-/// (~1e-15) remains. (The shaft as a mechanism is a closed loop — input and output bearings —
-/// so the tree checks the velocity map at 24 input angles.)
+/// (~1e-15) remains. This checks the joint's velocity map alone, at 24 input angles; the loop
+/// test below runs the whole mechanism.
 #[test]
 fn universal_joint_reproduces_the_cardan_speed_ratio() {
     let (beta, w1) = (0.5f64, 3.0);
@@ -185,6 +248,75 @@ fn universal_joint_reproduces_the_cardan_speed_ratio() {
         worst = worst.max((along - w1 * ratio).abs() / w1).max(across / w1);
     }
     println!("Cardan shaft: worst speed error {worst:.2e} (relative to ω1)");
+    assert!(worst < 1e-9, "speed error {worst:e}");
+}
+
+/// The Cardan shaft as the mechanism it is, a closed loop: input shaft on a Revolute about x,
+/// cross (Universal: axis1 = y in the input shaft, axis2 = z in the output shaft), output shaft
+/// in a bearing (a Revolute about `e = (cos β, sin β, 0)`, the cut joint). The input turns at
+/// constant `ω1` (prescribed acceleration 0); the output speed about `e` must follow
+/// `ω1 cos β / (1 − sin²β cos²θ)` with `θ = ω1 t` over a revolution. The loop is held by the
+/// stabilised constraints to the Newton tolerance of each step, the output speed is a function
+/// of the state through the velocity constraints, so its error is of the order of the local
+/// error at rtol 1e-11 (~1e-11 · ω1); 1e-9 relative to ω1 leaves two orders.
+#[test]
+fn cardan_shaft_loop_output_speed_follows_the_closed_form() {
+    let (beta, w1) = (0.5f64, 3.0);
+    let e = Vector3::new(beta.cos(), beta.sin(), 0.0);
+    let inertia = Matrix3::from_diagonal(&Vector3::new(0.1, 0.2, 0.3));
+    let mut s = SceneDesc::new();
+    s.add(world([0.0, 0.0, -G]))
+        .add(Object3D::new("shaft1").solid(explicit(1.0, inertia)))
+        .add(Object3D::new("shaft2").solid(explicit(1.0, inertia)))
+        .add(
+            Object3D::new("mount")
+                .parent("world")
+                .rotation(Rotation::Cardan([0.0, 0.0, beta])),
+        )
+        .add_joint(Joint::new("input", "world", "shaft1", JointKind::revolute(1)).init_velocity(w1))
+        .add_joint(Joint::new(
+            "cross",
+            "shaft1",
+            "shaft2",
+            JointKind::Universal {
+                axis1: Vector3::y(),
+                axis2: Vector3::z(),
+                phi1: 0.0,
+                phi2: beta,
+                w1: 0.0,
+                w2: 0.0,
+            },
+        ))
+        .add_joint(Joint::new("bearing", "mount", "shaft2", JointKind::revolute(1)).cut(true))
+        .add_input(Input::joint_acceleration("drive", "input"));
+    let model = s.build().unwrap();
+    let period = 2.0 * PI / w1;
+    let res = model
+        .simulate(
+            &SimOptions::new(period)
+                .tolerance(1e-11)
+                .atol(1e-12)
+                .interval(period / 100.0)
+                .progress(false),
+        )
+        .unwrap();
+    let theta = res.signal("input.phi").unwrap().values();
+    let w = res.signal("shaft2.w_abs").unwrap();
+    let (sb, cb) = beta.sin_cos();
+    let mut worst = 0.0f64;
+    for (k, th) in theta.iter().enumerate() {
+        let wk = Vector3::from_column_slice(w.at(k).unwrap());
+        let along = wk.dot(&e);
+        let expected = w1 * cb / (1.0 - sb * sb * th.cos().powi(2));
+        worst = worst
+            .max((along - expected).abs() / w1)
+            .max((wk - e * along).norm() / w1);
+    }
+    println!(
+        "Cardan loop: worst output speed error {worst:.2e} (relative to ω1), input turned {:.4} rad",
+        theta.last().unwrap() - theta[0]
+    );
+    assert!((theta.last().unwrap() - theta[0] - 2.0 * PI).abs() < 1e-9);
     assert!(worst < 1e-9, "speed error {worst:e}");
 }
 

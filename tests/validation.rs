@@ -385,3 +385,86 @@ fn typo_loop_disconnected_body_and_bad_value_in_one_call() {
     assert!(has(&["object `c`", "diameter", "-0.1"]), "{errs:#?}");
     assert_eq!(errs.len(), 4, "{errs:#?}");
 }
+
+/// The new joint kinds' parameters and coordinates: a Universal joint's axes must be
+/// perpendicular, axes non-zero, a Spherical joint must have obj1 on the world side, and a
+/// spring-damper or input on a joint with several coordinates must name one that exists.
+#[test]
+fn new_joint_kinds_and_their_coordinates_are_checked() {
+    let mut s = base();
+    s.add(ball("a"))
+        .add(ball("b"))
+        .add(ball("c"))
+        .add_joint(Joint::new(
+            "crooked",
+            "world",
+            "a",
+            JointKind::Universal {
+                axis1: Vector3::x(),
+                axis2: Vector3::new(1.0, 1.0, 0.0),
+                phi1: 0.0,
+                phi2: 0.0,
+                w1: 0.0,
+                w2: 0.0,
+            },
+        ))
+        .add_joint(Joint::new(
+            "flat",
+            "world",
+            "b",
+            JointKind::Planar {
+                normal: Vector3::zeros(),
+                x: 0.0,
+                y: 0.0,
+                phi: 0.0,
+                vx: 0.0,
+                vy: 0.0,
+                w: 0.0,
+            },
+        ))
+        .add_joint(Joint::new(
+            "backwards",
+            "c",
+            "world",
+            JointKind::spherical(),
+        ));
+    let errs = errors(&s);
+    let has = |needles: &[&str]| errs.iter().any(|e| needles.iter().all(|n| e.contains(n)));
+    assert!(
+        has(&["joint `crooked`", "axis1 and axis2", "perpendicular"]),
+        "{errs:#?}"
+    );
+    assert!(
+        has(&["joint `flat`", "axis length", "non-zero"]),
+        "{errs:#?}"
+    );
+    assert!(
+        has(&["Spherical joint `backwards`", "world side", "swap"]),
+        "{errs:#?}"
+    );
+
+    let mut s = base();
+    s.add(ball("a"))
+        .add_joint(Joint::new("uj", "world", "a", JointKind::universal(1, 2)))
+        .add_input(Input::joint_force("tau", "uj"))
+        .add_input(Input::joint_acceleration("drive", "uj").coordinate("phi3"));
+    s.add_force(ForceElement::JointSpringDamper {
+        joint: "uj".into(),
+        coordinate: Some("phi2".into()),
+        stiffness: 1.0,
+        damping: 0.0,
+        offset: 0.0,
+    });
+    let errs = errors(&s);
+    let has = |needles: &[&str]| errs.iter().any(|e| needles.iter().all(|n| e.contains(n)));
+    assert!(
+        has(&["input `tau`", "`phi1`, `phi2`", "name one"]),
+        "{errs:#?}"
+    );
+    assert!(
+        has(&["input `drive`", "`phi3`", "did you mean `phi1`"]),
+        "{errs:#?}"
+    );
+    // The spring on `phi2` is valid: exactly the two input errors.
+    assert_eq!(errs.len(), 2, "{errs:#?}");
+}
