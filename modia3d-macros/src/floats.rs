@@ -8,12 +8,19 @@
 //! unchanged.
 
 use crate::ast::ModelDef;
-use crate::vocab::{COMPONENTS, NESTED};
+use crate::vocab::{general_joint, COMPONENTS, NESTED};
 use syn::{Expr, Lit, LitFloat};
 
 /// Keys whose scalar value is an integer (an array value of such a key is still a float
-/// vector: `axis = [0, 1, 0]`).
+/// vector: `axis = [0, 1, 0]`); the axis keys of the other joint kinds (`axis1`, `normal`, …)
+/// come from the vocabulary ([`general_joint`]), so a new joint kind needs no entry here.
 const INTEGER_KEYS: &[&str] = &["axis", "mpr_max_iterations"];
+
+/// Whether `key` of constructor `ctor` takes an integer scalar (a Modia axis index or a count).
+fn integer_key(ctor: &str, key: &str) -> bool {
+    INTEGER_KEYS.contains(&key)
+        || general_joint(ctor).is_some_and(|(axes, _)| axes.iter().any(|(k, _)| *k == key))
+}
 
 /// Rewrites the integer literals of `def` that stand for floats (see the module header).
 pub fn floatify(def: &mut ModelDef) {
@@ -30,7 +37,7 @@ pub fn floatify(def: &mut ModelDef) {
         }
         for a in &mut c.ctor.args {
             let key = a.key.to_string();
-            value(&mut a.value, INTEGER_KEYS.contains(&key.as_str()));
+            value(&mut a.value, integer_key(&name, &key));
         }
     }
 }
