@@ -254,3 +254,20 @@ fn scene_without_unknowns_simulates() {
     }
     assert!((res.time().last().unwrap() - 1.0).abs() < 1e-12);
 }
+
+/// A failed run printed whole (`unwrap()`, or `main` returning the error) shows what went wrong
+/// and a summary of the partial results, not the plan and every state: before, the `Debug` of
+/// this error ran to megabytes for a 20,000-step run. The bound (4 kB) is far above the summary
+/// (~1 kB) and far below the full record of even one state per output point.
+#[test]
+fn a_failed_run_prints_a_summary() {
+    let err = stiff_spring()
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(0.1).max_steps(Some(20_000)).progress(false))
+        .unwrap_err();
+    let text = format!("{err:?}");
+    assert!(text.len() < 4_000, "{} bytes: {text}", text.len());
+    assert!(text.contains("WorkBudget") && text.contains("points"), "{text}");
+    assert!(!text.contains("states"), "{text}");
+}

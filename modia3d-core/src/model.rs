@@ -13,14 +13,26 @@ use crate::scene::{SceneDesc, SceneErrors, ValidScene};
 use crate::simulation::{SimError, SimOptions, Simulation};
 use std::sync::Arc;
 
-/// A compiled, runnable model. Cheap to clone; runs share the immutable plans.
-#[derive(Clone, Debug)]
+/// A compiled, runnable model. Cheap to clone; runs share the immutable plans. `Debug` prints
+/// a summary (bodies, joints, state length, collision pairs), not the plans.
+#[derive(Clone)]
 pub struct Model {
     /// The multibody plan: bodies, joint tree, state layout, mass properties.
     pub(crate) plan: Arc<Plan>,
     /// The collision pipeline; `None` when the scene has no candidate pair (then no collision
     /// code runs and there are no root functions).
     pub(crate) contact: Option<Arc<ContactPlan>>,
+}
+
+impl std::fmt::Debug for Model {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Model")
+            .field("bodies", &self.plan.bodies.len())
+            .field("joints", &self.joint_names())
+            .field("state_len", &self.state_len())
+            .field("collision_shapes", &self.contact.as_ref().map(|c| c.shapes.len()))
+            .finish_non_exhaustive()
+    }
 }
 
 /// A candidate collision pair and its constants (fixed when the model is built; the damping

@@ -236,7 +236,11 @@ pub enum ResultError {
 
 /// The outcome of a simulation: output time points, states `y = [q; v]` at each, statistics
 /// and events. Signals are derived on demand.
-#[derive(Clone, Debug)]
+///
+/// `Debug` prints a summary (points, time span, statistics, counts), not the states: a failed
+/// run's `SimError` is often printed whole by `unwrap()` or `main`'s `Result`, and the full
+/// record (plan and every state) ran to megabytes.
+#[derive(Clone)]
 pub struct SimulationResult {
     model: Model,
     time: Vec<f64>,
@@ -254,6 +258,20 @@ pub struct SimulationResult {
     phases: Option<PhaseBook>,
     /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
     multipliers: Vec<f64>,
+}
+
+impl std::fmt::Debug for SimulationResult {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SimulationResult")
+            .field("model", &self.model)
+            .field("points", &self.time.len())
+            .field("t_first", &self.time.first())
+            .field("t_last", &self.time.last())
+            .field("events", &self.events.len())
+            .field("warnings", &self.warnings)
+            .field("stats", &self.stats)
+            .finish_non_exhaustive()
+    }
 }
 
 #[derive(Clone, Copy)]
