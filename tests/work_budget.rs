@@ -268,6 +268,9 @@ fn a_failed_run_prints_a_summary() {
         .unwrap_err();
     let text = format!("{err:?}");
     assert!(text.len() < 4_000, "{} bytes: {text}", text.len());
-    assert!(text.contains("WorkBudget") && text.contains("points"), "{text}");
+    assert!(
+        text.contains("WorkBudget") && text.contains("points"),
+        "{text}"
+    );
     assert!(!text.contains("states"), "{text}");
 }

@@ -30,7 +30,10 @@ impl std::fmt::Debug for Model {
             .field("bodies", &self.plan.bodies.len())
             .field("joints", &self.joint_names())
             .field("state_len", &self.state_len())
-            .field("collision_shapes", &self.contact.as_ref().map(|c| c.shapes.len()))
+            .field(
+                "collision_shapes",
+                &self.contact.as_ref().map(|c| c.shapes.len()),
+            )
             .finish_non_exhaustive()
     }
 }

@@ -23,7 +23,7 @@
 //! three translations; a Universal (axes `a1` in obj1, `a2` in obj2) three translations and
 //! `Align {a1, a2}`; a Cylindrical (axis `a`) two translations ⊥ `a` and the two alignments of
 //! `a`; a Planar (normal `n`) the translation along `n` and the two alignments of `n`. These
-//! locked directions are the one thing this module knows per joint kind ([`rows_of`]); the
+//! locked directions come from each kind's file in `joints/` ([`rows_of`]); the
 //! motion of the tree's coordinates comes from the kinds themselves (`JointCoord::motion`).
 //!
 //! Every row's time derivative is *exactly* `ġ = A·(ω2 − ω1) + B·(v2(P2) − v1(P2))`, with
@@ -133,6 +133,19 @@ pub enum Row {
 }
 
 impl Row {
+    /// Translations along each of the unit directions `es` (resolved in obj1).
+    pub(crate) fn translations(es: &[Vector3<f64>]) -> Vec<Row> {
+        es.iter().map(|e| Row::Translation { e: *e }).collect()
+    }
+    /// The three rotations.
+    pub(crate) fn rotations() -> impl Iterator<Item = Row> {
+        (0..3).map(|k| Row::Rotation { k })
+    }
+    /// The two alignments that keep obj2's `axis` on obj1's (rotations across it locked).
+    pub(crate) fn alignments(axis: &Vector3<f64>) -> [Row; 2] {
+        let (u, w) = perpendiculars(axis);
+        [Row::Align { u, a: *axis }, Row::Align { u: w, a: *axis }]
+    }
     /// A short name of the row for messages: `x`, `y`, `z` (translations along obj1's axes or
     /// other directions `t0`…), `align0`…, `rot_x`, `rot_y`, `rot_z`.
     fn label(&self, i: usize) -> String {
@@ -193,7 +206,7 @@ impl LoopPlan {
 }
 
 /// Two unit vectors completing the unit `a` to a right-handed orthonormal basis `(u, w, a)`.
-fn perpendiculars(a: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+pub(crate) fn perpendiculars(a: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     let k = (0..3)
         .min_by(|&i, &j| a[i].abs().total_cmp(&a[j].abs()))
         .unwrap_or(0);
@@ -202,58 +215,9 @@ fn perpendiculars(a: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     (u, w)
 }
 
-/// The rows a joint kind locks when it is cut.
+/// The rows a joint kind locks when it is cut (each kind says which, in `joints/`).
 pub fn rows_of(kind: &ValidJointKind) -> Vec<Row> {
-    let translations = |es: &[Vector3<f64>]| -> Vec<Row> {
-        es.iter().map(|e| Row::Translation { e: *e }).collect()
-    };
-    let rotations = (0..3).map(|k| Row::Rotation { k });
-    match kind {
-        ValidJointKind::Fix => {
-            let mut r = translations(&[Vector3::x(), Vector3::y(), Vector3::z()]);
-            r.extend(rotations);
-            r
-        }
-        ValidJointKind::Revolute { axis, .. } => {
-            let (u, w) = perpendiculars(axis);
-            let mut r = translations(&[Vector3::x(), Vector3::y(), Vector3::z()]);
-            r.push(Row::Align { u, a: *axis });
-            r.push(Row::Align { u: w, a: *axis });
-            r
-        }
-        ValidJointKind::Prismatic { axis, .. } => {
-            let (u, w) = perpendiculars(axis);
-            let mut r = translations(&[u, w]);
-            r.extend(rotations);
-            r
-        }
-        ValidJointKind::FreeMotion { .. } => vec![],
-        ValidJointKind::Spherical { .. } => {
-            translations(&[Vector3::x(), Vector3::y(), Vector3::z()])
-        }
-        ValidJointKind::Universal { axis1, axis2, .. } => {
-            let mut r = translations(&[Vector3::x(), Vector3::y(), Vector3::z()]);
-            r.push(Row::Align {
-                u: *axis1,
-                a: *axis2,
-            });
-            r
-        }
-        ValidJointKind::Cylindrical { axis, .. } => {
-            let (u, w) = perpendiculars(axis);
-            let mut r = translations(&[u, w]);
-            r.push(Row::Align { u, a: *axis });
-            r.push(Row::Align { u: w, a: *axis });
-            r
-        }
-        ValidJointKind::Planar { normal, .. } => {
-            let (u, w) = perpendiculars(normal);
-            let mut r = translations(&[*normal]);
-            r.push(Row::Align { u, a: *normal });
-            r.push(Row::Align { u: w, a: *normal });
-            r
-        }
-    }
+    crate::joints::locked_rows(kind)
 }
 
 /// The cut joints of a validated scene, placed in their bodies: `in_ref` is each object's

@@ -2,7 +2,9 @@
 //! fixed in both objects; velocities `w` [rad/s], `v` [m/s] (`phi̇ = w`, `ṡ = v`).
 //! `S = [(axis, 0), (0, axis)]` is constant (the axis is invariant under the rotation).
 
-use super::{Coordinate, KindInfo, SignalSpec, Source};
+use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
@@ -81,4 +83,34 @@ pub(crate) fn motion(axis: &Vector3<f64>, v: &[f64]) -> Motion {
 pub(crate) fn project(axis: &Vector3<f64>, f: &Force, tau: &mut [f64]) {
     tau[0] = axis.dot(&f.n);
     tau[1] = axis.dot(&f.f);
+}
+
+/// Validation of the builder's parameters (solver-free): unit axis, finite initial values.
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    axis: &nalgebra::Vector3<f64>,
+    [phi, s, w, v]: [f64; 4],
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial phi [rad], s [m], w [rad/s], v [m/s]"),
+        &[phi, s, w, v],
+    );
+    ValidJointKind::Cylindrical {
+        axis: super::unit_axis(c, joint, axis),
+        phi,
+        s,
+        w,
+        v,
+    }
+}
+
+/// The rows a cut Cylindrical locks: the two translations across its axis and the two
+/// alignments of the axis.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows(axis: &nalgebra::Vector3<f64>) -> Vec<Row> {
+    let (u, w) = crate::dynamics::loops::perpendiculars(axis);
+    let mut r = Row::translations(&[u, w]);
+    r.extend(Row::alignments(axis));
+    r
 }

@@ -3,7 +3,9 @@
 //! relative to obj1, both resolved in obj2 ([rad/s], [m/s]), so `S` is the identity in the
 //! child frame and `c_J = 0`. The quaternion rate carries a norm-restoring term.
 
-use super::{KindInfo, SignalSpec, Source};
+use super::{Checker, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{quat_rate, quat_to_matrix, Force, Motion, Transform};
 #[cfg(feature = "solver")]
@@ -140,4 +142,32 @@ pub(crate) fn velocity_in_obj1(q: &[f64], v: &[f64], out: &mut Vec<f64>) {
     let rot = quat_to_matrix(&q[3..7]);
     let v_body = Vector3::new(v[3], v[4], v[5]);
     out.extend_from_slice((rot * v_body).as_slice());
+}
+
+/// Validation of the builder's parameters (solver-free): finite initial values, a unit
+/// initial rotation.
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    r: &nalgebra::Vector3<f64>,
+    rot: &crate::FreeRotation,
+    v: &nalgebra::Vector3<f64>,
+    w: &nalgebra::Vector3<f64>,
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial r [m], v [m/s], w [rad/s]"),
+        &[r.as_slice(), v.as_slice(), w.as_slice()].concat(),
+    );
+    ValidJointKind::FreeMotion {
+        r: *r,
+        rot: super::unit_rotation(c, joint, rot),
+        v: *v,
+        w: *w,
+    }
+}
+
+/// A cut FreeMotion locks nothing.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows() -> Vec<Row> {
+    vec![]
 }

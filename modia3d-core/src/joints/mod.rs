@@ -12,9 +12,12 @@
 //! the spatial algebra of `dynamics/`. Touches only the slices of `q`, `v` it is given.
 //!
 //! The rest of the crate asks a [`JointCoord`] (a small enum whose methods dispatch to the
-//! per-kind files; no trait objects in the hot path). Adding a kind means: its file here and
-//! its variant and dispatch lines below, its builder variant (`scene/desc.rs`) with the
-//! validation of its parameters (`scene/validate/joints.rs`), the macro's vocabulary, docs.
+//! per-kind files; no trait objects in the hot path). Each kind's file also validates the
+//! builder's parameters (`validate`, solver-free, with the scene's `Checker`) and lists the
+//! directions it locks when it is cut to close a loop (`locked_rows`). Adding a kind means:
+//! its file here and its variants and dispatch lines below ([`ValidJointKind`], [`JointCoord`],
+//! [`validate_kind`], [`locked_rows`]), its builder variant (`scene/desc.rs`), the macro's
+//! vocabulary, docs.
 
 #![cfg_attr(not(feature = "solver"), allow(dead_code))]
 
@@ -27,10 +30,226 @@ pub(crate) mod spherical;
 pub(crate) mod universal;
 
 #[cfg(feature = "solver")]
-use crate::dynamics::spatial::{Force, Motion, Transform};
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
-use crate::scene::ValidJointKind;
+use crate::dynamics::spatial::{Force, Motion, Transform};
+use crate::scene::validate::Checker;
+use crate::{FreeRotation, JointKind};
+use nalgebra::UnitQuaternion;
 use nalgebra::Vector3;
+
+/// A resolved joint kind with unit axes and a unit quaternion.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ValidJointKind {
+    /// Rigid.
+    Fix,
+    /// Revolute about a unit axis resolved in obj1; initial angle \[rad\] and rate [rad/s].
+    Revolute {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Initial angle \[rad\].
+        phi: f64,
+        /// Initial angular velocity [rad/s].
+        w: f64,
+    },
+    /// Prismatic along a unit axis resolved in obj1; initial position \[m\] and velocity [m/s].
+    Prismatic {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Initial position \[m\].
+        s: f64,
+        /// Initial velocity [m/s].
+        v: f64,
+    },
+    /// Free motion.
+    FreeMotion {
+        /// Initial position, resolved in obj1 \[m\].
+        r: Vector3<f64>,
+        /// Initial orientation relative to obj1.
+        rot: UnitQuaternion<f64>,
+        /// Initial `der(r)`, resolved in obj1 [m/s].
+        v: Vector3<f64>,
+        /// Initial angular velocity, resolved in obj2 [rad/s].
+        w: Vector3<f64>,
+    },
+    /// Ball joint.
+    Spherical {
+        /// Initial orientation relative to obj1.
+        rot: UnitQuaternion<f64>,
+        /// Initial angular velocity, resolved in obj2 [rad/s].
+        w: Vector3<f64>,
+    },
+    /// Cardan joint with unit, exactly perpendicular axes.
+    Universal {
+        /// First axis (fixed in obj1), unit.
+        axis1: Vector3<f64>,
+        /// Second axis (fixed in obj2), unit, perpendicular to `axis1`.
+        axis2: Vector3<f64>,
+        /// Initial angles \[rad\].
+        phi1: f64,
+        /// See `phi1`.
+        phi2: f64,
+        /// Initial rates [rad/s].
+        w1: f64,
+        /// See `w1`.
+        w2: f64,
+    },
+    /// Rotation about and translation along a unit axis.
+    Cylindrical {
+        /// Unit axis.
+        axis: Vector3<f64>,
+        /// Initial angle \[rad\].
+        phi: f64,
+        /// Initial position \[m\].
+        s: f64,
+        /// Initial angular velocity [rad/s].
+        w: f64,
+        /// Initial velocity [m/s].
+        v: f64,
+    },
+    /// Planar motion normal to a unit normal.
+    Planar {
+        /// Unit normal.
+        normal: Vector3<f64>,
+        /// Initial positions \[m\] (resolved in obj1) and angle \[rad\].
+        x: f64,
+        /// See `x`.
+        y: f64,
+        /// See `x`.
+        phi: f64,
+        /// Initial rates [m/s], [rad/s].
+        vx: f64,
+        /// See `vx`.
+        vy: f64,
+        /// See `vx`.
+        w: f64,
+    },
+}
+
+impl ValidJointKind {
+    /// The kind's name, as [`crate::JointKind::name`].
+    pub fn name(&self) -> &'static str {
+        match self {
+            ValidJointKind::Fix => "Fix",
+            ValidJointKind::Revolute { .. } => "Revolute",
+            ValidJointKind::Prismatic { .. } => "Prismatic",
+            ValidJointKind::FreeMotion { .. } => "FreeMotion",
+            ValidJointKind::Spherical { .. } => "Spherical",
+            ValidJointKind::Universal { .. } => "Universal",
+            ValidJointKind::Cylindrical { .. } => "Cylindrical",
+            ValidJointKind::Planar { .. } => "Planar",
+        }
+    }
+}
+
+/// Largest admissible `|‖q‖ − 1|` of an initial quaternion (round-off of a normalised
+/// quaternion is ~1e-16; a user's rounded literal digits stay well inside).
+const UNIT_QUATERNION_TOLERANCE: f64 = 1e-6;
+
+/// The validated kind of joint `joint`'s builder kind `k` (each kind's `validate`), or `None`
+/// when a check failed (the errors are in `c`).
+pub(crate) fn validate_kind(c: &mut Checker, joint: &str, k: &JointKind) -> Option<ValidJointKind> {
+    let before = c.errors.len();
+    let kind = match k {
+        JointKind::Fix => ValidJointKind::Fix,
+        JointKind::Revolute { axis, phi, w } => revolute::validate(c, joint, axis, *phi, *w),
+        JointKind::Prismatic { axis, s, v } => prismatic::validate(c, joint, axis, *s, *v),
+        JointKind::FreeMotion { r, rot, v, w } => free::validate(c, joint, r, rot, v, w),
+        JointKind::Spherical { rot, w } => spherical::validate(c, joint, rot, w),
+        JointKind::Universal {
+            axis1,
+            axis2,
+            phi1,
+            phi2,
+            w1,
+            w2,
+        } => universal::validate(c, joint, axis1, axis2, *phi1, *phi2, *w1, *w2),
+        JointKind::Cylindrical { axis, phi, s, w, v } => {
+            cylindrical::validate(c, joint, axis, [*phi, *s, *w, *v])
+        }
+        JointKind::Planar {
+            normal,
+            x,
+            y,
+            phi,
+            vx,
+            vy,
+            w,
+        } => planar::validate(c, joint, normal, [*x, *y, *phi, *vx, *vy, *w]),
+    };
+    (c.errors.len() == before).then_some(kind)
+}
+
+/// `axis` normalised; a zero (or non-finite) length is an error naming the joint.
+pub(crate) fn unit_axis(c: &mut Checker, joint: &str, axis: &Vector3<f64>) -> Vector3<f64> {
+    let n = axis.norm();
+    c.value(
+        || format!("joint `{joint}`: axis length"),
+        n,
+        n > 0.0,
+        "non-zero (an axis ±1, ±2, ±3 or a direction vector)",
+    );
+    axis / n
+}
+
+/// The unit quaternion of an initial rotation (FreeMotion, Spherical): Cardan angles finite, a
+/// given quaternion finite and of unit norm.
+pub(crate) fn unit_rotation(
+    c: &mut Checker,
+    joint: &str,
+    rot: &FreeRotation,
+) -> UnitQuaternion<f64> {
+    match rot {
+        FreeRotation::Cardan(a) => {
+            c.finite(
+                || format!("joint `{joint}`: initial Cardan angles [rad]"),
+                a,
+            );
+            UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(
+                crate::scene::cardan_to_matrix(*a),
+            ))
+        }
+        FreeRotation::Quaternion(q) => {
+            c.finite(
+                || format!("joint `{joint}`: initial quaternion"),
+                q.coords.as_slice(),
+            );
+            // A `UnitQuaternion` made with `new_unchecked` may be anything: a zero
+            // (or far from unit) quaternion is no rotation, and the solver would
+            // fail on it later without naming the joint.
+            let n = q.coords.norm();
+            if n.is_finite() && (n - 1.0).abs() > UNIT_QUATERNION_TOLERANCE {
+                c.errors.push(crate::scene::SceneError::InvalidValue {
+                    what: format!("joint `{joint}`: norm of the initial quaternion"),
+                    value: n,
+                    expected: "1 within 1e-6 (a unit quaternion: build it with UnitQuaternion::from_quaternion or new_normalize, not new_unchecked)",
+                });
+            }
+            // Exactly unit from here on (the joint is dropped if the check failed).
+            UnitQuaternion::new_normalize(q.into_inner())
+        }
+    }
+}
+
+/// The rows a joint of `kind` locks when it is cut to close a loop (each kind's
+/// `locked_rows`; a Fix locks all six).
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows(kind: &ValidJointKind) -> Vec<Row> {
+    match kind {
+        ValidJointKind::Fix => {
+            let mut r = Row::translations(&[Vector3::x(), Vector3::y(), Vector3::z()]);
+            r.extend(Row::rotations());
+            r
+        }
+        ValidJointKind::Revolute { axis, .. } => revolute::locked_rows(axis),
+        ValidJointKind::Prismatic { axis, .. } => prismatic::locked_rows(axis),
+        ValidJointKind::FreeMotion { .. } => free::locked_rows(),
+        ValidJointKind::Spherical { .. } => spherical::locked_rows(),
+        ValidJointKind::Universal { axis1, axis2, .. } => universal::locked_rows(axis1, axis2),
+        ValidJointKind::Cylindrical { axis, .. } => cylindrical::locked_rows(axis),
+        ValidJointKind::Planar { normal, .. } => planar::locked_rows(normal),
+    }
+}
 
 /// Where a signal of a joint comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,7 +5,9 @@
 //! [rad/s]. Resolved in obj2 the translation columns of `S` turn with `phi`:
 //! `S v = (normal w, Rᵀ (e1 vx + e2 vy))`, `c_J = (0, −w · normal × Rᵀ (e1 vx + e2 vy))`.
 
-use super::{Coordinate, KindInfo, SignalSpec, Source};
+use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 use nalgebra::Vector3;
@@ -161,4 +163,35 @@ pub(crate) fn project(
     tau[0] = (r.tr_mul(e1)).dot(&f.f);
     tau[1] = (r.tr_mul(e2)).dot(&f.f);
     tau[2] = n.dot(&f.n);
+}
+
+/// Validation of the builder's parameters (solver-free): unit normal, finite initial values.
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    normal: &nalgebra::Vector3<f64>,
+    [x, y, phi, vx, vy, w]: [f64; 6],
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial x, y [m], phi [rad], vx, vy [m/s], w [rad/s]"),
+        &[x, y, phi, vx, vy, w],
+    );
+    ValidJointKind::Planar {
+        normal: super::unit_axis(c, joint, normal),
+        x,
+        y,
+        phi,
+        vx,
+        vy,
+        w,
+    }
+}
+
+/// The rows a cut Planar locks: the translation along its normal and the two alignments of
+/// the normal.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows(normal: &nalgebra::Vector3<f64>) -> Vec<Row> {
+    let mut r = Row::translations(&[*normal]);
+    r.extend(Row::alignments(normal));
+    r
 }

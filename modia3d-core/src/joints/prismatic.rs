@@ -1,7 +1,9 @@
 //! Prismatic joint: translation of obj2 relative to obj1 along a unit axis fixed in both;
 //! position `s` \[m\], velocity `v` [m/s] (`ṡ = v`). `S = (0, axis)` is constant.
 
-use super::{Coordinate, KindInfo, SignalSpec, Source};
+use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{Force, Motion, Transform};
 #[cfg(feature = "solver")]
@@ -59,4 +61,33 @@ pub(crate) fn motion(axis: &Vector3<f64>, v: &[f64]) -> Motion {
 #[inline]
 pub(crate) fn project(axis: &Vector3<f64>, f: &Force, tau: &mut [f64]) {
     tau[0] = axis.dot(&f.f);
+}
+
+/// Validation of the builder's parameters (solver-free): unit axis, finite initial values.
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    axis: &nalgebra::Vector3<f64>,
+    s: f64,
+    v: f64,
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial s [m], v [m/s]"),
+        &[s, v],
+    );
+    ValidJointKind::Prismatic {
+        axis: super::unit_axis(c, joint, axis),
+        s,
+        v,
+    }
+}
+
+/// The rows a cut Prismatic locks: the two translations across its axis and the three
+/// rotations.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows(axis: &nalgebra::Vector3<f64>) -> Vec<Row> {
+    let (u, w) = crate::dynamics::loops::perpendiculars(axis);
+    let mut r = Row::translations(&[u, w]);
+    r.extend(Row::rotations());
+    r
 }

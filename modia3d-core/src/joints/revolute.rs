@@ -1,7 +1,9 @@
 //! Revolute joint: rotation of obj2 relative to obj1 about a unit axis fixed in both;
 //! position `phi` \[rad\], velocity `w` [rad/s] (`phi̇ = w`). `S = (axis, 0)` is constant.
 
-use super::{Coordinate, KindInfo, SignalSpec, Source};
+use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
@@ -59,4 +61,35 @@ pub(crate) fn motion(axis: &Vector3<f64>, v: &[f64]) -> Motion {
 #[inline]
 pub(crate) fn project(axis: &Vector3<f64>, f: &Force, tau: &mut [f64]) {
     tau[0] = axis.dot(&f.n);
+}
+
+/// Validation of the builder's parameters (solver-free): unit axis, finite initial values.
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    axis: &nalgebra::Vector3<f64>,
+    phi: f64,
+    w: f64,
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial phi [rad], w [rad/s]"),
+        &[phi, w],
+    );
+    ValidJointKind::Revolute {
+        axis: super::unit_axis(c, joint, axis),
+        phi,
+        w,
+    }
+}
+
+/// The rows a cut Revolute locks: the three translations and the two alignments of its axis.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows(axis: &nalgebra::Vector3<f64>) -> Vec<Row> {
+    let mut r = Row::translations(&[
+        nalgebra::Vector3::x(),
+        nalgebra::Vector3::y(),
+        nalgebra::Vector3::z(),
+    ]);
+    r.extend(Row::alignments(axis));
+    r
 }

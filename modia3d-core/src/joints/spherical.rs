@@ -3,7 +3,9 @@
 //! for FreeMotion; velocity: the angular velocity `ω` of obj2 relative to obj1, resolved in
 //! obj2 (3, [rad/s]), so `S = (I, 0)` in the child frame and `c_J = 0`.
 
-use super::{KindInfo, SignalSpec, Source};
+use super::{Checker, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{quat_to_matrix, Force, Motion, Transform};
 #[cfg(feature = "solver")]
@@ -80,4 +82,32 @@ pub(crate) fn project(f: &Force, tau: &mut [f64]) {
 #[inline]
 pub(crate) fn position_residual(q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
     super::free::quaternion_residual(q, &Vector3::new(v[0], v[1], v[2]), qd, res);
+}
+
+/// Validation of the builder's parameters (solver-free): a unit initial rotation, finite
+/// angular velocity.
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    rot: &crate::FreeRotation,
+    w: &nalgebra::Vector3<f64>,
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial w [rad/s]"),
+        w.as_slice(),
+    );
+    ValidJointKind::Spherical {
+        rot: super::unit_rotation(c, joint, rot),
+        w: *w,
+    }
+}
+
+/// The rows a cut Spherical locks: the three translations.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows() -> Vec<Row> {
+    Row::translations(&[
+        nalgebra::Vector3::x(),
+        nalgebra::Vector3::y(),
+        nalgebra::Vector3::z(),
+    ])
 }

@@ -4,7 +4,9 @@
 //! velocities `w1`, `w2` [rad/s]. Resolved in obj2, `ω = Rot(axis2, phi2)ᵀ axis1 · w1 +
 //! axis2 · w2`: `S` depends on `phi2`, so `c_J = w1 w2 (Rot(axis2, phi2)ᵀ axis1) × axis2`.
 
-use super::{Coordinate, KindInfo, SignalSpec, Source};
+use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
+#[cfg(feature = "solver")]
+use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
@@ -107,4 +109,65 @@ pub(crate) fn project(
 ) {
     tau[0] = axis1_in_child(axis1, axis2, q[1]).dot(&f.n);
     tau[1] = axis2.dot(&f.n);
+}
+
+/// Largest admissible `|cos|` of the angle between the axes (as a quaternion's norm: rounded
+/// literal digits pass, a wrong axis does not).
+const PERPENDICULAR_TOLERANCE: f64 = 1e-6;
+
+/// Validation of the builder's parameters (solver-free): unit, perpendicular axes (made
+/// exactly perpendicular), finite initial values.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn validate(
+    c: &mut Checker,
+    joint: &str,
+    axis1: &nalgebra::Vector3<f64>,
+    axis2: &nalgebra::Vector3<f64>,
+    phi1: f64,
+    phi2: f64,
+    w1: f64,
+    w2: f64,
+) -> ValidJointKind {
+    c.finite(
+        || format!("joint `{joint}`: initial phi1, phi2 [rad], w1, w2 [rad/s]"),
+        &[phi1, phi2, w1, w2],
+    );
+    let a1 = super::unit_axis(c, joint, axis1);
+    let a2 = super::unit_axis(c, joint, axis2);
+    let cos = a1.dot(&a2);
+    if cos.is_finite() && cos.abs() > PERPENDICULAR_TOLERANCE {
+        c.errors.push(crate::scene::SceneError::InvalidValue {
+            what: format!("joint `{joint}`: cosine of the angle between axis1 and axis2"),
+            value: cos,
+            expected: "0 within 1e-6 (a universal joint's axes are perpendicular)",
+        });
+    }
+    ValidJointKind::Universal {
+        axis1: a1,
+        // Exactly perpendicular from here on (the joint is dropped if the check failed).
+        axis2: (a2 - a1 * cos).normalize(),
+        phi1,
+        phi2,
+        w1,
+        w2,
+    }
+}
+
+/// The rows a cut Universal locks: the three translations and `axis2` kept perpendicular to
+/// `axis1`.
+#[cfg(feature = "solver")]
+pub(crate) fn locked_rows(
+    axis1: &nalgebra::Vector3<f64>,
+    axis2: &nalgebra::Vector3<f64>,
+) -> Vec<Row> {
+    let mut r = Row::translations(&[
+        nalgebra::Vector3::x(),
+        nalgebra::Vector3::y(),
+        nalgebra::Vector3::z(),
+    ]);
+    r.push(Row::Align {
+        u: *axis1,
+        a: *axis2,
+    });
+    r
 }

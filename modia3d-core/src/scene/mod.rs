@@ -5,7 +5,7 @@ mod contact_rules;
 mod desc;
 mod materials;
 mod topology;
-mod validate;
+pub(crate) mod validate;
 
 #[cfg(feature = "solver")]
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};

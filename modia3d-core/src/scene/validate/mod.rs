@@ -14,13 +14,15 @@ mod joints;
 mod objects;
 mod options;
 
+/// The resolved joint kinds are defined with the kinds themselves (`joints/mod.rs`).
+pub use crate::joints::ValidJointKind;
 pub use error::{did_you_mean, SceneError, SceneErrors};
 
 use super::desc::{ForceElement, SceneDesc};
 use super::materials::{average_pair, builtin_contact_pair, ContactPairMaterial, SolidMaterial};
 use crate::geometry::Shape;
 use crate::scene::desc::SceneOptions;
-use nalgebra::{Isometry3, Matrix3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix3, Vector3};
 use std::collections::HashMap;
 
 /// Mass properties of a solid, resolved in its object's frame.
@@ -69,110 +71,6 @@ pub struct ValidObject {
     pub solid: Option<ValidSolid>,
     /// Visual-only shape.
     pub visual: Option<Shape>,
-}
-
-/// A resolved joint kind with unit axes and a unit quaternion.
-#[derive(Clone, Debug, PartialEq)]
-pub enum ValidJointKind {
-    /// Rigid.
-    Fix,
-    /// Revolute about a unit axis resolved in obj1; initial angle \[rad\] and rate [rad/s].
-    Revolute {
-        /// Unit axis.
-        axis: Vector3<f64>,
-        /// Initial angle \[rad\].
-        phi: f64,
-        /// Initial angular velocity [rad/s].
-        w: f64,
-    },
-    /// Prismatic along a unit axis resolved in obj1; initial position \[m\] and velocity [m/s].
-    Prismatic {
-        /// Unit axis.
-        axis: Vector3<f64>,
-        /// Initial position \[m\].
-        s: f64,
-        /// Initial velocity [m/s].
-        v: f64,
-    },
-    /// Free motion.
-    FreeMotion {
-        /// Initial position, resolved in obj1 \[m\].
-        r: Vector3<f64>,
-        /// Initial orientation relative to obj1.
-        rot: UnitQuaternion<f64>,
-        /// Initial `der(r)`, resolved in obj1 [m/s].
-        v: Vector3<f64>,
-        /// Initial angular velocity, resolved in obj2 [rad/s].
-        w: Vector3<f64>,
-    },
-    /// Ball joint.
-    Spherical {
-        /// Initial orientation relative to obj1.
-        rot: UnitQuaternion<f64>,
-        /// Initial angular velocity, resolved in obj2 [rad/s].
-        w: Vector3<f64>,
-    },
-    /// Cardan joint with unit, exactly perpendicular axes.
-    Universal {
-        /// First axis (fixed in obj1), unit.
-        axis1: Vector3<f64>,
-        /// Second axis (fixed in obj2), unit, perpendicular to `axis1`.
-        axis2: Vector3<f64>,
-        /// Initial angles \[rad\].
-        phi1: f64,
-        /// See `phi1`.
-        phi2: f64,
-        /// Initial rates [rad/s].
-        w1: f64,
-        /// See `w1`.
-        w2: f64,
-    },
-    /// Rotation about and translation along a unit axis.
-    Cylindrical {
-        /// Unit axis.
-        axis: Vector3<f64>,
-        /// Initial angle \[rad\].
-        phi: f64,
-        /// Initial position \[m\].
-        s: f64,
-        /// Initial angular velocity [rad/s].
-        w: f64,
-        /// Initial velocity [m/s].
-        v: f64,
-    },
-    /// Planar motion normal to a unit normal.
-    Planar {
-        /// Unit normal.
-        normal: Vector3<f64>,
-        /// Initial positions \[m\] (resolved in obj1) and angle \[rad\].
-        x: f64,
-        /// See `x`.
-        y: f64,
-        /// See `x`.
-        phi: f64,
-        /// Initial rates [m/s], [rad/s].
-        vx: f64,
-        /// See `vx`.
-        vy: f64,
-        /// See `vx`.
-        w: f64,
-    },
-}
-
-impl ValidJointKind {
-    /// The kind's name, as [`crate::JointKind::name`].
-    pub fn name(&self) -> &'static str {
-        match self {
-            ValidJointKind::Fix => "Fix",
-            ValidJointKind::Revolute { .. } => "Revolute",
-            ValidJointKind::Prismatic { .. } => "Prismatic",
-            ValidJointKind::FreeMotion { .. } => "FreeMotion",
-            ValidJointKind::Spherical { .. } => "Spherical",
-            ValidJointKind::Universal { .. } => "Universal",
-            ValidJointKind::Cylindrical { .. } => "Cylindrical",
-            ValidJointKind::Planar { .. } => "Planar",
-        }
-    }
 }
 
 /// A resolved joint.
@@ -308,13 +206,13 @@ impl ValidScene {
 }
 
 /// Collects the errors of one validation round.
-pub(super) struct Checker {
+pub(crate) struct Checker {
     /// Every error found so far, in the order found.
-    pub(super) errors: Vec<SceneError>,
+    pub(crate) errors: Vec<SceneError>,
 }
 
 impl Checker {
-    pub(super) fn value(
+    pub(crate) fn value(
         &mut self,
         what: impl FnOnce() -> String,
         v: f64,
@@ -329,7 +227,7 @@ impl Checker {
             });
         }
     }
-    pub(super) fn finite(&mut self, what: impl Fn() -> String, vals: &[f64]) {
+    pub(crate) fn finite(&mut self, what: impl Fn() -> String, vals: &[f64]) {
         for &v in vals {
             self.value(&what, v, true, "finite");
         }
