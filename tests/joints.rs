@@ -56,21 +56,20 @@ fn max_drift((e, scale): (Vec<f64>, f64)) -> f64 {
     e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max) / scale
 }
 
-/// Conical spherical pendulum. The bob is a solid sphere (isotropic inertia `J` about its
-/// centre) at distance `L` below a Spherical joint, turning rigidly about the vertical at
-/// `Ω`. Torque balance about the pivot: `Ω ẑ × (I_o Ω ẑ) = r_c × (−m g ẑ)`; with
-/// `I_o = J·1 + m L² (1 − u uᵀ)` the isotropic `J` drops out of `ẑ × I_o ẑ`, leaving
-/// `Ω² L cos θ = g`: the point-mass period `T = 2π sqrt(L cos θ / g)` holds exactly for the
-/// rigid sphere. Checked: the azimuth of the bob grows as `Ω t` and its height stays
-/// `−L cos θ`, both to 1e-8 relative over two periods at rtol 1e-11 (IDA's global error is a
-/// few rtol per period here; the bound leaves two orders of margin). Precession: with the body
-/// also spinning about the rod the orbit would precess; the rigid orbit has no precession, and
-/// its absence (the orbit returns to its start after each period) is part of the check.
-#[test]
-fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
-    let (m, l, d, theta) = (1.5, 0.8, 0.1, 0.6f64);
-    let j = 0.4 * m * (d / 2.0) * (d / 2.0);
-    let omega = (G / (l * theta.cos())).sqrt();
+/// A bob of mass `m` and inertia `inertia` about its centre, `l` below a Spherical joint at the
+/// world origin, its rod tilted by `tilt` about y and turning with angular velocity `w_body`
+/// (resolved in the tilted pivot frame), run for two periods of a steady orbit at `omega` at
+/// rtol 1e-11. Returns the largest azimuth error (the bob starts at −x and should advance as
+/// `Ω t`) in revolutions, the largest height error (it should stay at `−l cos tilt`) in `l`,
+/// and the result.
+fn steady_orbit(
+    m: f64,
+    inertia: Matrix3<f64>,
+    l: f64,
+    tilt: f64,
+    w_body: Vector3<f64>,
+    omega: f64,
+) -> (f64, f64, SimulationResult) {
     let period = 2.0 * PI / omega;
     let mut s = SceneDesc::new();
     s.add(world([0.0, 0.0, -G]))
@@ -79,17 +78,15 @@ fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
             Object3D::new("bob")
                 .parent("pivot")
                 .translation([0.0, 0.0, -l])
-                .solid(explicit(m, Matrix3::identity() * j)),
+                .solid(explicit(m, inertia)),
         )
         .add_joint(Joint::new(
             "ball",
             "world",
             "pivot",
             JointKind::Spherical {
-                // Rod tilted by θ about y: the bob at (−L sin θ, 0, −L cos θ).
-                rot: FreeRotation::Cardan([0.0, theta, 0.0]),
-                // Ω ẑ resolved in the tilted pivot frame.
-                w: Vector3::new(-theta.sin() * omega, 0.0, theta.cos() * omega),
+                rot: FreeRotation::Cardan([0.0, tilt, 0.0]),
+                w: w_body,
             },
         ));
     let res = s
@@ -108,12 +105,33 @@ fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
     for (k, &t) in res.time().iter().enumerate() {
         let p = Vector3::from_column_slice(r.at(k).unwrap());
         // Azimuth of the bob, starting at π (it starts at −x), unwrapped by the expected one.
-        let expected = PI + omega * t;
-        let a = p.y.atan2(p.x);
-        let da = (a - expected + PI).rem_euclid(2.0 * PI) - PI;
+        let da = (p.y.atan2(p.x) - PI - omega * t + PI).rem_euclid(2.0 * PI) - PI;
         worst_angle = worst_angle.max(da.abs() / (2.0 * PI));
-        worst_height = worst_height.max((p.z + l * theta.cos()).abs() / l);
+        worst_height = worst_height.max((p.z + l * tilt.cos()).abs() / l);
     }
+    (worst_angle, worst_height, res)
+}
+
+/// Conical spherical pendulum. The bob is a solid sphere (isotropic inertia `J` about its
+/// centre) at distance `L` below a Spherical joint, turning rigidly about the vertical at
+/// `Ω`. Torque balance about the pivot: `Ω ẑ × (I_o Ω ẑ) = r_c × (−m g ẑ)`; with
+/// `I_o = J·1 + m L² (1 − u uᵀ)` the isotropic `J` drops out of `ẑ × I_o ẑ`, leaving
+/// `Ω² L cos θ = g`: the point-mass period `T = 2π sqrt(L cos θ / g)` holds exactly for the
+/// rigid sphere. Checked: the azimuth of the bob grows as `Ω t` and its height stays
+/// `−L cos θ`, both to 1e-8 relative over two periods at rtol 1e-11 (IDA's global error is a
+/// few rtol per period here; the bound leaves two orders of margin). Precession: with the body
+/// also spinning about the rod the orbit would precess; the rigid orbit has no precession, and
+/// its absence (the orbit returns to its start after each period) is part of the check.
+#[test]
+fn spherical_pendulum_conical_orbit_has_the_closed_form_period() {
+    let (m, l, d, theta) = (1.5, 0.8, 0.1, 0.6f64);
+    let j = 0.4 * m * (d / 2.0) * (d / 2.0);
+    let omega = (G / (l * theta.cos())).sqrt();
+    // Rod tilted by θ about y: the bob at (−L sin θ, 0, −L cos θ); Ω ẑ resolved in the tilted
+    // pivot frame.
+    let w = Vector3::new(-theta.sin() * omega, 0.0, theta.cos() * omega);
+    let (worst_angle, worst_height, res) =
+        steady_orbit(m, Matrix3::identity() * j, l, theta, w, omega);
     println!("conical pendulum: azimuth error {worst_angle:.2e} rev, height {worst_height:.2e} L");
     assert!(
         worst_angle < 1e-8,
@@ -145,44 +163,8 @@ fn spinning_bob_on_a_spherical_joint_precesses_at_the_closed_form_rate() {
     // ω = Ω ẑ + s e₃ with ω·e₃ = w3: s = w3 − Ω cos α; resolved in the tilted pivot frame.
     let spin = w3 - omega * alpha.cos();
     let w_body = Vector3::new(-alpha.sin() * omega, 0.0, alpha.cos() * omega + spin);
-    let period = 2.0 * PI / omega;
-    let mut s = SceneDesc::new();
-    s.add(world([0.0, 0.0, -G]))
-        .add(Object3D::new("pivot"))
-        .add(
-            Object3D::new("bob")
-                .parent("pivot")
-                .translation([0.0, 0.0, -l])
-                .solid(explicit(m, Matrix3::from_diagonal(&Vector3::new(a, a, c)))),
-        )
-        .add_joint(Joint::new(
-            "ball",
-            "world",
-            "pivot",
-            JointKind::Spherical {
-                rot: FreeRotation::Cardan([0.0, alpha, 0.0]),
-                w: w_body,
-            },
-        ));
-    let res = s
-        .build()
-        .unwrap()
-        .simulate(
-            &SimOptions::new(2.0 * period)
-                .tolerance(1e-11)
-                .atol(1e-12)
-                .interval(period / 50.0)
-                .progress(false),
-        )
-        .unwrap();
-    let r = res.signal("bob.r_abs").unwrap();
-    let (mut worst_angle, mut worst_height) = (0.0f64, 0.0f64);
-    for (k, &t) in res.time().iter().enumerate() {
-        let p = Vector3::from_column_slice(r.at(k).unwrap());
-        let da = (p.y.atan2(p.x) - PI - omega * t + PI).rem_euclid(2.0 * PI) - PI;
-        worst_angle = worst_angle.max(da.abs() / (2.0 * PI));
-        worst_height = worst_height.max((p.z + l * alpha.cos()).abs() / l);
-    }
+    let inertia = Matrix3::from_diagonal(&Vector3::new(a, a, c));
+    let (worst_angle, worst_height, _) = steady_orbit(m, inertia, l, alpha, w_body, omega);
     println!("precession: azimuth error {worst_angle:.2e} rev, height {worst_height:.2e} L (spin {spin:.3} rad/s)");
     assert!(
         worst_angle < 1e-8,
