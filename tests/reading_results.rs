@@ -77,6 +77,41 @@ fn signal_at_between_output_points() {
     assert!(coarse.signal_at("rev.phi", 1.5).is_err());
 }
 
+/// With `dense_output`, `signal_at` evaluates IDA's own interpolating polynomial of the step
+/// that holds `t`: on a coarse 0.1 s grid it equals the 1 ms grid's value, which is read off the
+/// same polynomial by `IDAGetDky` (the grid never steers the steps, so both runs take the same
+/// steps), up to rounding: the Taylor form about the step's end and IDA's own evaluation differ
+/// by a few ulps of the terms, hence 1e-12 (rad, m). The cubic through the coarse grid is off by
+/// ~1e-4 rad there (previous test), so the bound tells the two apart by eight orders.
+#[test]
+fn dense_output_is_the_solvers_interpolant() {
+    let model = pendulum();
+    let opts = SimOptions::new(1.0).tolerance(1e-9).progress(false);
+    let fine = model.simulate(&opts.clone().interval(0.001)).unwrap();
+    let dense = model
+        .simulate(&opts.clone().interval(0.1).dense_output(true))
+        .unwrap();
+    assert_eq!(fine.stats.solver.steps, dense.stats.solver.steps);
+    for t in [0.031, 0.123, 0.555, 0.987] {
+        let k = fine
+            .time()
+            .iter()
+            .position(|&x| (x - t).abs() < 1e-12)
+            .unwrap();
+        let t = fine.time()[k];
+        for name in ["rev.phi", "rev.w", "bob.r_abs[2]", "bob.v_abs[0]"] {
+            let reference = fine.signal(name).unwrap().at(k).unwrap()[0];
+            let v = dense.signal_at(name, t).unwrap()[0];
+            println!("t = {t}: {name} {:.1e}", v - reference);
+            assert!(
+                (v - reference).abs() < 1e-12,
+                "{name} at {t}: {v} vs {reference}"
+            );
+        }
+        assert_eq!(dense.signal_at("bob.R_abs", t).unwrap().len(), 9);
+    }
+}
+
 /// At an event time `signal_at` returns the value recorded at the event, exactly.
 #[test]
 fn signal_at_is_exact_at_events() {

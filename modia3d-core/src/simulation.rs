@@ -488,6 +488,9 @@ impl Simulation {
             | SolveStatus::StopTime { t }
             | SolveStatus::Root { t }) = status;
             self.measure_step(t_prev, t)?;
+            if self.opts.dense_output && t > t_prev {
+                self.result.push_dense(&mut self.ida, t_prev, t)?;
+            }
             self.record_grid(t0, dt, t.min(target - eps))?;
             match status {
                 SolveStatus::Root { t } => self.event(t)?,

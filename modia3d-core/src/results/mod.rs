@@ -258,6 +258,43 @@ pub struct SimulationResult {
     phases: Option<PhaseBook>,
     /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
     multipliers: Vec<f64>,
+    /// With `SimOptions::dense_output`: IDA's interpolating polynomial of every step.
+    dense: DenseOutput,
+}
+
+/// IDA's interpolating polynomial of each step of a run (`SimOptions::dense_output`), as
+/// Taylor coefficients about the step's internal time: evaluates the states anywhere in the run
+/// at the solver's order.
+#[derive(Clone, Debug, Default)]
+struct DenseOutput {
+    /// Per returned step: the interval `[t0, t1]` \[s\] it covers, the expansion point `tn`
+    /// \[s\], the order `q` and the offset of its `(q + 1)·n` coefficients in `coeffs`.
+    steps: Vec<(f64, f64, f64, usize, usize)>,
+    /// Coefficients `y⁽ᵏ⁾(tn)/k!`, k = 0..=q, each of length `n`, step after step.
+    coeffs: Vec<f64>,
+    /// Length of one coefficient vector (IDA's unknowns).
+    n: usize,
+}
+
+impl DenseOutput {
+    /// The first `len` unknowns at `t` \[s\] by the polynomial of the last step whose interval
+    /// contains `t`; `None` outside the recorded steps.
+    fn state_at(&self, t: f64, len: usize) -> Option<Vec<f64>> {
+        // Steps are in time order: the last one starting at or before t that reaches t.
+        let i = self.steps.partition_point(|s| s.0 <= t);
+        let &(_, _, tn, q, off) = self.steps.get(..i)?.iter().rev().find(|s| t <= s.1)?;
+        let n = self.n;
+        let dt = t - tn;
+        let mut y = vec![0.0; len.min(n)];
+        // Horner in dt over the coefficient vectors.
+        for k in (0..=q).rev() {
+            let c = self.coeffs.get(off + k * n..off + k * n + y.len())?;
+            for (yi, ci) in y.iter_mut().zip(c) {
+                *yi = *yi * dt + ci;
+            }
+        }
+        Some(y)
+    }
 }
 
 impl std::fmt::Debug for SimulationResult {
@@ -294,7 +331,23 @@ impl SimulationResult {
             contacts: None,
             phases: None,
             multipliers: vec![],
+            dense: DenseOutput::default(),
         }
+    }
+
+    /// Records IDA's interpolating polynomial of the step just returned, covering `[t0, t1]`
+    /// \[s\] (`SimOptions::dense_output`).
+    pub(crate) fn push_dense<S: crate::solver::DaeSystem>(
+        &mut self,
+        ida: &mut crate::solver::Ida<S>,
+        t0: f64,
+        t1: f64,
+    ) -> Result<(), crate::solver::IdaError> {
+        let off = self.dense.coeffs.len();
+        let (tn, q) = ida.taylor(&mut self.dense.coeffs)?;
+        self.dense.n = ida.y().len();
+        self.dense.steps.push((t0, t1, tn, q, off));
+        Ok(())
     }
 
     pub(crate) fn push_multipliers(&mut self, lambda: &[f64]) {
@@ -640,7 +693,10 @@ impl SimulationResult {
     /// event-free stretch (never across an event, where derivatives jump): exact at output
     /// points and events, and with [`SimOptions::output_steps`](crate::SimOptions::output_steps)
     /// the output points are the solver's steps, so the interpolation error is below the
-    /// solver's for orders up to 3. `t` outside the recorded time is an error.
+    /// solver's for orders up to 3. With [`SimOptions::dense_output`](crate::SimOptions::dense_output)
+    /// joint and object signals are evaluated at the state that IDA's own interpolating
+    /// polynomial of the step containing `t` gives (the solver's order and accuracy, exact at
+    /// steps and events). `t` outside the recorded time is an error.
     pub fn signal_at(&self, name: &str, t: f64) -> Result<Vec<f64>, ResultError> {
         let s = self.signal(name)?;
         let time = &self.time;
@@ -663,6 +719,12 @@ impl SimulationResult {
         // Exact at a recorded point (the last one recorded at that time: after an event).
         if let Some(k) = time.iter().rposition(|&x| x == t) {
             return Ok(s.at(k).unwrap_or(&[]).to_vec());
+        }
+        // With dense output: the state at t by the solver's own polynomial, and the joint or
+        // object signal of that state (contact and loop-force signals have no state formula:
+        // they take the cubic below).
+        if let Some(v) = self.dense_signal_at(name, t) {
+            return Ok(v);
         }
         // The event-free stretch around t: from the last event before t to the first after.
         let lo = self
@@ -713,10 +775,38 @@ impl SimulationResult {
         Ok(out)
     }
 
+    /// The joint or object signal `name` (optionally `[i]`) at `t` \[s\] from the dense output
+    /// (`SimOptions::dense_output`); `None` without dense output, outside it, or for other
+    /// signals.
+    fn dense_signal_at(&self, name: &str, t: f64) -> Option<Vec<f64>> {
+        let plan = &*self.model.plan;
+        let y = self.dense.state_at(t, plan.nq + plan.nv)?;
+        let (base, index) = match name.strip_suffix(']').and_then(|s| s.rsplit_once('[')) {
+            Some((b, i)) => (b, Some(i.parse::<usize>().ok()?)),
+            None => (name, None),
+        };
+        let (owner, field) = base.rsplit_once('.')?;
+        let full = self.full_signal_over(owner, field, std::iter::once(y.as_slice()), 1)?;
+        match index {
+            None => Some(full.data),
+            Some(i) => full.data.get(i).map(|&x| vec![x]),
+        }
+    }
+
     fn full_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        self.full_signal_over(owner, field, self.states_iter(), self.time.len())
+    }
+
+    /// [`Self::full_signal`] over the states `states` (`nt` of them, `[q; v]` each).
+    fn full_signal_over<'s>(
+        &self,
+        owner: &str,
+        field: &str,
+        states: impl Iterator<Item = &'s [f64]>,
+        nt: usize,
+    ) -> Option<Signal> {
         let plan = &*self.model.plan;
         let nq = plan.nq;
-        let nt = self.time.len();
         let make = |unit, dim, data| Signal {
             name: format!("{owner}.{field}"),
             unit,
@@ -730,7 +820,7 @@ impl SimulationResult {
                 nq + j.v_offset..nq + j.v_offset + j.coord.nv(),
             );
             let mut data = Vec::with_capacity(spec.dim * nt);
-            for y in self.states_iter() {
+            for y in states {
                 let off = match spec.source {
                     Source::Q(k) => j.q_offset + k,
                     Source::V(k) => nq + j.v_offset + k,
@@ -755,7 +845,7 @@ impl SimulationResult {
         };
         let mut ws = Workspace::new(plan);
         let mut data = Vec::with_capacity(dim * nt);
-        for y in self.states_iter() {
+        for y in states {
             let (q, v) = y.split_at(nq);
             kinematics::position_velocity(plan, &mut ws, q, v);
             let x = kinematics::object_in_world(plan, &ws, o);

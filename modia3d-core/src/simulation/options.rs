@@ -37,6 +37,12 @@ pub struct SimOptions {
     /// shorter than the output interval show in the signals and plots; events are always
     /// recorded.
     pub output_steps: bool,
+    /// Keep IDA's interpolating polynomial of every step (default false), so that
+    /// [`SimulationResult::signal_at`](crate::SimulationResult::signal_at) evaluates joint and
+    /// object signals at any time with the solver's own interpolant (its order, its accuracy)
+    /// instead of a cubic through the output points. Costs `(q + 1)·n` values per step (q ≤ 5,
+    /// n the number of unknowns).
+    pub dense_output: bool,
     /// Form IDA's Jacobian by difference quotients coloured by the scene's independent joint
     /// trees and their current contacts (default true): a scene of many free bodies then costs
     /// a few residual evaluations per Jacobian instead of one per state. False = IDA's dense
@@ -63,6 +69,7 @@ impl SimOptions {
             max_step: None,
             contact_results: false,
             output_steps: false,
+            dense_output: false,
             progress: true,
             structured_jacobian: true,
             max_steps: Some(DEFAULT_MAX_STEPS),
@@ -95,6 +102,12 @@ impl SimOptions {
     /// [`SimOptions::output_steps`]).
     pub fn output_steps(mut self, on: bool) -> Self {
         self.output_steps = on;
+        self
+    }
+    /// Keeps IDA's interpolating polynomial of every step for `signal_at` (see
+    /// [`SimOptions::dense_output`]).
+    pub fn dense_output(mut self, on: bool) -> Self {
+        self.dense_output = on;
         self
     }
     /// Shows (true, the default on a terminal) or hides the progress bar of `simulate`.

@@ -477,6 +477,36 @@ impl<S: DaeSystem> Ida<S> {
         }
     }
 
+    /// IDA's interpolating polynomial of the last step as Taylor coefficients about the
+    /// internal time `t_n` \[s\]: appends `y⁽ᵏ⁾(t_n)/k!` for `k = 0..=q` (each of length n) to
+    /// `out` and returns `(t_n, q)`, `q` the order used. The polynomial has degree `q`, so these
+    /// `q + 1` terms reproduce it exactly on `[t_n − h_u, t_n]` (dense output at the solver's
+    /// order).
+    pub fn taylor(&mut self, out: &mut Vec<f64>) -> Result<(f64, usize), IdaError> {
+        self.begin_call();
+        let (mut tn, mut q): (f64, c_int) = (0.0, 0);
+        // SAFETY: mem is valid; the out-pointers are valid locals.
+        let rc = unsafe { sys::IDAGetCurrentTime(self.mem, &mut tn) };
+        self.check(rc, "IDAGetCurrentTime")?;
+        // SAFETY: as above.
+        let rc = unsafe { sys::IDAGetLastOrder(self.mem, &mut q) };
+        self.check(rc, "IDAGetLastOrder")?;
+        let q = q.max(0) as usize;
+        let mut factorial = 1.0;
+        for k in 0..=q {
+            if k > 0 {
+                factorial *= k as f64;
+            }
+            // SAFETY: mem and dky are valid; dky has length n; k ≤ the order used.
+            let rc = unsafe { sys::IDAGetDky(self.mem, tn, k as c_int, self.dky) };
+            self.check(rc, "IDAGetDky")?;
+            // SAFETY: dky is a valid serial vector of length n.
+            let d = unsafe { slice::from_raw_parts(sys::N_VGetArrayPointer(self.dky), self.n) };
+            out.extend(d.iter().map(|x| x / factorial));
+        }
+        Ok((tn, q))
+    }
+
     /// The solution at `t` \[s\] by IDA's own interpolating polynomial (`IDAGetDky` with
     /// k = 0), written into `out` (length n): as accurate as the steps, and free of any effect on
     /// them. `t` must lie within the last step, `[t_n − h_u, t_n]` (IDA checks: otherwise
