@@ -267,13 +267,27 @@ pub struct SimulationResult {
 /// at the solver's order.
 #[derive(Clone, Debug, Default)]
 struct DenseOutput {
-    /// Per returned step: the interval `[t0, t1]` \[s\] it covers, the expansion point `tn`
-    /// \[s\], the order `q` and the offset of its `(q + 1)·n` coefficients in `coeffs`.
-    steps: Vec<(f64, f64, f64, usize, usize)>,
+    /// One entry per returned step, in time order.
+    steps: Vec<DenseStep>,
     /// Coefficients `y⁽ᵏ⁾(tn)/k!`, k = 0..=q, each of length `n`, step after step.
     coeffs: Vec<f64>,
     /// Length of one coefficient vector (IDA's unknowns).
     n: usize,
+}
+
+/// A step of [`DenseOutput`].
+#[derive(Clone, Copy, Debug)]
+struct DenseStep {
+    /// The interval `[t0, t1]` \[s\] the step covers.
+    t0: f64,
+    /// See `t0`.
+    t1: f64,
+    /// Expansion point of the coefficients: IDA's internal time at the step \[s\].
+    tn: f64,
+    /// Order used.
+    q: usize,
+    /// Offset of its `(q + 1)·n` coefficients in `DenseOutput::coeffs`.
+    offset: usize,
 }
 
 impl DenseOutput {
@@ -281,10 +295,10 @@ impl DenseOutput {
     /// contains `t`; `None` outside the recorded steps.
     fn state_at(&self, t: f64, len: usize) -> Option<Vec<f64>> {
         // Steps are in time order: the last one starting at or before t that reaches t.
-        let i = self.steps.partition_point(|s| s.0 <= t);
-        let &(_, _, tn, q, off) = self.steps.get(..i)?.iter().rev().find(|s| t <= s.1)?;
-        let n = self.n;
-        let dt = t - tn;
+        let i = self.steps.partition_point(|s| s.t0 <= t);
+        let step = self.steps.get(..i)?.iter().rev().find(|s| t <= s.t1)?;
+        let (n, q, off) = (self.n, step.q, step.offset);
+        let dt = t - step.tn;
         let mut y = vec![0.0; len.min(n)];
         // Horner in dt over the coefficient vectors.
         for k in (0..=q).rev() {
@@ -346,7 +360,13 @@ impl SimulationResult {
         let off = self.dense.coeffs.len();
         let (tn, q) = ida.taylor(&mut self.dense.coeffs)?;
         self.dense.n = ida.y().len();
-        self.dense.steps.push((t0, t1, tn, q, off));
+        self.dense.steps.push(DenseStep {
+            t0,
+            t1,
+            tn,
+            q,
+            offset: off,
+        });
         Ok(())
     }
 
@@ -639,19 +659,7 @@ impl SimulationResult {
             name: name.to_string(),
             reason,
         };
-        let (base, index) = match name.strip_suffix(']').and_then(|s| s.rsplit_once('[')) {
-            Some((b, i)) => (
-                b,
-                Some(
-                    i.parse::<usize>()
-                        .map_err(|_| unknown(format!("`{i}` is not an index")))?,
-                ),
-            ),
-            None => (name, None),
-        };
-        let (owner, field) = base
-            .rsplit_once('.')
-            .ok_or_else(|| unknown("expected `<joint or object>.<quantity>`".into()))?;
+        let (base, owner, field, index) = split_signal_name(name).map_err(unknown)?;
         let full = self.full_signal(owner, field);
         if full.is_none() && self.contacts.is_none() && self.resolve_pair(owner).is_some() {
             return Err(ResultError::ContactResultsOff {
@@ -781,11 +789,7 @@ impl SimulationResult {
     fn dense_signal_at(&self, name: &str, t: f64) -> Option<Vec<f64>> {
         let plan = &*self.model.plan;
         let y = self.dense.state_at(t, plan.nq + plan.nv)?;
-        let (base, index) = match name.strip_suffix(']').and_then(|s| s.rsplit_once('[')) {
-            Some((b, i)) => (b, Some(i.parse::<usize>().ok()?)),
-            None => (name, None),
-        };
-        let (owner, field) = base.rsplit_once('.')?;
+        let (_, owner, field, index) = split_signal_name(name).ok()?;
         let full = self.full_signal_over(owner, field, std::iter::once(y.as_slice()), 1)?;
         match index {
             None => Some(full.data),
@@ -946,4 +950,23 @@ impl SimulationResult {
         }
         out.flush().map_err(io)
     }
+}
+
+/// `"<owner>.<field>"` or `"<owner>.<field>[i]"` split into the name without the index, owner,
+/// field and component index; `Err` says what is malformed.
+fn split_signal_name(name: &str) -> Result<(&str, &str, &str, Option<usize>), String> {
+    let (base, index) = match name.strip_suffix(']').and_then(|s| s.rsplit_once('[')) {
+        Some((b, i)) => (
+            b,
+            Some(
+                i.parse::<usize>()
+                    .map_err(|_| format!("`{i}` is not an index"))?,
+            ),
+        ),
+        None => (name, None),
+    };
+    let (owner, field) = base
+        .rsplit_once('.')
+        .ok_or_else(|| "expected `<joint or object>.<quantity>`".to_string())?;
+    Ok((base, owner, field, index))
 }
