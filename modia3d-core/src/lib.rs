@@ -52,14 +52,15 @@ pub use results::{
     SimulationResult, EVENT_MARKER_COLOR,
 };
 pub use scene::{
-    ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,
-    InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion,
-    Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid, SolidMaterial, Wrench,
+    Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,
+    FreeRotation, Input, InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef,
+    Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid,
+    SolidMaterial, Wrench,
 };
 #[cfg(feature = "solver")]
 pub use simulation::{
-    Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause, WorkDiagnosis,
-    CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_MAX_STEPS, MAX_OUTPUT_POINTS,
+    ActionError, Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause,
+    WorkDiagnosis, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_MAX_STEPS, MAX_OUTPUT_POINTS,
 };
 #[cfg(feature = "solver")]
 pub use solver::IdaError;

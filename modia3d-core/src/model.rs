@@ -22,6 +22,9 @@ pub struct Model {
     /// The collision pipeline; `None` when the scene has no candidate pair (then no collision
     /// code runs and there are no root functions).
     pub(crate) contact: Option<Arc<ContactPlan>>,
+    /// The description it was built from (the structure changes of a segmented run edit a
+    /// copy and build again; `simulation/segments.rs`).
+    pub(crate) desc: Arc<SceneDesc>,
 }
 
 impl std::fmt::Debug for Model {
@@ -94,7 +97,9 @@ pub struct LoopInfo {
 impl SceneDesc {
     /// Validates and compiles the scene into a runnable model.
     pub fn build(&self) -> Result<Model, SceneErrors> {
-        Model::compile(self.validate()?)
+        let mut model = Model::compile(self.validate()?)?;
+        model.desc = Arc::new(self.clone());
+        Ok(model)
     }
 }
 
@@ -103,12 +108,18 @@ impl Model {
     /// initial penetrations come last: they need the compiled plans and the initial state (see
     /// `Plan::check_inertia` for why they are not validation checks; `contact/initial.rs`).
     pub(crate) fn compile(valid: ValidScene) -> Result<Model, SceneErrors> {
-        let mut plan = Plan::compile(valid);
+        Model::finish(Plan::compile(valid), true)
+    }
+
+    /// The rest of [`Model::compile`] on a laid-out plan whose `q0`, `v0` the caller may have
+    /// set (a segment's start, `simulation/segments.rs`); `penetration`: run the
+    /// initial-penetration check (a user-input check, skipped at a segment's start).
+    pub(crate) fn finish(mut plan: Plan, penetration: bool) -> Result<Model, SceneErrors> {
         // Closed loops: redundant rows dropped, q0 and v0 projected onto the constraints.
         crate::dynamics::loops::assemble_initial(&mut plan).map_err(|e| SceneErrors(vec![e]))?;
         let contact = ContactPlan::compile(&plan.scene, &plan.objects).map_err(SceneErrors)?;
         plan.check_inertia()?;
-        if let Some(cp) = &contact {
+        if let Some(cp) = contact.as_ref().filter(|_| penetration) {
             let deep = crate::contact::initial_penetrations(&plan, cp);
             if !deep.is_empty() {
                 return Err(SceneErrors(deep));
@@ -117,6 +128,7 @@ impl Model {
         Ok(Model {
             plan: Arc::new(plan),
             contact: contact.map(Arc::new),
+            desc: Arc::default(),
         })
     }
 

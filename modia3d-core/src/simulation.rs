@@ -17,9 +17,11 @@ use std::time::Instant;
 mod contact_phases;
 mod diagnosis;
 mod options;
+mod segments;
 mod warnings;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
 pub use options::{SimOptions, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_MAX_STEPS, MAX_OUTPUT_POINTS};
+pub use segments::ActionError;
 
 /// Why a simulation failed.
 #[derive(thiserror::Error, Debug, Clone, PartialEq)]
@@ -66,6 +68,14 @@ pub enum SimErrorKind {
         residual: f64,
         /// Time \[s\].
         t: f64,
+    },
+    /// A scheduled action (attach, release, delete) could not be carried out.
+    #[error("at t = {t} s: {error}")]
+    Action {
+        /// Time \[s\].
+        t: f64,
+        /// Why.
+        error: Box<ActionError>,
     },
     /// The integrator failed.
     #[error(transparent)]
@@ -137,6 +147,39 @@ fn loop_atol(plan: &crate::dynamics::Plan, n: usize, atol: f64) -> Atol {
             })
             .collect(),
     )
+}
+
+/// IDA's options for a run (or a segment) of `plan` with `n` unknowns and `root_functions`
+/// root functions.
+fn ida_options(
+    plan: &crate::dynamics::Plan,
+    opts: &SimOptions,
+    n: usize,
+    root_functions: usize,
+) -> IdaOptions {
+    IdaOptions {
+        rtol: opts.rtol,
+        atol: loop_atol(plan, n, opts.atol.unwrap_or(0.01 * opts.rtol)),
+        max_step: opts.max_step,
+        // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts).
+        root_directions: (root_functions == 2).then(|| vec![1, -1]),
+        structured_jacobian: opts.structured_jacobian,
+        // Closed loops: λ and μ are algebraic and left out of the error test
+        // (dynamics/loops.rs).
+        differential: (plan.loops.m() > 0).then(|| (0..n).map(|i| i < plan.nq + plan.nv).collect()),
+        suppress_algebraic_error: plan.loops.m() > 0,
+        // A stricter Newton test for the index-2 multipliers: on the free four-bar at rtol
+        // 1e-10 it takes 11,400 steps over 5 s instead of 16,300 (fewer error-test failures
+        // from inexact λ) and drifts less in energy.
+        nonlinear_convergence_coefficient: (plan.loops.m() > 0).then_some(0.05),
+        // IDA's own first step comes from ‖y'‖ and, with velocities starting at zero and
+        // large accelerations, can be 1e-17 s, where the index-2 iteration matrix (condition
+        // ∝ 1/h²) defeats Newton's method (Andrews' squeezer fails at t = 0 so); a first
+        // step of 1e-6 of the run is cut by the error test if too large.
+        init_step: (plan.loops.m() > 0)
+            .then_some(LOOP_FIRST_STEP * (opts.stop_time - opts.start_time)),
+        ..IdaOptions::default()
+    }
 }
 
 /// First step of a run with closed loops, as a fraction of its span (see `Simulation::new`).
@@ -272,6 +315,9 @@ pub struct Simulation {
     active_scratch: Vec<usize>,
     /// Scratch of `measure_step`: (penetration, f_n) per pair and sample.
     sample_scratch: Vec<[(f64, f64); contact_phases::SAMPLES]>,
+    /// Structure changes (`segments.rs`): the model the run started with, IDA's counters of
+    /// the finished segments, the scheduled actions and what they did.
+    segments: segments::SegmentState,
 }
 
 impl std::fmt::Debug for Simulation {
@@ -314,32 +360,7 @@ impl Simulation {
             Err(e) => return Err(fail(derivative_error(e, t0), result)),
         };
         let root_functions = dae.num_roots_public();
-        let ida_opts = IdaOptions {
-            rtol: opts.rtol,
-            atol: loop_atol(&plan, y0.len(), opts.atol.unwrap_or(0.01 * opts.rtol)),
-            max_step: opts.max_step,
-            // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts).
-            root_directions: (root_functions == 2).then(|| vec![1, -1]),
-            structured_jacobian: opts.structured_jacobian,
-            // Closed loops: λ and μ are algebraic and left out of the error test
-            // (dynamics/loops.rs).
-            differential: (plan.loops.m() > 0).then(|| {
-                let n = y0.len();
-                (0..n).map(|i| i < plan.nq + plan.nv).collect()
-            }),
-            suppress_algebraic_error: plan.loops.m() > 0,
-            // A stricter Newton test for the index-2 multipliers: on the free four-bar at rtol
-            // 1e-10 it takes 11,400 steps over 5 s instead of 16,300 (fewer error-test failures
-            // from inexact λ) and drifts less in energy.
-            nonlinear_convergence_coefficient: (plan.loops.m() > 0).then_some(0.05),
-            // IDA's own first step comes from ‖y'‖ and, with velocities starting at zero and
-            // large accelerations, can be 1e-17 s, where the index-2 iteration matrix (condition
-            // ∝ 1/h²) defeats Newton's method (Andrews' squeezer fails at t = 0 so); a first
-            // step of 1e-6 of the run is cut by the error test if too large.
-            init_step: (plan.loops.m() > 0)
-                .then_some(LOOP_FIRST_STEP * (opts.stop_time - opts.start_time)),
-            ..IdaOptions::default()
-        };
+        let ida_opts = ida_options(&plan, opts, y0.len(), root_functions);
         result.phase_event(&dae, t0);
         let start_warnings = warnings::start_warnings(model, dae.contact());
         for w in &start_warnings {
@@ -369,6 +390,7 @@ impl Simulation {
             active_scratch: Vec::new(),
             sample_scratch: Vec::new(),
             start_warnings,
+            segments: segments::SegmentState::new(model),
         };
         sim.wall = started.elapsed().as_secs_f64();
         sim.update_stats();
@@ -404,7 +426,7 @@ impl Simulation {
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
         let started = Instant::now();
         self.call_started = started;
-        let outcome = self.advance(t);
+        let outcome = self.advance_with_actions(t);
         self.wall += started.elapsed().as_secs_f64();
         self.update_stats();
         self.update_warnings();
@@ -437,7 +459,7 @@ impl Simulation {
             .map(|c| (c.narrow_calls, c.aabb_tests, c.narrow_limits))
             .unwrap_or((0, 0, 0));
         self.result.stats = SimStats {
-            solver: self.ida.stats(),
+            solver: self.segments.solver_base + self.ida.stats(),
             events: self.result.events.len() as u64,
             root_functions: self.result.stats.root_functions,
             narrow_phase_calls: narrow,
@@ -567,7 +589,7 @@ impl Simulation {
 
     /// Ends the run if a budget is reached (checked before every internal step).
     fn check_budget(&mut self) -> Result<(), SimErrorKind> {
-        let steps = self.ida.stats().steps;
+        let steps = self.segments.solver_base.steps + self.ida.stats().steps;
         let wall = self.wall + self.call_started.elapsed().as_secs_f64();
         let reached = match (self.opts.max_steps, self.opts.max_wall_time) {
             (Some(n), _) if steps >= n => Some(Budget::Steps(n)),
@@ -770,9 +792,9 @@ impl Simulation {
     }
 
     /// Back to the initial state and zero inputs, with the recorded results cleared; the plan
-    /// is reused (no recompilation).
+    /// is reused (no recompilation; after structure changes, the model the run started with).
     pub fn reset(&mut self) -> Result<(), SimError> {
-        let model = self.model.clone();
+        let model = self.segments.initial.clone();
         *self = Simulation::new(&model, &self.opts)?;
         Ok(())
     }

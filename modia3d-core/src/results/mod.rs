@@ -11,6 +11,7 @@ mod gltf;
 mod html;
 mod mesh;
 mod plot;
+mod segments;
 mod threejs;
 mod warnings;
 
@@ -260,6 +261,8 @@ pub struct SimulationResult {
     multipliers: Vec<f64>,
     /// With `SimOptions::dense_output`: IDA's interpolating polynomial of every step.
     dense: DenseOutput,
+    /// The finished segments of a run with structure changes (`None` without; `segments.rs`).
+    segments: Option<Box<segments::Segments>>,
 }
 
 /// IDA's interpolating polynomial of each step of a run (`SimOptions::dense_output`), as
@@ -315,9 +318,9 @@ impl std::fmt::Debug for SimulationResult {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SimulationResult")
             .field("model", &self.model)
-            .field("points", &self.time.len())
-            .field("t_first", &self.time.first())
-            .field("t_last", &self.time.last())
+            .field("points", &self.time().len())
+            .field("t_first", &self.time().first())
+            .field("t_last", &self.time().last())
             .field("events", &self.events.len())
             .field("warnings", &self.warnings)
             .field("stats", &self.stats)
@@ -346,6 +349,7 @@ impl SimulationResult {
             phases: None,
             multipliers: vec![],
             dense: DenseOutput::default(),
+            segments: None,
         }
     }
 
@@ -565,23 +569,37 @@ impl SimulationResult {
     }
 
     pub(crate) fn push(&mut self, t: f64, y: &[f64]) {
+        if let Some(s) = self.segments.as_mut() {
+            s.time.push(t);
+        }
         self.time.push(t);
         self.states.extend_from_slice(y);
     }
 
-    /// Output time points \[s\].
+    /// Output time points \[s\] (of every segment of a run with structure changes).
     pub fn time(&self) -> &[f64] {
-        &self.time
+        self.segments.as_ref().map_or(&self.time, |s| &s.time)
     }
 
-    /// Number of unknowns per time point (`nq + nv`).
+    /// Number of unknowns per time point (`nq + nv`; of the last segment's model in a run with
+    /// structure changes, see [`Self::state`]).
     pub fn state_len(&self) -> usize {
         self.model.plan.nq + self.model.plan.nv
     }
 
-    /// State `y = [q; v]` at time point `k`; `None` if `k` is not a recorded time point
+    /// State `y = [q; v]` at time point `k` (in a run with structure changes, in the layout of
+    /// the model of the segment holding `k`); `None` if `k` is not a recorded time point
     /// (`k >= time().len()`). Never panics.
     pub fn state(&self, k: usize) -> Option<&[f64]> {
+        if self.segments.is_some() {
+            // The segment's own layout (its model's `[q; v]`).
+            return self.segment_of(k).and_then(|(seg, i)| seg.state_here(i));
+        }
+        self.state_here(k)
+    }
+
+    /// [`Self::state`] within this segment.
+    fn state_here(&self, k: usize) -> Option<&[f64]> {
         if k >= self.time.len() {
             return None;
         }
@@ -592,12 +610,12 @@ impl SimulationResult {
 
     /// The states at every time point, in order.
     fn states_iter(&self) -> impl Iterator<Item = &[f64]> + '_ {
-        (0..self.time.len()).filter_map(|k| self.state(k))
+        (0..self.time.len()).filter_map(|k| self.state_here(k))
     }
 
     /// The final state, if any time point was recorded.
     pub fn final_state(&self) -> Option<&[f64]> {
-        self.time.len().checked_sub(1).and_then(|k| self.state(k))
+        self.time().len().checked_sub(1).and_then(|k| self.state(k))
     }
 
     /// The plan the run was made with.
@@ -622,6 +640,14 @@ impl SimulationResult {
     /// attached to it) are left out of the list but stay readable by name
     /// (`signal("table.r_abs")`).
     pub fn signal_names(&self) -> Vec<String> {
+        if self.segments.is_some() {
+            return self.segmented_signal_names();
+        }
+        self.signal_names_one()
+    }
+
+    /// [`Self::signal_names`] of this segment's model.
+    fn signal_names_one(&self) -> Vec<String> {
         let mut names = vec![];
         names.extend(self.joint_signal_names());
         for o in self.model.plan.objects.iter().filter(|o| o.body.is_some()) {
@@ -654,7 +680,17 @@ impl SimulationResult {
     /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
     /// \[N\] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
     /// resolved in obj1's frame (obj1 feels the opposite).
+    /// In a run with structure changes (actions) the signal spans every segment, NaN where its
+    /// owner does not exist (see `results/segments.rs`).
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
+        if self.segments.is_some() {
+            return self.segmented_signal(name);
+        }
+        self.signal_one(name)
+    }
+
+    /// [`Self::signal`] within this segment.
+    fn signal_one(&self, name: &str) -> Result<Signal, ResultError> {
         let unknown = |reason: String| ResultError::UnknownSignal {
             name: name.to_string(),
             reason,
@@ -705,8 +741,18 @@ impl SimulationResult {
     /// joint and object signals are evaluated at the state that IDA's own interpolating
     /// polynomial of the step containing `t` gives (the solver's order and accuracy, exact at
     /// steps and events). `t` outside the recorded time is an error.
+    /// In a run with structure changes the segment holding `t` answers (the later one at an
+    /// action's time).
     pub fn signal_at(&self, name: &str, t: f64) -> Result<Vec<f64>, ResultError> {
-        let s = self.signal(name)?;
+        if self.segments.is_some() {
+            return self.segmented_signal_at(name, t);
+        }
+        self.signal_at_one(name, t)
+    }
+
+    /// [`Self::signal_at`] within this segment.
+    fn signal_at_one(&self, name: &str, t: f64) -> Result<Vec<f64>, ResultError> {
+        let s = self.signal_one(name)?;
         let time = &self.time;
         let (Some(&first), Some(&last)) = (time.first(), time.last()) else {
             return Err(ResultError::OutOfRange {
@@ -893,7 +939,7 @@ impl SimulationResult {
         let mut cols = vec![Column {
             name: "time".into(),
             unit: "s",
-            values: self.time.clone(),
+            values: self.time().to_vec(),
         }];
         for n in names {
             let s = self.signal(n.as_ref())?;
@@ -941,7 +987,7 @@ impl SimulationResult {
             .map(|c| format!("{} [{}]", c.name, c.unit))
             .collect();
         writeln!(out, "{}", header.join(",")).map_err(io)?;
-        for k in 0..self.time.len() {
+        for k in 0..self.time().len() {
             let row: Vec<String> = cols
                 .iter()
                 .map(|c| format!("{:.17e}", c.values.get(k).copied().unwrap_or(f64::NAN)))

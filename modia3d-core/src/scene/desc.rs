@@ -764,6 +764,8 @@ pub struct SceneDesc {
     pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
     /// Inputs set from Rust between simulation steps.
     pub inputs: Vec<Input>,
+    /// Scheduled structure changes (attach, release, delete; see [`crate::scene::Action`]).
+    pub actions: Vec<crate::scene::Action>,
 }
 
 impl SceneDesc {

@@ -1,12 +1,14 @@
 //! Scene stage: the description (builder API), the material palette and validation.
 //! Touches only plain data; nothing here knows about dynamics or the solver.
 
+mod actions;
 mod contact_rules;
 mod desc;
 mod materials;
 mod topology;
 pub(crate) mod validate;
 
+pub use actions::{Action, ActionKind};
 #[cfg(feature = "solver")]
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
 pub use desc::*;

@@ -66,6 +66,14 @@ pub enum SceneError {
         /// The joints that move it.
         joints: Vec<String>,
     },
+    /// An attach action that names one object twice.
+    #[error("action `{action}` attaches `{object}` to itself: `object` and `to` must differ")]
+    AttachToItself {
+        /// The action.
+        action: String,
+        /// The object named twice.
+        object: String,
+    },
     /// A joint that joins an object to itself.
     #[error("joint `{joint}` joins `{object}` to itself: obj1 and obj2 must differ")]
     IdenticalJointEnds {

@@ -8,6 +8,7 @@
 //! solids), `joints.rs`, `forces.rs` (force elements and inputs), `options.rs` (option and
 //! contact-pair material ranges), `error.rs`; the topology is `../topology.rs`.
 
+mod actions;
 mod error;
 mod forces;
 mod joints;
@@ -338,6 +339,7 @@ impl SceneDesc {
         let forces = forces::forces(c, self, &names, &joints);
         let inputs = forces::inputs(c, self, &names, &joints);
         options::contact_pair_materials(c, self);
+        actions::actions(c, self, &names);
         let valid = ValidScene {
             contact_pairs: self.contact_pairs.clone(),
             inputs,
