@@ -288,6 +288,24 @@ pub enum InputIr {
     ObjectWrench(NameRef),
 }
 
+/// A scheduled structure change (`ActionAttach`, `ActionRelease`, `ActionDelete`).
+#[derive(Clone, Debug)]
+pub enum ActionIr {
+    /// `ActionAttach(object, to, gap)`.
+    Attach {
+        /// The free object.
+        object: NameRef,
+        /// The object it is fixed to.
+        to: NameRef,
+        /// The gap \[m\].
+        gap: Num,
+    },
+    /// `ActionRelease(object)`.
+    Release(NameRef),
+    /// `ActionDelete(object)`.
+    Delete(NameRef),
+}
+
 /// One component.
 #[derive(Clone, Debug)]
 pub enum Item {
@@ -347,6 +365,17 @@ pub enum Item {
         name: Ident,
         /// What it drives.
         input: InputIr,
+        /// Where errors about it sort.
+        slot: u32,
+    },
+    /// An action at time `at`.
+    Action {
+        /// Component name.
+        name: Ident,
+        /// Its time \[s\].
+        at: Num,
+        /// What it does.
+        action: ActionIr,
         /// Where errors about it sort.
         slot: u32,
     },

@@ -21,6 +21,9 @@ pub const COMPONENTS: &[&str] = &[
     "JointForce",
     "JointAcceleration",
     "ObjectWrench",
+    "ActionAttach",
+    "ActionRelease",
+    "ActionDelete",
 ];
 
 /// Constructors that appear only inside values.
@@ -227,6 +230,8 @@ pub enum Kind {
     ContactPair,
     /// An input (set between simulation steps).
     Input,
+    /// A scheduled structure change (attach, release, delete).
+    Action,
     /// A sub-assembly (another `model!` type).
     Assembly,
 }
@@ -242,6 +247,7 @@ impl Kind {
             "SolidMaterial" => Kind::Material,
             "ContactPair" => Kind::ContactPair,
             "JointForce" | "JointAcceleration" | "ObjectWrench" => Kind::Input,
+            "ActionAttach" | "ActionRelease" | "ActionDelete" => Kind::Action,
             _ => return None,
         })
     }
@@ -255,6 +261,7 @@ impl Kind {
             Kind::Material => "a solid material",
             Kind::ContactPair => "a contact-pair material",
             Kind::Input => "an input",
+            Kind::Action => "an action",
             Kind::Assembly => "a sub-assembly",
         }
     }

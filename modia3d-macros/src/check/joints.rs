@@ -2,7 +2,7 @@
 
 use super::{lit_bool, lit_int, lit_str, lit_vec3, Checker};
 use crate::ast::Ctor;
-use crate::ir::{ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
+use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
 use crate::names::{did_you_mean, hint};
 use crate::vocab::{general_joint, joint_keys, Kind, PAIR_KEYS};
 use proc_macro2::Ident;
@@ -214,6 +214,44 @@ impl Checker {
         Some(Item::Input {
             name: name.clone(),
             input,
+            slot: self.errors.slot(),
+        })
+    }
+
+    /// `ActionAttach(object, to, at, gap)`, `ActionRelease(object, at)`,
+    /// `ActionDelete(object, at)`: the objects must be objects of the block (or parts of its
+    /// sub-assemblies); the core checks `at` and `gap`.
+    pub(super) fn action(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
+        let attach = ctor.name() == "ActionAttach";
+        let keys: &[&str] = if attach {
+            &["object", "to", "at", "gap"]
+        } else {
+            &["object", "at"]
+        };
+        let a = self.args(ctor, keys);
+        let object = self
+            .required(&a, "object")
+            .and_then(|e| self.reference(e, Kind::Object, "object"));
+        let at = self.num(&a, "at", true);
+        let action = if attach {
+            let to = self
+                .required(&a, "to")
+                .and_then(|e| self.reference(e, Kind::Object, "object"));
+            let gap = self.num(&a, "gap", true);
+            ActionIr::Attach {
+                object: object?,
+                to: to?,
+                gap: gap?,
+            }
+        } else if ctor.name() == "ActionRelease" {
+            ActionIr::Release(object?)
+        } else {
+            ActionIr::Delete(object?)
+        };
+        Some(Item::Action {
+            name: name.clone(),
+            at: at?,
+            action,
             slot: self.errors.slot(),
         })
     }

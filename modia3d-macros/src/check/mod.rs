@@ -468,6 +468,7 @@ impl Checker {
             }
             Kind::ContactPair => self.contact_pair(name, ctor),
             Kind::Input => self.input(name, ctor),
+            Kind::Action => self.action(name, ctor),
             Kind::Assembly => Some(self.assembly(name, ctor)),
         }
     }

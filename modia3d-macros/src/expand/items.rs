@@ -4,8 +4,8 @@
 
 use super::{local, paths_module_at, prefix, scoped};
 use crate::ir::{
-    AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr, MaterialName, Num,
-    Parent, PathCheck, Profile, SceneIr, ShapeIr, SolidIr,
+    ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr,
+    MaterialName, Num, Parent, PathCheck, Profile, SceneIr, ShapeIr, SolidIr,
 };
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
@@ -87,6 +87,28 @@ pub fn item(it: &Item) -> TokenStream {
                 }
             };
             quote!(#scene.add_input(#v);)
+        }
+        Item::Action {
+            name, at, action, ..
+        } => {
+            let n = scoped(&name.to_string());
+            let a = quote!(#core::Action);
+            let at = &at.expr;
+            let v = match action {
+                ActionIr::Attach { object, to, gap } => {
+                    let (o, to, gap) = (scoped(&object.path), scoped(&to.path), &gap.expr);
+                    quote!(#a::attach(#n, #at, #o, #to, #gap))
+                }
+                ActionIr::Release(o) => {
+                    let o = scoped(&o.path);
+                    quote!(#a::release(#n, #at, #o))
+                }
+                ActionIr::Delete(o) => {
+                    let o = scoped(&o.path);
+                    quote!(#a::delete(#n, #at, #o))
+                }
+            };
+            quote!(#scene.add_action(#v);)
         }
         Item::ContactPair {
             material1,

@@ -4,7 +4,7 @@
 
 use super::{is_stand_in, Probe};
 use crate::check::{compact, Errors};
-use crate::ir::{FeatureIr, ForceIr, InputIr, Ir, Item, MaterialName, Parent, SolidIr};
+use crate::ir::{ActionIr, FeatureIr, ForceIr, InputIr, Ir, Item, MaterialName, Parent, SolidIr};
 use crate::names::NameRef;
 use modia3d_core::scene::{builtin_solid_names, SceneError};
 use proc_macro2::{Ident, Span};
@@ -233,6 +233,24 @@ impl<'a> Mapper<'a> {
                     new(
                         o2.span,
                         format!("joint `{joint}` joins `{object}` to itself (hint: obj1 and obj2 must differ)"),
+                    ),
+                ))
+            }
+            E::AttachToItself { action, object } => {
+                let (to, slot) = self.ir.items.iter().find_map(|it| match it {
+                    Item::Action {
+                        name,
+                        action: ActionIr::Attach { to, .. },
+                        slot,
+                        ..
+                    } if name == action => Some((to, *slot)),
+                    _ => None,
+                })?;
+                Some((
+                    slot,
+                    new(
+                        to.span,
+                        format!("action `{action}` attaches `{object}` to itself (hint: `object` and `to` must differ)"),
                     ),
                 ))
             }

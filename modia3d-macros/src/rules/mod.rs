@@ -10,13 +10,13 @@ mod map;
 use crate::ast::ModelDef;
 use crate::check::Errors;
 use crate::ir::{
-    AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr, LitNum, MassIr,
-    MaterialName, Num, Parent, SceneIr, ShapeIr, SolidIr,
+    ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr, LitNum,
+    MassIr, MaterialName, Num, Parent, SceneIr, ShapeIr, SolidIr,
 };
 use crate::names::NameRef;
 use crate::vocab::Kind;
 use modia3d_core::scene::{
-    ContactPairMaterial, Feature, ForceElement, ForceFn, Input, Joint, JointKind, MassSpec,
+    Action, ContactPairMaterial, Feature, ForceElement, ForceFn, Input, Joint, JointKind, MassSpec,
     Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial, Wrench,
 };
 use modia3d_core::{Axis, Shape};
@@ -335,6 +335,21 @@ impl<'a> Probe<'a> {
                     }
                     InputIr::ObjectWrench(o) => Input::object_wrench(&n, obj(o)),
                 });
+            }
+            Item::Action {
+                name, at, action, ..
+            } => {
+                let n = name.to_string();
+                let at = self.scalar(&n, at);
+                let a = match action {
+                    ActionIr::Attach { object, to, gap } => {
+                        let gap = self.scalar(&n, gap);
+                        Action::attach(&n, at, obj(object), obj(to), gap)
+                    }
+                    ActionIr::Release(o) => Action::release(&n, at, obj(o)),
+                    ActionIr::Delete(o) => Action::delete(&n, at, obj(o)),
+                };
+                self.desc.add_action(a);
             }
             Item::ContactPair {
                 material1,
