@@ -100,8 +100,9 @@ fn desired(t: f64) -> [[f64; 2]; 3] {
     out
 }
 
-/// Runs the scene for `t_end` \[s\] with the arm's accelerations set every 2 ms.
-pub fn run(t_end: f64) -> Result<SimulationResult, Box<dyn std::error::Error>> {
+/// Runs the scene for `t_end` \[s\] with the arm's accelerations set every 2 ms (and the
+/// contact signals recorded if `contacts`).
+pub fn run(t_end: f64, contacts: bool) -> Result<SimulationResult, Box<dyn std::error::Error>> {
     let q0 = desired(0.0)[0];
     let model = Gripper {
         phi1: q0[0],
@@ -109,7 +110,10 @@ pub fn run(t_end: f64) -> Result<SimulationResult, Box<dyn std::error::Error>> {
         ..Default::default()
     }
     .build()?;
-    let opts = SimOptions::new(t_end).tolerance(1e-6).interval(0.005);
+    let opts = SimOptions::new(t_end)
+        .tolerance(1e-6)
+        .interval(0.005)
+        .contact_results(contacts);
     let mut sim = model.simulation(&opts)?;
     let (kp, kd) = (400.0, 40.0); // [1/s²], [1/s]
     let dt = 2e-3;
@@ -131,7 +135,7 @@ pub fn run(t_end: f64) -> Result<SimulationResult, Box<dyn std::error::Error>> {
 
 #[allow(dead_code)] // the test includes this file for `run`
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let res = run(3.0)?;
+    let res = run(3.0, false)?;
     println!(
         "{} segments, {} output points, {} IDA steps, wall time {:.2} s",
         res.segment_count(),

@@ -416,3 +416,67 @@ fn actions_naming_unknown_objects_are_scene_errors() {
     assert!(errors.contains("did you mean `box`"));
     assert!(errors.contains("action `drop`: time [s] is -1"));
 }
+
+#[allow(dead_code)] // only `run` is used, not the example's main
+#[path = "../examples/gripper.rs"]
+mod gripper_example;
+
+#[test]
+fn gripper_example_picks_carries_and_drops_the_box() {
+    let res = gripper_example::run(3.0, true).unwrap();
+    assert_eq!(res.segment_count(), 3);
+    // The actions declared in the `model!` ran at their times.
+    let actions: Vec<f64> = res
+        .events
+        .iter()
+        .filter(|e| e.description.starts_with("action"))
+        .map(|e| e.t)
+        .collect();
+    assert_eq!(actions, [1.0, 2.2]);
+    // Carried rigidly: the cube keeps its distance to the gripper while attached (round-off).
+    let (_, k_pick) = action_points(&res, 1.0);
+    let (k_drop, k_free) = action_points(&res, 2.2);
+    let dist = |k| (at(&res, "cube.r_abs", k) - at(&res, "gripper.r_abs", k)).norm();
+    let d0 = dist(k_pick);
+    for k in k_pick..=k_drop {
+        assert!((dist(k) - d0).abs() < 1e-12, "held cube moved by {}", dist(k) - d0);
+    }
+    let lifted = (k_pick..=k_drop)
+        .map(|k| at(&res, "cube.r_abs", k).z)
+        .fold(f64::MIN, f64::max);
+    assert!(lifted > 0.2, "the cube was lifted to {lifted} m");
+    // Free fall from the release to the first contact with the table.
+    let t_land = res
+        .events
+        .iter()
+        .find(|e| e.t > 2.2 && !e.started.is_empty())
+        .unwrap()
+        .t;
+    let (r0, v0) = (at(&res, "cube.r_abs", k_free), at(&res, "cube.v_abs", k_free));
+    let g = Vector3::new(0.0, 0.0, -G);
+    for k in (k_free..res.time().len()).take_while(|&k| res.time()[k] < t_land) {
+        let dt = res.time()[k] - 2.2;
+        let err = (at(&res, "cube.r_abs", k) - (r0 + v0 * dt + 0.5 * g * dt * dt)).norm();
+        // A quadratic is integrated exactly by BDF of order ≥ 2; the Newton iterations' error
+        // is bounded by the local error test (rtol 1e-6 on positions of 0.1 m scale): 1e-6 m.
+        assert!(err < 1e-6, "free fall off by {err:.2e} m at t = {}", res.time()[k]);
+    }
+    // It comes to rest on the table (static penetration of the softened contact ≈ 1e-5 m).
+    let r = res.signal("cube.r_abs").unwrap();
+    let v = res.signal("cube.v_abs").unwrap();
+    assert!((r.last().unwrap()[2] - 0.025).abs() < 1e-4);
+    assert!(Vector3::from_column_slice(v.last().unwrap()).norm() < 1e-3);
+    // Contact phases go on across segments: the resting phase open at the pick is closed at
+    // its time (no exit speed: the pair did not separate), and the new segment opens one that
+    // ends when the arm lifts the cube.
+    let phases = res.contact_phases("table|cube").unwrap();
+    let cut = phases.iter().find(|p| p.end == Some(1.0)).unwrap();
+    assert_eq!((cut.start, cut.exit_speed), (0.0, None));
+    let lifted_off = phases.iter().find(|p| p.start == 1.0).unwrap();
+    assert!(lifted_off.end.unwrap() > 1.0 && lifted_off.end.unwrap() < 1.3);
+    // Contact signals span every segment.
+    assert_eq!(
+        res.signal("table|cube.in_contact").unwrap().len(),
+        res.time().len()
+    );
+}
