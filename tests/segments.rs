@@ -439,7 +439,11 @@ fn gripper_example_picks_carries_and_drops_the_box() {
     let dist = |k| (at(&res, "cube.r_abs", k) - at(&res, "gripper.r_abs", k)).norm();
     let d0 = dist(k_pick);
     for k in k_pick..=k_drop {
-        assert!((dist(k) - d0).abs() < 1e-12, "held cube moved by {}", dist(k) - d0);
+        assert!(
+            (dist(k) - d0).abs() < 1e-12,
+            "held cube moved by {}",
+            dist(k) - d0
+        );
     }
     let lifted = (k_pick..=k_drop)
         .map(|k| at(&res, "cube.r_abs", k).z)
@@ -452,14 +456,21 @@ fn gripper_example_picks_carries_and_drops_the_box() {
         .find(|e| e.t > 2.2 && !e.started.is_empty())
         .unwrap()
         .t;
-    let (r0, v0) = (at(&res, "cube.r_abs", k_free), at(&res, "cube.v_abs", k_free));
+    let (r0, v0) = (
+        at(&res, "cube.r_abs", k_free),
+        at(&res, "cube.v_abs", k_free),
+    );
     let g = Vector3::new(0.0, 0.0, -G);
     for k in (k_free..res.time().len()).take_while(|&k| res.time()[k] < t_land) {
         let dt = res.time()[k] - 2.2;
         let err = (at(&res, "cube.r_abs", k) - (r0 + v0 * dt + 0.5 * g * dt * dt)).norm();
         // A quadratic is integrated exactly by BDF of order ≥ 2; the Newton iterations' error
         // is bounded by the local error test (rtol 1e-6 on positions of 0.1 m scale): 1e-6 m.
-        assert!(err < 1e-6, "free fall off by {err:.2e} m at t = {}", res.time()[k]);
+        assert!(
+            err < 1e-6,
+            "free fall off by {err:.2e} m at t = {}",
+            res.time()[k]
+        );
     }
     // It comes to rest on the table (static penetration of the softened contact ≈ 1e-5 m).
     let r = res.signal("cube.r_abs").unwrap();

@@ -288,7 +288,11 @@ pub enum InputError {
 /// [`Model::simulate`] is `Simulation::new` + `advance_to(stop_time)`.
 ///
 /// Output points are recorded at every multiple of the output interval, at every event and at
-/// every time passed to [`Simulation::advance_to`].
+/// every time passed to [`Simulation::advance_to`]. Actions (the scene's scheduled ones, run by
+/// `advance_to` at their times, or [`Simulation::attach`], [`release`](Simulation::release),
+/// [`delete`](Simulation::delete) between steps) change the structure and start a new
+/// segment; the action's time then has two output points, before and after (see
+/// `docs/segments.md`).
 pub struct Simulation {
     model: Model,
     opts: SimOptions,
@@ -420,8 +424,8 @@ impl Simulation {
         self.result
     }
 
-    /// Integrates with error control to `t` \[s\] (at most the stop time), handling events and
-    /// recording output points. On failure the error carries the results up to the failure; the
+    /// Integrates with error control to `t` \[s\] (at most the stop time), handling events,
+    /// carrying out the scene's actions scheduled up to `t` and recording output points. On failure the error carries the results up to the failure; the
     /// simulation can then only be [`reset`](Self::reset).
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
         let started = Instant::now();

@@ -79,6 +79,9 @@ use proc_macro::TokenStream;
 /// | `JointForce` | `joint*` (a joint with scalar coordinates), `coordinate` (as for `JointSpringDamper`) — an input: generalised force, 1 value (N·m or N) |
 /// | `JointAcceleration` | `joint*`, `coordinate` (as for `JointForce`) — an input: prescribed acceleration, 1 value (rad/s² or m/s²) |
 /// | `ObjectWrench` | `object*` — an input: world force and torque at the object's origin, 6 values |
+/// | `ActionAttach` | `object*` (obj2 of a FreeMotion), `to*` (objects), `at*` (s, ≥ 0), `gap*` (m, ≥ 0) — at time `at`, fix `object` rigidly to `to` at their current relative pose if they are at most `gap` apart (`SceneDesc::add_action`; docs/segments.md) |
+/// | `ActionRelease` | `object*`, `at*` — give the attached `object` a FreeMotion again at its current pose and velocity |
+/// | `ActionDelete` | `object*`, `at*` — remove `object`, its children, joints, force elements and inputs |
 /// | any other type | a sub-assembly: `arm1 = Arm(parent = base, length = 0.5)` |
 ///
 /// ## Values of `feature`, `shape`, `mass_properties`
