@@ -19,7 +19,8 @@ use crate::dynamics::{Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
 use crate::geometry::BroadPhase;
 use crate::geometry::{
-    aabb_distance, contact_point, signed_distance_method, world_aabb, GeometryError, SignedDistance,
+    aabb_distance, contact_patch, signed_distance_method, world_aabb, ContactPatch, GeometryError,
+    SignedDistance,
 };
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::bounding_volume::BoundingVolume;
@@ -268,15 +269,20 @@ impl ContactState {
     /// Point of application of the force of the pair in slot `p` for its narrow-phase result
     /// `sd` (poses of the same call).
     fn point(&self, cp: &ContactPlan, p: usize, sd: &SignedDistance) -> Vector3<f64> {
+        self.patch(cp, p, sd).point.coords
+    }
+
+    /// [`Self::point`] with the spread of the pressure and the penetration there
+    /// (`contact_patch`).
+    fn patch(&self, cp: &ContactPlan, p: usize, sd: &SignedDistance) -> ContactPatch {
         let pp = &self.slots[p].plan;
-        contact_point(
+        contact_patch(
             &cp.shapes[pp.a].shape,
             &self.poses[pp.a],
             &cp.shapes[pp.b].shape,
             &self.poses[pp.b],
             sd,
         )
-        .coords
     }
 
     /// The slot of the candidate pair of shapes `a`, `b`, taken from the free list (or grown)
@@ -337,11 +343,11 @@ impl ContactState {
                     let p = self.active[k] as usize;
                     self.update_pair_poses(cp, ws, p);
                     let sd = self.narrow(plan, cp, p, t)?;
-                    let point = self.point(cp, p, &sd);
+                    let patch = self.patch(cp, p, &sd);
                     let sl = &mut self.slots[p];
                     sl.state.geometry = sd;
                     sl.state.z = sd.distance;
-                    apply(cp, &sl.plan, &mut sl.state, &point, ws);
+                    apply(cp, &sl.plan, &mut sl.state, &patch, ws);
                 }
                 Ok(())
             }
@@ -594,14 +600,15 @@ fn apply(
     cp: &ContactPlan,
     pp: &PairPlan,
     ps: &mut PairState,
-    point: &Vector3<f64>,
+    patch: &ContactPatch,
     ws: &mut Workspace,
 ) {
     let (ba, bb) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
     let sd = &ps.geometry;
+    let point = &patch.point.coords;
     let (v1, w1) = point_velocity(ws, ba, point);
     let (v2, w2) = point_velocity(ws, bb, point);
-    let r = pair_response(cp, pp, ps.d, sd, point, &v1, &w1, &v2, &w2);
+    let r = pair_response(cp, pp, ps.d, sd, patch, &v1, &w1, &v2, &w2);
     let f = r.normal_force + r.friction_force;
     add_world_wrench(ws, bb, &r.point, &f, &r.rolling_torque);
     add_world_wrench(ws, ba, &r.point, &-f, &-r.rolling_torque);

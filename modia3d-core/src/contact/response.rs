@@ -3,7 +3,7 @@
 
 use super::preprocess::{ContactPlan, PairPlan};
 use super::regularise::reg;
-use crate::geometry::SignedDistance;
+use crate::geometry::{ContactPatch, SignedDistance};
 use nalgebra::Vector3;
 
 /// Forces of one pair, all resolved in world.
@@ -19,7 +19,8 @@ pub struct PairResponse {
     pub normal_force: Vector3<f64>,
     /// Sliding friction force on body 2 \[N\].
     pub friction_force: Vector3<f64>,
-    /// Rolling-resistance torque on body 2 [N·m].
+    /// Torque on body 2 [N·m]: rolling resistance plus the rocking damping of a contact patch
+    /// (see [`pair_response`]).
     pub rolling_torque: Vector3<f64>,
     /// Contact point \[m\]: where the forces act (see [`crate::geometry::contact_point`]).
     pub point: Vector3<f64>,
@@ -42,11 +43,23 @@ impl PairResponse {
 }
 
 /// The response law of docs/contact-model.md §3 for pair `pp` with damping factor `d` [s/m] (fixed at contact
-/// start), contact geometry `sd` (normal a → b), the contact point `point` \[m\] and the
-/// velocities of the two bodies' material points there and their angular velocities (all
-/// world, [m/s], [rad/s]).
+/// start), contact geometry `sd` (normal a → b), the contact point `point` \[m\], the spread
+/// `spread` \[m²\] of the pressure around it ([`crate::geometry::contact_patch`]; 0 for point
+/// contacts) and the velocities of the two bodies' material points there and their angular
+/// velocities (all world, [m/s], [rad/s]).
 /// Body 2 receives `normal_force + friction_force` at `point` and `rolling_torque`; body 1 the
 /// opposite.
+///
+/// Rocking damping of a patch: the law's damping term `c·δⁿ·d·δ̇` read as a density over the
+/// patch (the elastic layer whose centre of pressure is `point`) also acts on the local
+/// penetration rate `(ω_rel × x)·n` of a patch that rocks, which adds the torque
+/// `−d·f_el·(spread/2)·ω_t` about the point (`f_el = k_red·c·c_geo·δⁿ`, `ω_t` the relative
+/// angular velocity across the normal, `spread/2` the pressure's second moment per rocking
+/// axis, taken as isotropic). The force law and the point are unchanged; a flat box thus damps
+/// its rocking on a table like its bouncing (without it only the rolling resistance did, at a
+/// damping ratio of ~1e-3 for a steel cube, and the undamped rocking at tens of kHz held IDA
+/// to microsecond steps). Capped at `f_n·√spread`, the largest moment a non-negative pressure
+/// of that spread can have.
 #[inline]
 #[allow(clippy::too_many_arguments)]
 pub fn pair_response(
@@ -54,14 +67,15 @@ pub fn pair_response(
     pp: &PairPlan,
     d: f64,
     sd: &SignedDistance,
-    point: &Vector3<f64>,
+    patch: &ContactPatch,
     v1: &Vector3<f64>,
     w1: &Vector3<f64>,
     v2: &Vector3<f64>,
     w2: &Vector3<f64>,
 ) -> PairResponse {
     let n = sd.normal;
-    let point = *point;
+    let point = patch.point.coords;
+    let spread = patch.spread;
     let delta = (-sd.distance).max(0.0);
     let v_rel = v2 - v1;
     let vn = v_rel.dot(&n);
@@ -75,17 +89,29 @@ pub fn pair_response(
     } else {
         delta.powf(pp.n_geo)
     };
-    let f_n = cp.k_red * (pp.c_res * pp.c_geo * delta_pow * (1.0 + d * delta_dot)).max(0.0);
+    let f_el = cp.k_red * pp.c_res * pp.c_geo * delta_pow;
+    let f_n = (f_el * (1.0 + d * delta_dot)).max(0.0);
     let friction_force = if pp.mu_k > 0.0 {
         v_t * (-pp.mu_k * f_n / reg(v_t.norm(), pp.v_min))
     } else {
         Vector3::zeros()
     };
-    let rolling_torque = if pp.mu_r > 0.0 {
+    let mut rolling_torque = if pp.mu_r > 0.0 {
         w_rel * (-pp.mu_r * pp.mu_geo * f_n / reg(w_rel.norm(), pp.w_min))
     } else {
         Vector3::zeros()
     };
+    if spread > 0.0 {
+        let w_t = w_rel - n * n.dot(&w_rel);
+        let rocking = w_t * (-d * f_el * 0.5 * spread);
+        let cap = f_n * spread.sqrt();
+        let m = rocking.norm();
+        rolling_torque += if m > cap {
+            rocking * (cap / m)
+        } else {
+            rocking
+        };
+    }
     PairResponse {
         penetration: delta,
         penetration_velocity: delta_dot,

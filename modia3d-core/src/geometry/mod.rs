@@ -32,7 +32,8 @@ pub use collision_shape::CollisionShape;
 pub use error::GeometryError;
 pub use mesh_file::{convex_hull_from_obj, obj_vertices};
 pub use narrow_phase::{
-    contact_point, signed_distance, signed_distance_method, NarrowPhaseOptions, SignedDistance,
+    contact_patch, contact_point, signed_distance, signed_distance_method, ContactPatch,
+    NarrowPhaseOptions, SignedDistance,
 };
 pub use shapes::{Axis, Shape, ShapeKind, UnitMassProperties};
 pub use smoothing::{effective_smoothing_radius, DEFAULT_SMOOTHING_RADIUS};

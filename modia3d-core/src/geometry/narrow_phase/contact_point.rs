@@ -15,7 +15,7 @@
 //! centre of pressure of a thin elastic layer (Winkler foundation) evaluated on the feature's
 //! vertices/rims: a box lying flat gets the centre of its face (no spurious moment), a tilt
 //! moves the point continuously towards the lower side (a restoring moment, rotational stiffness
-//! ≈ k·a² for a face of half width a and normal stiffness k), and once the tilt lifts the other
+//! ≈ k·a²/3 for a face of half width a and normal stiffness k, the layer's), and once the tilt lifts the other
 //! side by more than the depth it is the lowest edge or corner, as before. The two features are
 //! combined by weights that favour the smaller one (a small box on a large table: the box's face
 //! centre), and the point is put on the mid-plane between the two witness points. The signed
@@ -37,34 +37,67 @@ pub fn contact_point(
     pose_b: &Isometry3<f64>,
     sd: &SignedDistance,
 ) -> Point3<f64> {
+    contact_patch(a, pose_a, b, pose_b, sd).point
+}
+
+/// Where and how a contact force acts: see [`contact_patch`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactPatch {
+    /// Point of application \[m, world\] ([`contact_point`]).
+    pub point: Point3<f64>,
+    /// Spread of the pressure around the point: the variance \[m²\] of the combined soft
+    /// support feature (the smaller feature's, by the same weights as the point), summed over
+    /// the core's axes; 0 for point features.
+    pub spread: f64,
+}
+
+/// [`contact_point`] with the spread of the pressure around it ([`ContactPatch`]); the contact
+/// law (`contact/response.rs`) damps the patch's rocking by `spread`. Pairs with a sphere, and
+/// two capsules, are point contacts (spread 0). Allocation-free.
+pub fn contact_patch(
+    a: &CollisionShape,
+    pose_a: &Isometry3<f64>,
+    b: &CollisionShape,
+    pose_b: &Isometry3<f64>,
+    sd: &SignedDistance,
+) -> ContactPatch {
     let mid = Point3::from((sd.point_a.coords + sd.point_b.coords) * 0.5);
     let closed_form = matches!(
         (a.kind(), b.kind()),
         (K::Sphere, _) | (_, K::Sphere) | (K::Capsule, K::Capsule)
     );
     if closed_form {
-        return mid;
+        return ContactPatch {
+            point: mid,
+            spread: 0.0,
+        };
     }
     // Depth of the full (smoothed) shapes; a floor keeps the ramp defined at touch (the force
     // is ~0 there anyway).
     let size = a.bounding_radius() + b.bounding_radius();
     let band = (-sd.distance).max(1e-12 * size);
     let n = sd.normal;
-    let (ca, va) = a
-        .core()
-        .soft_support(&pose_a.rotation.inverse_transform_vector(&n), band);
-    let (cb, vb) = b
-        .core()
-        .soft_support(&pose_b.rotation.inverse_transform_vector(&-n), band);
+    let (da, db) = (
+        pose_a.rotation.inverse_transform_vector(&n),
+        pose_b.rotation.inverse_transform_vector(&-n),
+    );
+    let (ca, va) = a.core().soft_support(&da, band);
+    let (cb, vb) = b.core().soft_support(&db, band);
     let (ca, cb) = (pose_a * ca, pose_b * cb);
     // Weights ∝ the other feature's spread⁴: the smaller feature decides (a 0.2 m box on a 2 m
     // table: the table's centroid gets a weight of ~1e-4, so ~1e-5 m of shift).
     let (wa, wb) = (vb * vb, va * va);
-    let p = if wa + wb > 0.0 {
-        Point3::from((ca.coords * wa + cb.coords * wb) / (wa + wb))
+    let (p, spread) = if wa + wb > 0.0 {
+        (
+            Point3::from((ca.coords * wa + cb.coords * wb) / (wa + wb)),
+            (va * wa + vb * wb) / (wa + wb),
+        )
     } else {
-        Point3::from((ca.coords + cb.coords) * 0.5)
+        (Point3::from((ca.coords + cb.coords) * 0.5), 0.0)
     };
     // Onto the mid-plane of the two witness points.
-    p - n * n.dot(&(p - mid))
+    ContactPatch {
+        point: p - n * n.dot(&(p - mid)),
+        spread,
+    }
 }
