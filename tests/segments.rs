@@ -525,7 +525,7 @@ fn gripper_example_picks_carries_and_drops_the_box() {
             res.time()[k]
         );
     }
-    // It comes to rest on the table (static penetration of the softened contact ≈ 1e-5 m).
+    // It comes to rest on the table (static penetration at k_red = 1e-3 ≈ 1e-6 m).
     let r = res.signal("cube.r_abs").unwrap();
     let v = res.signal("cube.v_abs").unwrap();
     assert!((r.last().unwrap()[2] - 0.025).abs() < 1e-4);
