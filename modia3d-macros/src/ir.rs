@@ -164,6 +164,13 @@ pub enum ShapeIr {
     },
     /// `ConvexHull(points)`.
     Hull(Expr),
+    /// `Beam(axis, length, width, thickness)`.
+    Beam {
+        /// The longitudinal axis.
+        axis: AxisIr,
+        /// `[length, width, thickness]`.
+        dims: [Num; 3],
+    },
 }
 
 /// A shape's axis.

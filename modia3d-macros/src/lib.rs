@@ -94,6 +94,7 @@ use proc_macro::TokenStream;
 /// | `Cylinder`, `Capsule` | `axis = 3` (literal 1..3 or an `Axis` expression), `diameter*`, `length*` |
 /// | `Cone` | `axis = 3`, `diameter*`, `length*`, `top_diameter = 0` |
 /// | `ConvexHull` | `points*`: anything iterable over `[f64; 3]` or `Point3<f64>` |
+/// | `Beam` | `axis = 3`, `length*` (straight part, without the round ends), `width*` (= diameter of the ends), `thickness*` (m) |
 ///
 /// Any `feature` or `shape` value that is not one of these constructors is taken as a Rust
 /// expression of type `Feature` or `Shape`.

@@ -37,6 +37,7 @@ pub const NESTED: &[&str] = &[
     "Cone",
     "Ellipsoid",
     "ConvexHull",
+    "Beam",
 ];
 
 /// Constructors of `feature = …`.
@@ -51,6 +52,7 @@ pub const SHAPES: &[&str] = &[
     "Cone",
     "Ellipsoid",
     "ConvexHull",
+    "Beam",
 ];
 
 /// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).

@@ -392,6 +392,10 @@ fn contact_radius(s: &Shape) -> (f64, bool) {
             ..
         } => (0.25 * (diameter + top_diameter), false),
         Shape::Ellipsoid { lengths } => (0.5 * lengths.min(), false),
+        // Its flat faces are what it usually rests on.
+        Shape::Beam {
+            width, thickness, ..
+        } => (0.5 * width.min(*thickness), true),
         Shape::ConvexHull { .. } => {
             let w = s
                 .unit_mass_properties()

@@ -2,8 +2,8 @@
 //!
 //! `CollisionShape = core ⊕ ball(margin)`: the core's support map (see [`CoreShape`]) plus a
 //! margin radius. Spheres are a point swept by their radius and capsules a segment swept by their
-//! radius (this is what makes MPR exact for them); boxes, cylinders, cones and convex hulls are
-//! shrunk by their smoothing radius and swept by it (see [`super::smoothing`]); ellipsoids have
+//! radius (this is what makes MPR exact for them); boxes, cylinders, cones, beams and convex
+//! hulls are shrunk by their smoothing radius and swept by it (see [`super::smoothing`]); ellipsoids have
 //! margin 0.
 
 use super::error::GeometryError;
@@ -93,6 +93,20 @@ impl CollisionShape {
                     z1: 0.5 * length - r,
                     r0: 0.5 * diameter - r,
                     r1: 0.5 * diameter - r,
+                },
+                r,
+            ),
+            Shape::Beam {
+                axis,
+                length,
+                width,
+                thickness,
+            } => (
+                CoreShape::Beam {
+                    axis: *axis,
+                    half_length: 0.5 * length,
+                    half_thickness: 0.5 * thickness - r,
+                    radius: 0.5 * width - r,
                 },
                 r,
             ),

@@ -180,22 +180,51 @@ pub(crate) fn shape_mesh(shape: &Shape) -> TriMesh {
             }
             m
         }
-        Shape::ConvexHull { points } => {
-            let (verts, tris) = convex_hull(points);
-            let centre =
-                verts.iter().fold(Vector3::zeros(), |s, p| s + p) / verts.len().max(1) as f64;
-            let mut m = TriMesh::default();
-            for t in tris {
-                m.push(
-                    verts[t[0] as usize],
-                    verts[t[1] as usize],
-                    verts[t[2] as usize],
-                    &centre,
-                );
+        Shape::Beam {
+            axis,
+            length,
+            width,
+            thickness,
+        } => hull_mesh(&beam_points(*axis, *length, *width, *thickness)),
+        Shape::ConvexHull { points } => hull_mesh(points),
+    }
+}
+
+/// Points whose convex hull is a [`Shape::Beam`] with each half-disk end drawn as `SEGMENTS / 2`
+/// chords (vertices on the circle).
+fn beam_points(axis: Axis, length: f64, width: f64, thickness: f64) -> Vec<Point3<f64>> {
+    let (k, (kw, kt)) = (axis.index(), axis.beam_directions());
+    let (r, n) = (width / 2.0, SEGMENTS / 2);
+    let mut pts = Vec::with_capacity(4 * (n + 1));
+    for end in [-1.0, 1.0] {
+        for i in 0..=n {
+            let phi = std::f64::consts::PI * (i as f64 / n as f64 - 0.5);
+            for s in [-1.0, 1.0] {
+                let mut p = Point3::origin();
+                p[k] = end * (length / 2.0 + r * phi.cos());
+                p[kw] = r * phi.sin();
+                p[kt] = s * thickness / 2.0;
+                pts.push(p);
             }
-            m
         }
     }
+    pts
+}
+
+/// The display mesh of the convex hull of `points`.
+fn hull_mesh(points: &[Point3<f64>]) -> TriMesh {
+    let (verts, tris) = convex_hull(points);
+    let centre = verts.iter().fold(Vector3::zeros(), |s, p| s + p) / verts.len().max(1) as f64;
+    let mut m = TriMesh::default();
+    for t in tris {
+        m.push(
+            verts[t[0] as usize],
+            verts[t[1] as usize],
+            verts[t[2] as usize],
+            &centre,
+        );
+    }
+    m
 }
 
 /// Vertices and triangles of the convex hull of `points` (parry's quickhull); empty when the
@@ -247,6 +276,12 @@ mod tests {
             },
             Shape::Ellipsoid {
                 lengths: Vector3::new(1.0, 2.0, 3.0),
+            },
+            Shape::Beam {
+                axis: Axis::Y,
+                length: 1.0,
+                width: 0.5,
+                thickness: 0.2,
             },
         ];
         for s in shapes {

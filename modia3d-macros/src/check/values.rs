@@ -291,6 +291,17 @@ impl Checker {
                     top_diameter: top,
                 })
             }
+            "Beam" => {
+                let a = self.args(&sc, &["axis", "length", "width", "thickness"]);
+                let axis = self.shape_axis(a.get("axis"));
+                let l = self.num(&a, "length", true);
+                let w = self.num(&a, "width", true);
+                let t = self.num(&a, "thickness", true);
+                Some(ShapeIr::Beam {
+                    axis: axis?,
+                    dims: [l?, w?, t?],
+                })
+            }
             _ => {
                 let a = self.args(&sc, &["points"]);
                 Some(ShapeIr::Hull(self.required(&a, "points")?.clone()))

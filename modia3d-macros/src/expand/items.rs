@@ -319,13 +319,7 @@ fn shape(s: &ShapeIr) -> TokenStream {
             length,
             top_diameter,
         } => {
-            let ax = quote!(::modia3d::core::Axis);
-            let axis = match axis {
-                AxisIr::Index(1) => quote!(#ax::X),
-                AxisIr::Index(2) => quote!(#ax::Y),
-                AxisIr::Index(_) => quote!(#ax::Z),
-                AxisIr::Expr(e) => quote!(#e),
-            };
+            let axis = shape_axis(axis);
             let (d, l) = (&diameter.expr, &length.expr);
             let top = (*ctor == "Cone").then(|| {
                 let t = num_or(top_diameter, quote!(0.0));
@@ -337,6 +331,22 @@ fn shape(s: &ShapeIr) -> TokenStream {
         ShapeIr::Hull(p) => {
             quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) })
         }
+        ShapeIr::Beam { axis, dims } => {
+            let axis = shape_axis(axis);
+            let [l, w, t] = dims.each_ref().map(|n| &n.expr);
+            quote!(#shape::Beam { axis: #axis, length: #l, width: #w, thickness: #t })
+        }
+    }
+}
+
+/// A shape's axis as an `Axis` expression.
+fn shape_axis(axis: &AxisIr) -> TokenStream {
+    let ax = quote!(::modia3d::core::Axis);
+    match axis {
+        AxisIr::Index(1) => quote!(#ax::X),
+        AxisIr::Index(2) => quote!(#ax::Y),
+        AxisIr::Index(_) => quote!(#ax::Z),
+        AxisIr::Expr(e) => quote!(#e),
     }
 }
 

@@ -428,6 +428,15 @@ impl<'a> Probe<'a> {
                     Shape::Box { lengths }
                 }
             }
+            ShapeIr::Beam { axis, dims } => {
+                let [length, width, thickness] = dims.each_ref().map(|n| self.scalar(owner, n));
+                Shape::Beam {
+                    axis: shape_axis(axis),
+                    length,
+                    width,
+                    thickness,
+                }
+            }
             ShapeIr::Round {
                 ctor,
                 axis,
@@ -435,11 +444,7 @@ impl<'a> Probe<'a> {
                 length,
                 top_diameter,
             } => {
-                let axis = match axis {
-                    AxisIr::Index(1) => Axis::X,
-                    AxisIr::Index(2) => Axis::Y,
-                    _ => Axis::Z,
-                };
+                let axis = shape_axis(axis);
                 let (diameter, length) = (self.scalar(owner, diameter), self.scalar(owner, length));
                 match *ctor {
                     "Cylinder" => Shape::Cylinder {
@@ -505,5 +510,14 @@ impl<'a> Probe<'a> {
             solid.smoothing_radius = Some(self.scalar(owner, r));
         }
         solid
+    }
+}
+
+/// A shape's literal axis (an `Axis` expression stands in as z: no rule depends on it).
+fn shape_axis(axis: &AxisIr) -> Axis {
+    match axis {
+        AxisIr::Index(1) => Axis::X,
+        AxisIr::Index(2) => Axis::Y,
+        _ => Axis::Z,
     }
 }
