@@ -272,3 +272,381 @@ fn beam_rests_on_table_and_contact_carries_its_weight() {
     // micrometre penetration.
     assert!((z - t / 2.0).abs() < 1e-5, "z = {z}");
 }
+
+// ---------------------------------------------------------------- meshes from files
+
+/// Thickness of the L-block [m] (a binary fraction: every coordinate is exact in f32).
+const L_H: f64 = 0.0625;
+
+/// The L-shaped block: box 1 `[0, 0.5] × [0, 0.125]`, box 2 `[0, 0.125] × [0.125, 0.375]`,
+/// both `0 ≤ z ≤ L_H`: the L profile counter-clockwise in the x-y plane, extruded along z.
+const L_PROFILE: [(f64, f64); 6] = [
+    (0.0, 0.0),
+    (0.5, 0.0),
+    (0.5, 0.125),
+    (0.125, 0.125),
+    (0.125, 0.375),
+    (0.0, 0.375),
+];
+
+/// The L-block's outward triangles: top and bottom as fans from the reflex corner (index 3,
+/// which sees the whole profile), two per side face.
+fn l_block_triangles() -> Vec<[[f64; 3]; 3]> {
+    let p = |i: usize, z: f64| [L_PROFILE[i].0, L_PROFILE[i].1, z];
+    let mut tris = vec![];
+    for (a, b) in [(4, 5), (5, 0), (0, 1), (1, 2)] {
+        tris.push([p(3, L_H), p(a, L_H), p(b, L_H)]);
+        tris.push([p(3, 0.0), p(b, 0.0), p(a, 0.0)]);
+    }
+    for i in 0..6 {
+        let j = (i + 1) % 6;
+        tris.push([p(i, 0.0), p(j, 0.0), p(j, L_H)]);
+        tris.push([p(i, 0.0), p(j, L_H), p(i, L_H)]);
+    }
+    tris
+}
+
+fn ascii_stl(tris: &[[[f64; 3]; 3]]) -> String {
+    let mut s = String::from("solid l_block\n");
+    for t in tris {
+        s.push_str("  facet normal 0 0 0\n    outer loop\n");
+        for v in t {
+            s.push_str(&format!("      vertex {} {} {}\n", v[0], v[1], v[2]));
+        }
+        s.push_str("    endloop\n  endfacet\n");
+    }
+    s.push_str("endsolid l_block\n");
+    s
+}
+
+fn binary_stl(tris: &[[[f64; 3]; 3]]) -> Vec<u8> {
+    let mut b = vec![0u8; 80];
+    b.extend((tris.len() as u32).to_le_bytes());
+    for t in tris {
+        b.extend([0f32; 3].iter().flat_map(|x| x.to_le_bytes()));
+        for v in t {
+            b.extend(v.iter().flat_map(|x| (*x as f32).to_le_bytes()));
+        }
+        b.extend(0u16.to_le_bytes());
+    }
+    b
+}
+
+fn obj(tris: &[[[f64; 3]; 3]]) -> String {
+    // Unshared vertices would leave the mesh open: index the corners.
+    let mut verts: Vec<[f64; 3]> = vec![];
+    let mut faces = String::new();
+    for t in tris {
+        faces.push('f');
+        for v in t {
+            let i = verts.iter().position(|w| w == v).unwrap_or_else(|| {
+                verts.push(*v);
+                verts.len() - 1
+            });
+            faces.push_str(&format!(" {}/1/1", i + 1));
+        }
+        faces.push('\n');
+    }
+    let mut s = String::from("# L-block\no block\n");
+    for v in &verts {
+        s.push_str(&format!("v {} {} {}\n", v[0], v[1], v[2]));
+    }
+    s + "vn 0 0 1\nvt 0 0\n" + &faces
+}
+
+/// A fresh directory for this test's files.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("modia3d-shapes-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The L-block's exact mass properties with coordinates scaled by `s`: the two boxes' volumes,
+/// centres and central inertias, shifted to the common centre (parallel axes, with products).
+fn l_block_exact(s: Vector3<f64>) -> (f64, Vector3<f64>, Matrix3<f64>) {
+    let boxes = [
+        (
+            Vector3::new(0.5, 0.125, L_H),
+            Vector3::new(0.25, 0.0625, L_H / 2.0),
+        ),
+        (
+            Vector3::new(0.125, 0.25, L_H),
+            Vector3::new(0.0625, 0.25, L_H / 2.0),
+        ),
+    ];
+    let boxes = boxes.map(|(l, c)| (l.component_mul(&s), c.component_mul(&s)));
+    let vol: f64 = boxes.iter().map(|(l, _)| l.x * l.y * l.z).sum();
+    let com = boxes
+        .iter()
+        .map(|(l, c)| c * (l.x * l.y * l.z))
+        .sum::<Vector3<f64>>()
+        / vol;
+    let mut inertia = Matrix3::zeros();
+    for (l, c) in boxes {
+        let v = l.x * l.y * l.z;
+        let q = l.component_mul(&l) * (v / 12.0);
+        inertia += Matrix3::from_diagonal(&Vector3::new(q.y + q.z, q.x + q.z, q.x + q.y));
+        let d = c - com;
+        inertia += (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * v;
+    }
+    (vol, com, inertia)
+}
+
+/// The committed `tests/data/l_block.stl` is what the generator writes (so the data file is
+/// reviewed: it is this code's output), and the L-block read from ASCII STL, binary STL and
+/// OBJ, scaled non-uniformly, has the closed-form volume, centre and inertia (products
+/// included) to 1e-12: the divergence theorem is exact for a polyhedron, and the binary
+/// fractions are exact in the files' f32/decimal, so only rounding remains.
+#[test]
+fn l_block_mesh_mass_properties_match_the_closed_form() {
+    let tris = l_block_triangles();
+    let committed = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/l_block.stl");
+    assert_eq!(
+        std::fs::read_to_string(committed).unwrap(),
+        ascii_stl(&tris)
+    );
+    let dir = scratch("mass");
+    std::fs::write(dir.join("l.stl"), binary_stl(&tris)).unwrap();
+    std::fs::write(dir.join("l.OBJ"), obj(&tris)).unwrap();
+    let scale = Vector3::new(2.0, 0.5, 3.0);
+    let (vol, com, inertia) = l_block_exact(scale);
+    for path in [
+        std::path::PathBuf::from(committed),
+        dir.join("l.stl"),
+        dir.join("l.OBJ"),
+    ] {
+        let shape = Shape::FileMesh {
+            path: path.clone(),
+            scale,
+            collision: MeshCollision::ConvexHull,
+        }
+        .load()
+        .unwrap();
+        let p = shape.unit_mass_properties().unwrap();
+        println!(
+            "{}: V = {}, com = {:?}",
+            path.display(),
+            p.volume,
+            p.com.as_slice()
+        );
+        assert!((p.volume - vol).abs() <= 1e-12 * vol);
+        assert!((p.com - com).norm() <= 1e-12 * com.norm());
+        assert!((p.inertia - inertia).norm() <= 1e-12 * inertia.norm());
+        assert!(
+            inertia[(0, 1)].abs() > 1e-3 * inertia.norm(),
+            "products are tested"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// One object `block` of `shape` (DryWood) and a world, for the error tests.
+fn mesh_scene(shape: Shape) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions::default())).add(
+        Object3D::new("block")
+            .parent("world")
+            .solid(Solid::new(shape).material("DryWood")),
+    );
+    s
+}
+
+/// Every way a mesh file can fail is a typed `SceneError::Mesh` naming the object and the file
+/// (and the line, facet or edge), reported by `build()` together with the scene's other errors.
+#[test]
+fn mesh_file_errors_are_typed_and_named() {
+    use modia3d::core::geometry::GeometryError as GE;
+    let dir = scratch("errors");
+    let tris = l_block_triangles();
+    let files: [(&str, Vec<u8>); 5] = [
+        ("open.stl", ascii_stl(&tris[1..]).into_bytes()),
+        (
+            "inside_out.obj",
+            obj(&tris).replace("/1/1", "").into_bytes(),
+        ),
+        ("bad.obj", b"v 0 0 0\nv 1 0 0\nv 0 x 0\n".to_vec()),
+        (
+            "bad.stl",
+            ascii_stl(&tris)
+                .replacen("endloop", "endloops", 2)
+                .into_bytes(),
+        ),
+        ("part.step", vec![]),
+    ];
+    for (name, data) in &files {
+        std::fs::write(dir.join(name), data).unwrap();
+    }
+    // Turn the OBJ inside out: swap two corners of every face.
+    let inside_out = std::fs::read_to_string(dir.join("inside_out.obj")).unwrap();
+    let flipped: String = inside_out
+        .lines()
+        .map(|l| match l.strip_prefix("f ") {
+            Some(f) => {
+                let w: Vec<&str> = f.split_whitespace().collect();
+                format!("f {} {} {}\n", w[0], w[2], w[1])
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(dir.join("inside_out.obj"), flipped).unwrap();
+    let check = |file: &str, expect: &dyn Fn(&GE) -> bool| {
+        let path = dir.join(file);
+        let errs = mesh_scene(Shape::FileMesh {
+            path: path.clone(),
+            scale: Vector3::repeat(1.0),
+            collision: MeshCollision::ConvexHull,
+        })
+        .build()
+        .err()
+        .unwrap_or_else(|| panic!("{file}: built"));
+        let e = errs
+            .0
+            .iter()
+            .find_map(|e| match e {
+                SceneError::Mesh { object, error } => Some((object.clone(), error.clone())),
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("{file}: {errs}"));
+        println!("{file}: {}", errs);
+        assert_eq!(e.0, "block");
+        assert!(expect(&e.1), "{file}: {:?}", e.1);
+        assert!(errs.to_string().contains(&path.display().to_string()));
+    };
+    check(
+        "missing.stl",
+        &|e| matches!(e, GE::MeshFile { message, .. } if message.contains("not found")),
+    );
+    check("open.stl", &|e| {
+        matches!(e, GE::MeshNotClosed { edges: 3, .. })
+    });
+    check(
+        "inside_out.obj",
+        &|e| matches!(e, GE::MeshVolume { volume, .. } if *volume < 0.0),
+    );
+    check(
+        "bad.obj",
+        &|e| matches!(e, GE::MeshParse { location, .. } if location == "line 3"),
+    );
+    check(
+        "bad.stl",
+        &|e| matches!(e, GE::MeshParse { location, .. } if location == "facet 1"),
+    );
+    check(
+        "part.step",
+        &|e| matches!(e, GE::MeshFile { message, .. } if message.contains(".obj or .stl")),
+    );
+    // A bad scale is a value error, the file is not read.
+    let errs = mesh_scene(Shape::FileMesh {
+        path: dir.join("missing.stl"),
+        scale: Vector3::new(1.0, -1.0, 1.0),
+        collision: MeshCollision::ConvexHull,
+    })
+    .build()
+    .err()
+    .unwrap();
+    assert!(errs.to_string().contains("scale[1]"), "{errs}");
+    assert!(!errs.to_string().contains("not found"), "{errs}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The non-convex L-block lying flat on a table, colliding as a convex decomposition: at
+/// least two parts (the two legs) touch the table, each carries part of the weight, the
+/// vertical forces sum to the weight (1e-6) and their centre of pressure lies under the
+/// centre of mass (torque balance, 1e-4 of the block's size: the contact points are the
+/// parts' soft-support centres, exact for flat faces). Mass properties come from the mesh,
+/// not the parts: the body's mass is the closed form's.
+#[test]
+fn l_block_decomposed_rests_on_both_legs() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/l_block.stl");
+    let shape = Shape::FileMesh {
+        path: path.into(),
+        scale: Vector3::repeat(1.0),
+        collision: MeshCollision::ConvexDecomposition,
+    };
+    let (vol, com, _) = l_block_exact(Vector3::repeat(1.0));
+    let scene = on_table(Solid::new(shape), [0.0, 0.0, 1e-4]);
+    let model = scene.clone().build().unwrap();
+    let pairs: Vec<String> = model
+        .contact_pairs()
+        .iter()
+        .map(|p| p.name.clone())
+        .collect();
+    println!("pairs: {pairs:?}");
+    assert!(pairs.len() >= 2, "{pairs:?}");
+    assert!(pairs.iter().all(|p| p.starts_with("table|body#")));
+    let (res, weight) = settle(scene, 1.0);
+    assert!((weight - 700.0 * vol * G).abs() < 1e-12 * weight);
+    let (mut total, mut moment, mut loaded) = (0.0, Vector3::zeros(), 0);
+    for p in &pairs {
+        let f = vertical_force(&res, p);
+        let x = res.signal(&format!("{p}.point")).unwrap();
+        let x = Vector3::from_row_slice(x.last().unwrap());
+        println!("{p}: {f:.9} N at {:?}", x.as_slice());
+        total += f;
+        moment += x * f;
+        if f > 0.05 * weight {
+            loaded += 1;
+        }
+    }
+    let centre = moment / total;
+    println!(
+        "weight {weight} N, sum {total} N, centre of pressure {:?}, com {:?}",
+        centre.as_slice(),
+        com.as_slice()
+    );
+    assert!(
+        (total - weight).abs() < 1e-6 * weight,
+        "{total} vs {weight}"
+    );
+    assert!(loaded >= 2, "only {loaded} part(s) carry load");
+    let r = res.signal("body.r_abs").unwrap();
+    let r = Vector3::from_row_slice(r.last().unwrap());
+    assert!((centre.xy() - (r + com).xy()).norm() < 1e-4 * 0.5);
+}
+
+model! {
+    /// A beam and a mesh through the macro: the keys reach the builder.
+    ShapesModel(decompose: bool = true) {
+        world = Object3D(feature = Scene()),
+        beam  = Object3D(parent = world, feature = Solid(shape = Beam(axis = 2, length = 0.3, width = 0.1, thickness = 0.05),
+                                                        solid_material = "DryWood")),
+        block = Object3D(parent = world, translation = [1.0, 0.0, 0.0],
+                         feature = Solid(shape = FileMesh(path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/l_block.stl"),
+                                                          scale = [1.0, 1.0, 2.0], convex_decomposition = decompose),
+                                         solid_material = "DryWood")),
+    }
+}
+
+/// `model!`'s `Beam` and `FileMesh` give the builder's shapes (the file read by `build()`).
+#[test]
+fn model_macro_builds_beam_and_file_mesh() {
+    let desc = ShapesModel::default().scene();
+    let shape = |name: &str| match &desc
+        .objects
+        .iter()
+        .find(|o| o.name == name)
+        .unwrap()
+        .feature
+    {
+        Feature::Solid(s) => s.shape.clone().unwrap(),
+        f => panic!("{f:?}"),
+    };
+    assert_eq!(
+        shape("beam"),
+        Shape::Beam {
+            axis: Axis::Y,
+            length: 0.3,
+            width: 0.1,
+            thickness: 0.05
+        }
+    );
+    assert_eq!(
+        shape("block"),
+        Shape::FileMesh {
+            path: concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/l_block.stl").into(),
+            scale: Vector3::new(1.0, 1.0, 2.0),
+            collision: MeshCollision::ConvexDecomposition,
+        }
+    );
+    desc.build().unwrap();
+}

@@ -38,6 +38,7 @@ pub const NESTED: &[&str] = &[
     "Ellipsoid",
     "ConvexHull",
     "Beam",
+    "FileMesh",
 ];
 
 /// Constructors of `feature = …`.
@@ -53,6 +54,7 @@ pub const SHAPES: &[&str] = &[
     "Ellipsoid",
     "ConvexHull",
     "Beam",
+    "FileMesh",
 ];
 
 /// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).

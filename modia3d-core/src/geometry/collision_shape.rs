@@ -116,12 +116,22 @@ impl CollisionShape {
                 length,
                 top_diameter,
             } => (shrunk_cone(*axis, *diameter, *length, *top_diameter, r), r),
+            // A mesh as one shape is its convex hull (`Shape::collision_parts` splits it).
             Shape::ConvexHull { points } => (
                 CoreShape::Hull {
                     vertices: shrink_convex_hull(points, r)?,
                 },
                 r,
             ),
+            Shape::Mesh { mesh, .. } => (
+                CoreShape::Hull {
+                    vertices: shrink_convex_hull(&mesh.vertices, r)?,
+                },
+                r,
+            ),
+            Shape::FileMesh { path, .. } => {
+                return Err(GeometryError::MeshNotLoaded(path.display().to_string()))
+            }
         };
         let centre = core.interior_point();
         // Local AABB of the core (support along ±axes) grown by the margin.

@@ -14,8 +14,24 @@
 //!   after (axis x: width y, thickness z; y: z, x; z: x, y); the ends' cylinder axes point along
 //!   the thickness direction, their centres at `±length/2` on `axis`.
 
+use super::error::GeometryError;
+use super::mesh_file::{load_mesh, mesh_mass_properties, TriangleMesh};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::f64::consts::PI;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// How a triangle mesh collides.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MeshCollision {
+    /// One collision shape: the convex hull of all vertices (exact for a convex mesh).
+    #[default]
+    ConvexHull,
+    /// Several collision shapes of the same body: the convex parts of a decomposition
+    /// (parry's V-HACD; see `geometry::mesh_file::convex_parts`), for non-convex meshes. The
+    /// parts never collide with each other; each forms its own pairs, named `<object>#<k>`.
+    ConvexDecomposition,
+}
 
 /// A frame axis: 1 = x, 2 = y, 3 = z (Modia's numbering).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -128,6 +144,26 @@ pub enum Shape {
         /// Points whose convex hull is the solid \[m\].
         points: Vec<Point3<f64>>,
     },
+    /// A triangle mesh read from an OBJ or STL file (Modia3D's `FileMesh`), its frame the
+    /// file's. Loaded by `SceneDesc::build` (or [`Shape::load`]) into a [`Shape::Mesh`]; a
+    /// relative `path` is relative to the current directory (see `geometry::mesh_file`). Mass
+    /// properties come from the closed mesh, collision from `collision`.
+    FileMesh {
+        /// The file, `.obj` or `.stl`.
+        path: PathBuf,
+        /// Factors applied to the file's x, y, z coordinates (each > 0) [-]; the file's unit
+        /// times the factor must give metres.
+        scale: Vector3<f64>,
+        /// Convex hull or convex decomposition for collision.
+        collision: MeshCollision,
+    },
+    /// A closed triangle mesh (what a [`Shape::FileMesh`] becomes when loaded).
+    Mesh {
+        /// The mesh, in the shape frame \[m\].
+        mesh: Arc<TriangleMesh>,
+        /// Convex hull or convex decomposition for collision.
+        collision: MeshCollision,
+    },
 }
 
 /// Volume \[m³\], centre of mass \[m\] and inertia about the centre of mass \[m⁵\] (multiply by a
@@ -161,6 +197,8 @@ pub enum ShapeKind {
     Ellipsoid,
     /// [`Shape::ConvexHull`]
     ConvexHull,
+    /// [`Shape::FileMesh`], [`Shape::Mesh`]
+    Mesh,
 }
 
 impl Shape {
@@ -175,6 +213,40 @@ impl Shape {
             Shape::Beam { .. } => ShapeKind::Beam,
             Shape::Ellipsoid { .. } => ShapeKind::Ellipsoid,
             Shape::ConvexHull { .. } => ShapeKind::ConvexHull,
+            Shape::FileMesh { .. } | Shape::Mesh { .. } => ShapeKind::Mesh,
+        }
+    }
+
+    /// This shape with a [`Shape::FileMesh`] read into a [`Shape::Mesh`] (its mass properties
+    /// checked: the mesh must be closed and enclose a volume); other shapes unchanged.
+    pub fn load(&self) -> Result<Shape, GeometryError> {
+        match self {
+            Shape::FileMesh {
+                path,
+                scale,
+                collision,
+            } => {
+                let mesh = load_mesh(path, *scale)?;
+                mesh_mass_properties(&mesh)?;
+                Ok(Shape::Mesh {
+                    mesh: Arc::new(mesh),
+                    collision: *collision,
+                })
+            }
+            _ => Ok(self.clone()),
+        }
+    }
+
+    /// The shapes of the collision shapes this shape becomes: itself, or for a mesh the
+    /// convex hulls of its parts ([`MeshCollision`]). Empty for an unloaded file mesh.
+    pub fn collision_parts(&self) -> Vec<Shape> {
+        match self {
+            Shape::Mesh { mesh, collision } => super::mesh_file::convex_parts(mesh, *collision)
+                .into_iter()
+                .map(|points| Shape::ConvexHull { points })
+                .collect(),
+            Shape::FileMesh { .. } => vec![],
+            _ => vec![self.clone()],
         }
     }
 
@@ -207,12 +279,18 @@ impl Shape {
                 ("width", *width),
                 ("thickness", *thickness),
             ],
-            Shape::ConvexHull { .. } => vec![],
+            Shape::FileMesh { scale, .. } => vec![
+                ("scale[0]", scale.x),
+                ("scale[1]", scale.y),
+                ("scale[2]", scale.z),
+            ],
+            Shape::ConvexHull { .. } | Shape::Mesh { .. } => vec![],
         }
     }
 
-    /// Exact volume, centre of mass and unit-density inertia. `None` only for a degenerate
-    /// convex hull (fewer than 4 points not in a plane).
+    /// Exact volume, centre of mass and unit-density inertia. `None` for a degenerate convex
+    /// hull (fewer than 4 points not in a plane), a mesh that is not closed (see
+    /// [`mesh_mass_properties`] for the reason) and a [`Shape::FileMesh`] not yet loaded.
     pub fn unit_mass_properties(&self) -> Option<UnitMassProperties> {
         let diag = |d: Vector3<f64>| Matrix3::from_diagonal(&d);
         // Axisymmetric inertia (axial, transverse) placed on `axis`.
@@ -317,6 +395,8 @@ impl Shape {
                     inertia: axisym(*axis, axial, trans_base - v * zc * zc),
                 }
             }
+            Shape::FileMesh { .. } => return None,
+            Shape::Mesh { mesh, .. } => return mesh_mass_properties(mesh).ok(),
             Shape::ConvexHull { points } => {
                 let poly = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(points)?;
                 let mp = parry3d_f64::shape::Shape::mass_properties(&poly, 1.0);

@@ -39,6 +39,10 @@ pub fn effective_smoothing_radius(shape: &Shape, requested: f64) -> Result<f64, 
             width, thickness, ..
         } => width.min(*thickness),
         Shape::ConvexHull { points } => hull_inner_width(points)?,
+        Shape::Mesh { mesh, .. } => hull_inner_width(&mesh.vertices)?,
+        Shape::FileMesh { path, .. } => {
+            return Err(GeometryError::MeshNotLoaded(path.display().to_string()))
+        }
     };
     Ok(requested.min(MAX_SMOOTHING_FRACTION * smallest))
 }

@@ -2,8 +2,9 @@
 //! Pure geometry in the shape frame (see `geometry::shapes` for the conventions); touches
 //! nothing else.
 //!
-//! Every shape is convex, so triangles are generated in any order and then turned to face away
-//! from the shape's centre; each triangle gets its own (flat) normal.
+//! Every built-in shape is convex, so triangles are generated in any order and then turned to
+//! face away from the shape's centre; a mesh keeps its triangles' orientation. Each triangle
+//! gets its own (flat) normal.
 // Export encoding: offsets into buffers this module sized itself from the same lengths; no
 // index comes from user input, which reaches it only through the checked signal look-up.
 #![allow(clippy::indexing_slicing)]
@@ -187,6 +188,18 @@ pub(crate) fn shape_mesh(shape: &Shape) -> TriMesh {
             thickness,
         } => hull_mesh(&beam_points(*axis, *length, *width, *thickness)),
         Shape::ConvexHull { points } => hull_mesh(points),
+        // A mesh keeps its own (outward) orientation: it need not be convex.
+        Shape::Mesh { mesh, .. } => {
+            let mut m = TriMesh::default();
+            for t in &mesh.triangles {
+                let [a, b, c] = t.map(|i| mesh.vertices[i as usize].coords);
+                let centre = (a + b + c) / 3.0 - (b - a).cross(&(c - a));
+                m.push(a, b, c, &centre);
+            }
+            m
+        }
+        // Loaded by `SceneDesc::build`; a result never holds an unloaded one.
+        Shape::FileMesh { .. } => TriMesh::default(),
     }
 }
 

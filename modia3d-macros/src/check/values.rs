@@ -291,6 +291,15 @@ impl Checker {
                     top_diameter: top,
                 })
             }
+            "FileMesh" => {
+                let a = self.args(&sc, &["path", "scale", "convex_decomposition"]);
+                let scale = self.num(&a, "scale", false);
+                Some(ShapeIr::FileMesh {
+                    path: self.required(&a, "path")?.clone(),
+                    scale,
+                    convex_decomposition: a.get("convex_decomposition").cloned(),
+                })
+            }
             "Beam" => {
                 let a = self.args(&sc, &["axis", "length", "width", "thickness"]);
                 let axis = self.shape_axis(a.get("axis"));

@@ -331,6 +331,23 @@ fn shape(s: &ShapeIr) -> TokenStream {
         ShapeIr::Hull(p) => {
             quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) })
         }
+        ShapeIr::FileMesh {
+            path,
+            scale,
+            convex_decomposition,
+        } => {
+            let scale = num_or(scale, quote!([1.0, 1.0, 1.0]));
+            let mc = quote!(::modia3d::core::MeshCollision);
+            let collision = match convex_decomposition {
+                Some(e) => quote!(if #e { #mc::ConvexDecomposition } else { #mc::ConvexHull }),
+                None => quote!(#mc::ConvexHull),
+            };
+            quote!(#shape::FileMesh {
+                path: ::std::path::PathBuf::from(#path),
+                scale: #v3(#scale),
+                collision: #collision,
+            })
+        }
         ShapeIr::Beam { axis, dims } => {
             let axis = shape_axis(axis);
             let [l, w, t] = dims.each_ref().map(|n| &n.expr);

@@ -465,7 +465,8 @@ impl<'a> Probe<'a> {
                     },
                 }
             }
-            ShapeIr::Hull(_) => Shape::ConvexHull {
+            // The file is read by `build()` at run time; a tetrahedron stands in.
+            ShapeIr::Hull(_) | ShapeIr::FileMesh { .. } => Shape::ConvexHull {
                 points: vec![
                     Point3::origin(),
                     Point3::new(STAND_IN, 0.0, 0.0),
