@@ -342,8 +342,10 @@ fn shape(s: &ShapeIr) -> TokenStream {
                 Some(e) => quote!(if #e { #mc::ConvexDecomposition } else { #mc::ConvexHull }),
                 None => quote!(#mc::ConvexHull),
             };
+            // Spanned on the user's path so a type error points at it.
+            let path = quote_spanned!(syn::spanned::Spanned::span(path)=> ::std::path::PathBuf::from(#path));
             quote!(#shape::FileMesh {
-                path: ::std::path::PathBuf::from(#path),
+                path: #path,
                 scale: #v3(#scale),
                 collision: #collision,
             })
