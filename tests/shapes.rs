@@ -535,6 +535,20 @@ fn mesh_file_errors_are_typed_and_named() {
         "part.step",
         &|e| matches!(e, GE::MeshFile { message, .. } if message.contains(".obj or .stl")),
     );
+    // A visual mesh need not bound a solid: the open mesh draws.
+    let mut visual = SceneDesc::new();
+    visual
+        .add(world(SceneOptions::default()))
+        .add(
+            Object3D::new("deco")
+                .parent("world")
+                .feature(Feature::Visual(Shape::FileMesh {
+                    path: dir.join("open.stl"),
+                    scale: Vector3::repeat(1.0),
+                    collision: MeshCollision::ConvexHull,
+                })),
+        );
+    visual.build().unwrap();
     // A bad scale is a value error, the file is not read.
     let errs = mesh_scene(Shape::FileMesh {
         path: dir.join("missing.stl"),

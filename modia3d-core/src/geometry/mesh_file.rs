@@ -273,28 +273,22 @@ fn check_closed(mesh: &TriangleMesh) -> Result<(), GeometryError> {
             *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
         }
     }
-    let bad = edges
+    let bad: Vec<(u32, u32)> = edges
         .iter()
         .filter(|(&(a, b), &n)| n != 1 || edges.get(&(b, a)) != Some(&1))
         .map(|(&e, _)| e)
-        .min();
-    match bad {
+        .collect();
+    match bad.iter().min() {
         None => Ok(()),
-        Some((a, b)) => {
-            let n_bad = edges
-                .iter()
-                .filter(|(&(a, b), &n)| n != 1 || edges.get(&(b, a)) != Some(&1))
-                .count();
-            Err(GeometryError::MeshNotClosed {
-                path: mesh.source.clone(),
-                edges: n_bad,
-                example: format!(
-                    "{a} → {b} at {:?} → {:?}",
-                    mesh.vertices[a as usize].coords.as_slice(),
-                    mesh.vertices[b as usize].coords.as_slice()
-                ),
-            })
-        }
+        Some(&(a, b)) => Err(GeometryError::MeshNotClosed {
+            path: mesh.source.clone(),
+            edges: bad.len(),
+            example: format!(
+                "{a} → {b} at {:?} → {:?}",
+                mesh.vertices[a as usize].coords.as_slice(),
+                mesh.vertices[b as usize].coords.as_slice()
+            ),
+        }),
     }
 }
 
@@ -324,5 +318,63 @@ pub fn convex_parts(mesh: &TriangleMesh, collision: MeshCollision) -> Vec<Vec<Po
                 parts
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit cube written with quads, `i/t/n` and negative (relative) indices: six quads fan
+    /// into twelve triangles; volume 1, centre (½, ½, ½), inertia 1/6 on the diagonal (the
+    /// closed form of a unit cube of unit density), to rounding.
+    #[test]
+    fn obj_quads_and_relative_indices_give_the_cube() {
+        let mut text = String::from("# cube\nvn 0 0 1\n");
+        for i in 0..8 {
+            let b = |k: usize| (i >> k) & 1;
+            text.push_str(&format!("v {} {} {}\n", b(0), b(1), b(2)));
+        }
+        // Faces counter-clockwise seen from outside (corner index = x + 2y + 4z, 1-based).
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        for (n, q) in quads.iter().enumerate() {
+            let idx: Vec<String> = q
+                .iter()
+                .map(|&c| match n % 3 {
+                    0 => format!("{}", c + 1),
+                    1 => format!("{}//1", c as i64 - 8),
+                    _ => format!("{}/1/1", c + 1),
+                })
+                .collect();
+            text.push_str(&format!("f {}\n", idx.join(" ")));
+        }
+        let (vertices, triangles) = parse_obj(&text, "cube.obj").unwrap();
+        assert_eq!(triangles.len(), 12);
+        let mesh = TriangleMesh {
+            vertices,
+            triangles,
+            source: "cube.obj".into(),
+        };
+        let p = mesh_mass_properties(&mesh).unwrap();
+        assert!((p.volume - 1.0).abs() < 1e-15);
+        assert!((p.com - Vector3::repeat(0.5)).norm() < 1e-15);
+        assert!((p.inertia - Matrix3::identity() / 6.0).norm() < 1e-15);
+    }
+
+    #[test]
+    fn obj_index_out_of_range_names_the_line() {
+        let e = parse_obj("v 0 0 0\nv 1 0 0\n\nf 1 2 4\n", "t.obj").unwrap_err();
+        assert!(
+            matches!(&e, GeometryError::MeshParse { location, message, .. }
+                if location == "line 4" && message.contains("out of range")),
+            "{e}"
+        );
     }
 }

@@ -217,8 +217,9 @@ impl Shape {
         }
     }
 
-    /// This shape with a [`Shape::FileMesh`] read into a [`Shape::Mesh`] (its mass properties
-    /// checked: the mesh must be closed and enclose a volume); other shapes unchanged.
+    /// This shape with a [`Shape::FileMesh`] read into a [`Shape::Mesh`]; other shapes
+    /// unchanged. Only reading and parsing can fail here; whether the mesh bounds a solid
+    /// (needed for mass properties, not for a visual) is [`mesh_mass_properties`]' check.
     pub fn load(&self) -> Result<Shape, GeometryError> {
         match self {
             Shape::FileMesh {
@@ -227,7 +228,6 @@ impl Shape {
                 collision,
             } => {
                 let mesh = load_mesh(path, *scale)?;
-                mesh_mass_properties(&mesh)?;
                 Ok(Shape::Mesh {
                     mesh: Arc::new(mesh),
                     collision: *collision,

@@ -135,6 +135,15 @@ pub(super) fn objects(
                 };
                 if let Some(shape) = &s.shape {
                     check_shape(c, &o.name, shape);
+                    // A solid's mesh must bound a volume (a visual's need not).
+                    if let Shape::Mesh { mesh, .. } = shape {
+                        if let Err(error) = crate::geometry::mesh_mass_properties(mesh) {
+                            c.errors.push(SceneError::Mesh {
+                                object: o.name.clone(),
+                                error,
+                            });
+                        }
+                    }
                 }
                 let (material_name, material) = match &s.material {
                     None => (None, None),
@@ -247,14 +256,6 @@ fn load_shape(c: &mut Checker, object: &str, shape: &Shape) -> Option<Shape> {
 }
 
 fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {
-    if let Shape::Mesh { mesh, .. } = shape {
-        if let Err(error) = crate::geometry::mesh_mass_properties(mesh) {
-            c.errors.push(SceneError::Mesh {
-                object: object.into(),
-                error,
-            });
-        }
-    }
     let kind = shape.kind();
     for (name, v) in shape.dimensions() {
         c.positive(|| format!("object `{object}`: {kind:?} {name} [m]"), v);
