@@ -307,6 +307,47 @@ mod tests {
         }
     }
 
+    /// A non-convex mesh (an L prism) is drawn with its own orientation: turning triangles away
+    /// from a centre, as for the convex shapes, would flip the faces of the inner corner and
+    /// change the divergence-theorem volume.
+    #[test]
+    fn mesh_display_keeps_the_orientation_of_a_non_convex_mesh() {
+        let profile = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 3.0),
+            (0.0, 3.0),
+        ];
+        let mut vertices = vec![];
+        for z in [0.0, 1.0] {
+            vertices.extend(profile.iter().map(|&(x, y)| Point3::new(x, y, z)));
+        }
+        let mut triangles = vec![];
+        for (a, b) in [(4, 5), (5, 0), (0, 1), (1, 2)] {
+            triangles.push([9, a + 6, b + 6]);
+            triangles.push([3, b, a]);
+        }
+        for i in 0..6u32 {
+            let j = (i + 1) % 6;
+            triangles.push([i, j, j + 6]);
+            triangles.push([i, j + 6, i + 6]);
+        }
+        let mesh = crate::geometry::TriangleMesh {
+            vertices,
+            triangles,
+            source: "L".into(),
+        };
+        let exact = crate::geometry::mesh_mass_properties(&mesh).unwrap().volume;
+        assert!((exact - 4.0).abs() < 1e-14); // 2·1·1 + 1·2·1
+        let shape = Shape::Mesh {
+            mesh: std::sync::Arc::new(mesh),
+            collision: crate::geometry::MeshCollision::ConvexHull,
+        };
+        assert!((volume(&shape_mesh(&shape)) - exact).abs() < 1e-6);
+    }
+
     #[test]
     fn cone_base_is_at_zero_along_its_axis() {
         let m = shape_mesh(&Shape::Cone {
