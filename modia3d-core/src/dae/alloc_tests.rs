@@ -9,6 +9,20 @@ use crate::solver::DaeSystem;
 use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
 use nalgebra::Vector3;
 
+/// A fixed collision table `side × side × 0.1` m of `material`, its top face at z = 0.
+fn table(side: f64, material: &str) -> Object3D {
+    Object3D::new("table")
+        .parent("world")
+        .translation([0.0, 0.0, -0.05])
+        .solid(
+            Solid::new(Shape::Box {
+                lengths: Vector3::new(side, side, 0.1),
+            })
+            .material(material)
+            .collision(true),
+        )
+}
+
 /// Eight steel balls (d = 0.06 m) on a steel table, each 1e-7 m into it (in contact from the
 /// start), 0.02 m apart from each other: 8 ball–table contacts, 28 ball–ball candidate pairs
 /// (all separated), exercising the broad phase, narrow phase and response of both kinds.
@@ -16,18 +30,7 @@ pub(crate) fn balls_on_a_table() -> SceneDesc {
     let d = 0.06;
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(
-            Object3D::new("table")
-                .parent("world")
-                .translation([0.0, 0.0, -0.05])
-                .solid(
-                    Solid::new(Shape::Box {
-                        lengths: Vector3::new(1.0, 1.0, 0.1),
-                    })
-                    .material("Steel")
-                    .collision(true),
-                ),
-        );
+        .add(table(1.0, "Steel"));
     for i in 0..8 {
         let name = format!("ball{i}");
         let (x, y) = ((i % 4) as f64 * (d + 0.02), (i / 4) as f64 * (d + 0.02));
@@ -68,18 +71,7 @@ fn residual_roots_and_events_do_not_allocate() {
 fn beam_and_decomposed_mesh_do_not_allocate() {
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(
-            Object3D::new("table")
-                .parent("world")
-                .translation([0.0, 0.0, -0.05])
-                .solid(
-                    Solid::new(Shape::Box {
-                        lengths: Vector3::new(2.0, 2.0, 0.1),
-                    })
-                    .material("DryWood")
-                    .collision(true),
-                ),
-        );
+        .add(table(2.0, "DryWood"));
     let beam = Shape::Beam {
         axis: crate::geometry::Axis::X,
         length: 0.3,
