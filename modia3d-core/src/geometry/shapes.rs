@@ -127,7 +127,7 @@ pub enum Shape {
         /// Longitudinal axis; width along the next axis cyclically, thickness along the third.
         axis: Axis,
         /// Length of the box part along `axis`, without the rounded ends (the total length is
-        /// `length + width`) \[m\].
+        /// `length + width`), > 0 (with no straight part it is a [`Shape::Cylinder`]) \[m\].
         length: f64,
         /// Width = diameter of the half-cylinder ends \[m\].
         width: f64,
