@@ -25,6 +25,8 @@ model! {
         hull     = Object3D(parent = sphere, feature = Solid(shape = ConvexHull(points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0],
                                                                                          [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]),
                                                              solid_material = "DryWood")),
+        scaled   = Object3D(parent = sphere, feature = Solid(shape = Sphere(diameter = d),
+                                                             mass_properties = MassPropertiesFromShapeAndMass(mass = 3.0))),
         point    = Object3D(parent = sphere, feature = Solid(mass_properties = MassProperties(mass = 1.0, inertia = [[0.0; 3]; 3]))),
         drawn    = Object3D(parent = sphere, rotation = Matrix3::identity(), feature = Visual(shape = Sphere(diameter = 0.05))),
         custom   = Object3D(parent = sphere, feature = Feature::Visual(Shape::Sphere { diameter: 0.01 })),
@@ -127,7 +129,11 @@ fn shapes_materials_and_mass_properties() {
     );
     assert_eq!(
         solid(obj(&s, "capsule")).mass_properties,
-        MassSpec::FromShapeAndMass(2.0)
+        MassSpec::Mass(2.0)
+    );
+    assert_eq!(
+        solid(obj(&s, "scaled")).mass_properties,
+        MassSpec::FromShapeAndMass(3.0)
     );
     assert_eq!(
         solid(obj(&s, "cone")).shape,
@@ -439,6 +445,7 @@ fn scene_options_and_contact_pairs() {
         contact_profile: ContactProfile::Modia3DLater,
         exact_restitution: true,
         average_missing_pairs: true,
+        modia3d_conventions: false,
     }))
     .add_solid_material(
         "oak",
@@ -554,4 +561,89 @@ fn inputs_match_the_builder_and_drive_the_simulation() {
     // s = a t² / 2 with a = 2 m/s².
     let s_end = sim.output("slide.s").unwrap()[0];
     assert!((s_end - 1.0).abs() < 1e-6, "slide.s = {s_end}");
+}
+
+model! {
+    /// A pendulum whose bob, a point mass by Modia3D's reading of `MassProperties(mass = …)`,
+    /// hangs 1 m below the pivot over a wooden table; the bob's contact material differs
+    /// from its solid material.
+    pub Porting(conventions: bool = true) {
+        world = Object3D(feature = Scene(gravity = [0.0, 0.0, -9.81], modia3d_conventions = conventions)),
+        table = Object3D(parent = world, translation = [0.0, 0.0, -2.0],
+                         feature = Solid(shape = Box(lengths = [1.0, 1.0, 0.1]), solid_material = "DryWood", collision = true)),
+        bob   = Object3D(feature = Solid(shape = Sphere(diameter = 0.2), solid_material = "Steel",
+                                         contact_material = "DryWood", collision = true,
+                                         mass_properties = MassProperties(mass = 2.0))),
+        pivot = Object3D(parent = bob, translation = [0.0, 0.0, 1.0]),
+        rev   = Revolute(obj1 = world, obj2 = pivot, axis = 1, phi = Var(init = 1.0)),
+    }
+}
+
+/// `SceneOptions::modia3d_conventions`: each of the four differences it makes, on the same
+/// model with the switch off and on.
+#[test]
+fn modia3d_conventions_switch_the_four_porting_differences() {
+    let c = |m: &SolidMaterial| m.young_modulus / (1.0 - m.poisson_ratio * m.poisson_ratio);
+    let material = |n: &str| modia3d::core::scene::builtin_solid_material(n).unwrap();
+    let (steel, wood) = (c(&material("Steel")), c(&material("DryWood")));
+    let ours = Porting { conventions: false }.build().unwrap();
+    let modia = Porting { conventions: true }.build().unwrap();
+
+    // 1. can_collide not given on a Revolute: Modia3D lets the joined bodies (world with its
+    //    table, the bob) collide; ours does not.
+    assert!(ours.contact_pairs().is_empty());
+    let pairs = modia.contact_pairs();
+    assert_eq!(pairs.len(), 1, "{pairs:?}");
+    // 2. Contact stiffness from the contact material's solid material (DryWood on both
+    //    sides: c_res = c/2), not from the bob's Steel. Same formula, so exact up to rounding.
+    assert!(
+        (pairs[0].c_res - wood / 2.0).abs() <= 1e-12 * wood,
+        "{pairs:?}"
+    );
+    assert!((steel * wood / (steel + wood) - wood / 2.0).abs() > 0.4 * wood);
+
+    // 3. `MassProperties(mass = 2)` is a point mass: the ideal pendulum φ'' = −(g/L) sin φ.
+    //    Reference: RK4 at h = 1e-5 s (truncation ~h⁴ ≈ 1e-20, rounding over 2·10⁵ steps
+    //    ≲ 1e-11 rad); IDA at rtol 1e-10 over 2 s stays within 1e-8 rad of it (100× its
+    //    tolerance). The sphere's own inertia (ours) makes a
+    //    physical pendulum that is 4e-3 rad off by then.
+    let (g, l) = (9.81, 1.0);
+    let reference = |t_end: f64| {
+        let (mut phi, mut w, h) = (1.0f64, 0.0f64, 1e-5);
+        let f = |p: f64| -(g / l) * p.sin();
+        let n = (t_end / h).round() as usize;
+        for _ in 0..n {
+            let (k1p, k1w) = (w, f(phi));
+            let (k2p, k2w) = (w + 0.5 * h * k1w, f(phi + 0.5 * h * k1p));
+            let (k3p, k3w) = (w + 0.5 * h * k2w, f(phi + 0.5 * h * k2p));
+            let (k4p, k4w) = (w + h * k3w, f(phi + h * k3p));
+            phi += h / 6.0 * (k1p + 2.0 * k2p + 2.0 * k3p + k4p);
+            w += h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w);
+        }
+        phi
+    };
+    let opts = SimOptions::new(2.0).tolerance(1e-10).progress(false);
+    let end_phi = |m: &Model| {
+        m.simulate(&opts)
+            .unwrap()
+            .signal("rev.phi")
+            .unwrap()
+            .last()
+            .unwrap()[0]
+    };
+    let exact = reference(2.0);
+    let (phi_modia, phi_ours) = (end_phi(&modia), end_phi(&ours));
+    eprintln!("φ(2 s): point mass {phi_modia}, ours {phi_ours}, ideal pendulum {exact}");
+    assert!((phi_modia - exact).abs() < 1e-8, "{phi_modia} vs {exact}");
+    assert!((phi_ours - exact).abs() > 1e-3, "{phi_ours} vs {exact}");
+
+    // 4. The default absolute tolerance: Modia's 0.1·rtol, ours 0.01·rtol; a given atol wins.
+    let on = SceneOptions {
+        modia3d_conventions: true,
+        ..Default::default()
+    };
+    let sim = SimOptions::new(1.0).tolerance(1e-6);
+    assert_eq!(sim.effective_atol(&on), 0.1 * 1e-6);
+    assert_eq!(sim.effective_atol(&SceneOptions::default()), 0.01 * 1e-6);
+    assert_eq!(sim.clone().atol(3e-9).effective_atol(&on), 3e-9);
 }

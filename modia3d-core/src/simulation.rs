@@ -316,7 +316,7 @@ impl Simulation {
         let root_functions = dae.num_roots_public();
         let ida_opts = IdaOptions {
             rtol: opts.rtol,
-            atol: loop_atol(&plan, y0.len(), opts.atol.unwrap_or(0.01 * opts.rtol)),
+            atol: loop_atol(&plan, y0.len(), opts.effective_atol(&plan.scene.options)),
             max_step: opts.max_step,
             // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts).
             root_directions: (root_functions == 2).then(|| vec![1, -1]),

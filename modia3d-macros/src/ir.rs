@@ -79,6 +79,9 @@ pub struct SceneIr {
     /// `average_missing_pairs = …` and its literal value (a missing pair is averaged from its
     /// self-pairs instead of an error; a non-literal value is taken as `true` by the rules).
     pub average_missing_pairs: Option<(Expr, Option<bool>)>,
+    /// `modia3d_conventions = …` and its literal value (a non-literal value is taken as
+    /// `false` by the rules; `build()` decides at run time).
+    pub modia3d_conventions: Option<(Expr, Option<bool>)>,
     /// The `f64` options that were given.
     pub numbers: Vec<Num>,
     /// `mpr_max_iterations = …` (`u32`).
@@ -99,8 +102,11 @@ pub enum Profile {
 /// `mass_properties = …`.
 #[derive(Clone, Debug)]
 pub enum MassIr {
-    /// `MassProperties(mass = …)`: inertia from the shape.
+    /// `MassProperties(mass = …)`: a mass without inertia (`MassSpec::Mass`: inertia from the
+    /// shape, or a point mass with Modia3D conventions).
     Mass(Num),
+    /// `MassPropertiesFromShapeAndMass(mass = …)`: inertia from the shape.
+    Scaled(Num),
     /// `MassProperties(mass = …, com = …, inertia = …)`.
     Explicit {
         /// Mass.

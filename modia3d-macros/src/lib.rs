@@ -63,7 +63,7 @@ use proc_macro::TokenStream;
 /// | constructor | keys (`*` required, `= default`) |
 /// |---|---|
 /// | `Object3D` | `parent` (reference), `translation = [0,0,0]` (`[f64; 3]`, m, in the parent), `rotation` (Cardan angles `[f64; 3]` in rad, x then new y then new z; or a `Matrix3<f64>` whose columns are the frame's axes; or a `Rotation`), `feature` |
-/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false`, `cut = false` (prefer this joint as the one that closes its kinematic loop: it becomes a cut joint, enforced by constraints) |
+/// | `Revolute` | `obj1*`, `obj2*`, `axis = 3` (±1, ±2, ±3, an `i64` expression, or an array `[x, y, z]`), `phi = Var(init = …)` (rad), `w = Var(init = …)` (rad/s), `can_collide = false` (true with `modia3d_conventions` on Revolute and Prismatic), `cut = false` (prefer this joint as the one that closes its kinematic loop: it becomes a cut joint, enforced by constraints) |
 /// | `Prismatic` | `obj1*`, `obj2*`, `axis = 3`, `s = Var(init = …)` (m), `v = Var(init = …)` (m/s), `can_collide`, `cut` |
 /// | `FreeMotion` | `obj1*`, `obj2*`, `r`, `v`, `w`: each `Var(init = [f64; 3] or Vector3<f64>)`, default zero; `rot = Var(init = …)`: Cardan angles `[f64; 3]` or a `UnitQuaternion<f64>`; `can_collide`, `cut` |
 /// | `Spherical` | `obj1*`, `obj2*`, `rot = Var(init = …)` (Cardan angles or a `UnitQuaternion<f64>`), `w = Var(init = [f64; 3])` (rad/s, resolved in obj2), `can_collide`, `cut` |
@@ -85,10 +85,11 @@ use proc_macro::TokenStream;
 ///
 /// | constructor | keys |
 /// |---|---|
-/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `contact_detection = true`, `exact_restitution = false` (`bool`: damping from the exact restitution relation instead of the paper's approximation), `average_missing_pairs = false` (`bool`: a missing contact pair is the mean of its two self-pairs, with a warning), `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
+/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `contact_detection = true`, `exact_restitution = false` (`bool`: damping from the exact restitution relation instead of the paper's approximation), `average_missing_pairs = false` (`bool`: a missing contact pair is the mean of its two self-pairs, with a warning), `modia3d_conventions = false` (`bool`: Modia3D.jl's readings of contact stiffness, `can_collide`, `MassProperties(mass = …)` and atol; `SceneOptions::modia3d_conventions`), `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
 /// | `Solid` | `shape*` (unless explicit mass properties), `solid_material` (`"Steel"`, a block material's name as string or identifier, or a `&str`/`String` expression), `mass_properties` (default: from density), `collision = false`, `contact_material` (string), `smoothing_radius` (m) |
 /// | `Visual` | `shape*` |
-/// | `MassProperties` | `mass*` (kg); with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
+/// | `MassProperties` | `mass*` (kg): the shape's inertia scaled to the mass, or a point mass with `modia3d_conventions`; with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
+/// | `MassPropertiesFromShapeAndMass` | `mass*` (kg): the shape's inertia scaled to the mass, whatever the conventions |
 /// | `Sphere` | `diameter*` |
 /// | `Box`, `Ellipsoid` | `lengths*` (`[f64; 3]` or `Vector3<f64>`, full lengths) |
 /// | `Cylinder`, `Capsule` | `axis = 3` (literal 1..3 or an `Axis` expression), `diameter*`, `length*` |

@@ -268,7 +268,7 @@ fn builder(c: &Case) -> SceneDesc {
         let mut solid = Solid::new(shape);
         solid = match b.mass {
             Mass::Material(m) => solid.material(m),
-            Mass::Mass(m) => solid.mass(m),
+            Mass::Mass(m) => solid.given_mass(m),
         };
         let mut o = Object3D::new(&format!("body{k}"))
             .translation([0.5 * k as f64, 0.0, 0.0])

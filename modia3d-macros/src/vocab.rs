@@ -29,6 +29,7 @@ pub const NESTED: &[&str] = &[
     "Solid",
     "Visual",
     "MassProperties",
+    "MassPropertiesFromShapeAndMass",
     "Var",
     "Sphere",
     "Box",
@@ -63,6 +64,7 @@ pub const SCENE_KEYS: &[&str] = &[
     "contact_detection",
     "exact_restitution",
     "average_missing_pairs",
+    "modia3d_conventions",
     "k_red",
     "d_max",
     "cor_min",
@@ -269,7 +271,9 @@ pub fn nested_hint(n: &str) -> String {
     match n {
         "Scene" | "Solid" | "Visual" => format!("`Object3D(feature = {n}(…))`"),
         "Var" => "`phi = Var(init = …)` inside a joint".into(),
-        "MassProperties" => "`Solid(mass_properties = MassProperties(…))`".into(),
+        "MassProperties" | "MassPropertiesFromShapeAndMass" => {
+            format!("`Solid(mass_properties = {n}(…))`")
+        }
         _ => format!("`Object3D(feature = Solid(shape = {n}(…)))`"),
     }
 }

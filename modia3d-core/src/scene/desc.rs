@@ -106,6 +106,20 @@ pub struct SceneOptions {
     /// [`SceneError::MissingContactPair`](crate::scene::SceneError::MissingContactPair)). A
     /// pair whose self-pairs are missing too stays an error.
     pub average_missing_pairs: bool,
+    /// Modia3D.jl's conventions where they differ from ours, for porting a Modia3D model
+    /// (default `false`; README "Coming from Modia3D"). With `true`:
+    /// - the contact stiffness (Young's modulus, Poisson's ratio) comes from the solid
+    ///   material named by the solid's contact material, as Modia3D reads it from its
+    ///   `contactMaterial` (ours: from the solid material; the two agree unless a solid names a
+    ///   different contact material);
+    /// - `Revolute` and `Prismatic` joints whose `can_collide` is not given let their bodies
+    ///   collide (Modia3D's `canCollide = true`; ours: false);
+    /// - a mass without inertia ([`MassSpec::Mass`], `model!`'s `MassProperties(mass = …)`) is
+    ///   a point mass at the object's origin, as Modia3D's `MassProperties(mass = m)` (ours:
+    ///   the shape's inertia scaled to the mass);
+    /// - the absolute tolerance a run uses when [`SimOptions::atol`](crate::SimOptions::atol)
+    ///   is not set is `0.1·rtol` (Modia's; ours: `0.01·rtol`).
+    pub modia3d_conventions: bool,
 }
 
 impl Default for SceneOptions {
@@ -125,6 +139,7 @@ impl Default for SceneOptions {
             contact_profile: ContactProfile::Paper2019,
             exact_restitution: false,
             average_missing_pairs: false,
+            modia3d_conventions: false,
         }
     }
 }
@@ -148,8 +163,14 @@ pub enum MassSpec {
     /// From the shape's volume and the solid material's density (default).
     #[default]
     FromShapeAndDensity,
-    /// From the shape, scaled to the given mass \[kg\].
+    /// From the shape, scaled to the given mass \[kg\] (Modia3D's
+    /// `MassPropertiesFromShapeAndMass`).
     FromShapeAndMass(f64),
+    /// A mass \[kg\] without inertia, what `model!`'s `MassProperties(mass = …)` gives: as
+    /// [`MassSpec::FromShapeAndMass`] by default; with
+    /// [`SceneOptions::modia3d_conventions`] a point mass at the object's origin (zero inertia),
+    /// as Modia3D's `MassProperties(mass = m)`.
+    Mass(f64),
     /// Explicit values, in the object's frame.
     Explicit {
         /// Mass \[kg\].
@@ -215,6 +236,13 @@ impl Solid {
     /// Sets the mass \[kg\] (> 0); inertia follows from the shape.
     pub fn mass(mut self, mass: f64) -> Self {
         self.mass_properties = MassSpec::FromShapeAndMass(mass);
+        self
+    }
+    /// Sets a mass \[kg\] (> 0) without inertia ([`MassSpec::Mass`], what `model!`'s
+    /// `MassProperties(mass = …)` gives): the shape's inertia scaled to the mass, or a point
+    /// mass at the object's origin with [`SceneOptions::modia3d_conventions`].
+    pub fn given_mass(mut self, mass: f64) -> Self {
+        self.mass_properties = MassSpec::Mass(mass);
         self
     }
     /// Sets explicit mass properties in the object's frame: mass \[kg\] (> 0), centre of mass \[m\],
@@ -517,10 +545,11 @@ pub struct Joint {
     pub obj2: String,
     /// Kind and initial values.
     pub kind: JointKind,
-    /// Whether solids of the two joined bodies may collide (default false). Applies to every
-    /// joint that is a mechanical connection (all but FreeMotion); a FreeMotion never
-    /// prevents a collision (as in Modia3D).
-    pub can_collide: bool,
+    /// Whether solids of the two joined bodies may collide; `None` (not given) is false, or
+    /// true for a Revolute or Prismatic joint with [`SceneOptions::modia3d_conventions`].
+    /// Applies to every joint that is a mechanical connection (all but FreeMotion); a
+    /// FreeMotion never prevents a collision (as in Modia3D).
+    pub can_collide: Option<bool>,
     /// Whether this joint should be the one that closes its kinematic loop (default false): a
     /// cut joint stays out of the spanning joint tree and is enforced by constraints
     /// (`dynamics/loops.rs`). Marking is a preference: unmarked loop-closing joints are cut
@@ -537,7 +566,7 @@ impl Joint {
             obj1: obj1.to_string(),
             obj2: obj2.to_string(),
             kind,
-            can_collide: false,
+            can_collide: None,
             cut: false,
         }
     }
@@ -548,7 +577,7 @@ impl Joint {
     }
     /// Sets `can_collide`.
     pub fn can_collide(mut self, on: bool) -> Self {
-        self.can_collide = on;
+        self.can_collide = Some(on);
         self
     }
     /// Sets the initial angle \[rad\] (revolute) or position \[m\] (prismatic); ignored otherwise.

@@ -23,7 +23,8 @@ pub struct SimOptions {
     pub interval: Option<f64>,
     /// Relative tolerance (default 1e-6).
     pub rtol: f64,
-    /// Absolute tolerance; default `0.01 · rtol` (the states are in m, rad, m/s, rad/s).
+    /// Absolute tolerance; default `0.01 · rtol` (the states are in m, rad, m/s, rad/s), or
+    /// `0.1 · rtol` with Modia3D conventions ([`SimOptions::effective_atol`]).
     pub atol: Option<f64>,
     /// Largest step \[s\]; default unlimited.
     pub max_step: Option<f64>,
@@ -124,6 +125,13 @@ impl SimOptions {
     pub fn atol(mut self, atol: f64) -> Self {
         self.atol = Some(atol);
         self
+    }
+    /// The absolute tolerance a run of a scene with these options uses: [`SimOptions::atol`]
+    /// if set, else `0.01·rtol`, or Modia's `0.1·rtol` with
+    /// [`SceneOptions::modia3d_conventions`](crate::SceneOptions::modia3d_conventions).
+    pub fn effective_atol(&self, scene: &crate::SceneOptions) -> f64 {
+        let per_rtol = if scene.modia3d_conventions { 0.1 } else { 0.01 };
+        self.atol.unwrap_or(per_rtol * self.rtol)
     }
     /// Sets the output interval \[s\].
     pub fn interval(mut self, dt: f64) -> Self {

@@ -74,11 +74,15 @@ impl Checker {
             })
         };
         let mass = a.get("mass_properties").map(|m| {
-            match self.nested(m, &["MassProperties"], "mass properties") {
+            match self.nested(
+                m,
+                &["MassProperties", "MassPropertiesFromShapeAndMass"],
+                "mass properties",
+            ) {
                 Err(e) => {
                     self.err_spanned(
                         e,
-                        "expected `MassProperties(mass = …)` or `MassProperties(mass = …, com = …, inertia = …)`",
+                        "expected `MassProperties(mass = …)`, `MassProperties(mass = …, com = …, inertia = …)` or `MassPropertiesFromShapeAndMass(mass = …)`",
                     );
                     stand_in(m)
                 }
@@ -126,6 +130,10 @@ impl Checker {
     }
 
     fn mass_properties(&mut self, mc: &Ctor) -> Option<MassIr> {
+        if mc.name() == "MassPropertiesFromShapeAndMass" {
+            let ma = self.args(mc, &["mass"]);
+            return self.num(&ma, "mass", true).map(MassIr::Scaled);
+        }
         let ma = self.args(mc, &["mass", "com", "inertia"]);
         let mass = self.num(&ma, "mass", true);
         let com = ma.get("com");
@@ -203,6 +211,9 @@ impl Checker {
         let average_missing_pairs = a
             .get("average_missing_pairs")
             .map(|c| (c.clone(), lit_bool(c)));
+        let modia3d_conventions = a
+            .get("modia3d_conventions")
+            .map(|c| (c.clone(), lit_bool(c)));
         let mut numbers = vec![];
         for key in SCENE_NUMBERS {
             if let Some(n) = self.num(a, key, false) {
@@ -238,6 +249,7 @@ impl Checker {
             contact_detection,
             exact_restitution,
             average_missing_pairs,
+            modia3d_conventions,
             numbers,
             mpr_max_iterations,
             profile,

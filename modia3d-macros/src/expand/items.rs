@@ -245,6 +245,10 @@ fn solid(s: &SolidIr) -> TokenStream {
         None => {}
         Some(MassIr::Mass(m)) => {
             let m = &m.expr;
+            calls.push(quote!(.given_mass(#m)));
+        }
+        Some(MassIr::Scaled(m)) => {
+            let m = &m.expr;
             calls.push(quote!(.mass(#m)));
         }
         Some(MassIr::Explicit {
@@ -380,6 +384,9 @@ fn scene_options(s: &SceneIr) -> TokenStream {
     }
     if let Some(e) = &s.exact_restitution {
         fields.push(quote!(exact_restitution: #e));
+    }
+    if let Some((e, _)) = &s.modia3d_conventions {
+        fields.push(quote!(modia3d_conventions: #e));
     }
     if let Some((e, _)) = &s.average_missing_pairs {
         fields.push(quote!(average_missing_pairs: #e));

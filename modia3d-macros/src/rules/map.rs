@@ -130,7 +130,21 @@ impl<'a> Mapper<'a> {
                 name,
                 hint,
             } => {
-                let (_, span, slot) = self.solid(first_name(referrer)?)?.material.as_ref()?;
+                let s = self.solid(first_name(referrer)?)?;
+                // With Modia3D conventions a contact material names the solid material of the
+                // contact stiffness: reported on the contact material's token.
+                let by_contact = referrer.contains("contact material");
+                let (span, slot) = if by_contact {
+                    (&s.contact_material.as_ref()?.1, &s.mass_slot)
+                } else {
+                    let (_, span, slot) = s.material.as_ref()?;
+                    (span, slot)
+                };
+                let what = if by_contact {
+                    "with Modia3D conventions the contact material names the solid material of the contact stiffness; "
+                } else {
+                    ""
+                };
                 let h = match hint {
                     Some(h) => format!("did you mean `{h}`?"),
                     None => format!(
@@ -146,7 +160,7 @@ impl<'a> Mapper<'a> {
                     *slot,
                     new(
                         *span,
-                        format!("unknown solid material `{name}` (hint: {h})"),
+                        format!("unknown solid material `{name}` ({what}hint: {h})"),
                     ),
                 ))
             }

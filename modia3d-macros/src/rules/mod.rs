@@ -277,13 +277,13 @@ impl<'a> Probe<'a> {
                     }
                 };
                 let (o1, o2) = (obj(obj1), obj(obj2));
-                let collide = can_collide.as_ref().and_then(|c| c.1).unwrap_or(false);
                 let cut = cut.as_ref().and_then(|c| c.1).unwrap_or(false);
-                self.desc.add_joint(
-                    Joint::new(&name.to_string(), o1, o2, kind)
-                        .can_collide(collide)
-                        .cut(cut),
-                );
+                let mut joint = Joint::new(&name.to_string(), o1, o2, kind).cut(cut);
+                // Not given: the scene's conventions decide (`SceneOptions::modia3d_conventions`).
+                if let Some(c) = can_collide {
+                    joint = joint.can_collide(c.1.unwrap_or(false));
+                }
+                self.desc.add_joint(joint);
             }
             Item::Force { name, force, .. } => {
                 let f = match force {
@@ -383,6 +383,9 @@ impl<'a> Probe<'a> {
         let mut o = SceneOptions::default();
         if let Some((_, lit)) = &s.contact_detection {
             o.contact_detection = lit.unwrap_or(false);
+        }
+        if let Some((_, lit)) = &s.modia3d_conventions {
+            o.modia3d_conventions = lit.unwrap_or(false);
         }
         if let Some((_, lit)) = &s.average_missing_pairs {
             // A run-time value may be true: report no missing pair that averaging would fill.
@@ -488,7 +491,8 @@ impl<'a> Probe<'a> {
         }
         solid.mass_properties = match &s.mass {
             None => MassSpec::FromShapeAndDensity,
-            Some(MassIr::Mass(m)) => MassSpec::FromShapeAndMass(self.scalar(owner, m)),
+            Some(MassIr::Mass(m)) => MassSpec::Mass(self.scalar(owner, m)),
+            Some(MassIr::Scaled(m)) => MassSpec::FromShapeAndMass(self.scalar(owner, m)),
             Some(MassIr::Explicit {
                 mass, inertia_lit, ..
             }) => MassSpec::Explicit {

@@ -3,7 +3,7 @@
 //! (`joints::validate_kind`), with the scene's `Checker`, in the same round as every other check. Topology (loops, two parents, connectivity) is `topology.rs`.
 
 use super::{Checker, Names, SceneError, ValidJoint};
-use crate::scene::desc::SceneDesc;
+use crate::scene::desc::{JointKind, SceneDesc, SceneOptions};
 
 /// Every joint resolved and checked, in declaration order; a joint with an error is left out
 /// and its resolved ends marked in `suspect` (they may now look unconnected).
@@ -12,6 +12,7 @@ pub(super) fn joints(
     desc: &SceneDesc,
     names: &Names,
     suspect: &mut [bool],
+    options: &SceneOptions,
 ) -> Vec<ValidJoint> {
     let mut joints = Vec::with_capacity(desc.joints.len());
     for j in &desc.joints {
@@ -38,7 +39,13 @@ pub(super) fn joints(
             obj1: o1,
             obj2: o2,
             kind,
-            can_collide: j.can_collide,
+            can_collide: j.can_collide.unwrap_or(
+                options.modia3d_conventions
+                    && matches!(
+                        j.kind,
+                        JointKind::Revolute { .. } | JointKind::Prismatic { .. }
+                    ),
+            ),
             cut: j.cut,
         });
     }

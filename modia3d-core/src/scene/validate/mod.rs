@@ -325,8 +325,8 @@ impl SceneDesc {
         let names = Names::new(c, self);
         let materials = objects::solid_materials(c, self);
         let (world, options) = objects::world(c, self);
-        let (mut objects, mut suspect) = objects::objects(c, self, &names, &materials);
-        let joints = joints::joints(c, self, &names, &mut suspect);
+        let (mut objects, mut suspect) = objects::objects(c, self, &names, &materials, &options);
+        let joints = joints::joints(c, self, &names, &mut suspect, &options);
         // Cycles, two parents, clusters, the joint tree, loops, connectivity.
         let topology = super::topology::check_topology(
             &mut objects,

@@ -82,7 +82,9 @@ pub(super) fn objects(
     desc: &SceneDesc,
     names: &Names,
     materials: &HashMap<&str, SolidMaterial>,
+    options: &SceneOptions,
 ) -> (Vec<ValidObject>, Vec<bool>) {
+    let modia3d = options.modia3d_conventions;
     let lookup_material = |name: &str| {
         materials
             .get(name)
@@ -181,7 +183,7 @@ pub(super) fn objects(
                 if let Some(r) = s.smoothing_radius {
                     c.non_negative(|| format!("solid `{}`: smoothing radius [m]", o.name), r);
                 }
-                let mass = solid_mass(c, &o.name, s, material.as_ref());
+                let mass = solid_mass(c, &o.name, s, material.as_ref(), modia3d);
                 check_mass_range(c, &o.name, s, material.as_ref(), mass.mass);
                 let contact_material = s.contact_material.clone().or(material_name.clone());
                 let mut contact_elasticity = None;
@@ -191,8 +193,34 @@ pub(super) fn objects(
                             object: o.name.clone(),
                         });
                     }
-                    contact_elasticity = material
-                        .or_else(|| s.contact_material.as_deref().and_then(lookup_material));
+                    let by_contact_material = s
+                        .contact_material
+                        .as_deref()
+                        .map(|n| (n, lookup_material(n)));
+                    contact_elasticity = match by_contact_material {
+                        // Modia3D reads E and ν from the solid material its contact material
+                        // names.
+                        Some((n, None)) if modia3d => {
+                            c.errors.push(SceneError::Unknown {
+                                referrer: format!(
+                                    "solid `{}`'s contact material (with Modia3D conventions it names the solid material that gives the contact stiffness)",
+                                    o.name
+                                ),
+                                kind: "solid material",
+                                name: n.to_string(),
+                                hint: did_you_mean(
+                                    n,
+                                    materials
+                                        .keys()
+                                        .copied()
+                                        .chain(crate::scene::materials::builtin_solid_names()),
+                                ),
+                            });
+                            material
+                        }
+                        Some((_, Some(m))) if modia3d => Some(m),
+                        _ => material.or_else(|| by_contact_material.and_then(|(_, m)| m)),
+                    };
                     if contact_elasticity.is_none() || contact_material.is_none() {
                         c.errors.push(SceneError::CollisionWithoutMaterial {
                             object: o.name.clone(),
@@ -323,6 +351,7 @@ fn solid_mass(
     object: &str,
     s: &crate::scene::desc::Solid,
     material: Option<&SolidMaterial>,
+    modia3d_conventions: bool,
 ) -> MassProps {
     let zero = MassProps {
         mass: 0.0,
@@ -356,7 +385,14 @@ fn solid_mass(
                 None => zero, // degenerate hull: reported by check_shape
             }
         }
-        MassSpec::FromShapeAndMass(mass) => {
+        MassSpec::Mass(mass) if modia3d_conventions => {
+            c.positive(|| format!("solid `{object}`: mass [kg]"), *mass);
+            MassProps {
+                mass: *mass,
+                ..zero
+            }
+        }
+        MassSpec::FromShapeAndMass(mass) | MassSpec::Mass(mass) => {
             c.positive(|| format!("solid `{object}`: mass [kg]"), *mass);
             if s.shape.is_none() {
                 c.errors.push(SceneError::NoMassSource {
