@@ -206,10 +206,10 @@ pub mod prelude {
     pub use modia3d_core::{
         Axis, BodyInfo, ContactPairInfo, ContactPairMaterial, ContactPhase, ContactProfile, Event,
         Feature, ForceElement, ForceFn, FreeRotation, Input, InputError, InputKind, Joint,
-        JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef, Model, Object3D, ObjectMotion,
-        PlotFormat, PlotOptions, ResultError, Rotation, SceneDesc, SceneError, SceneErrors,
-        SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats, SimWarning,
-        Simulation, SimulationResult, Solid, SolidMaterial, Wrench,
+        JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef, MeshCollision, Model,
+        Object3D, ObjectMotion, PlotFormat, PlotOptions, ResultError, Rotation, SceneDesc,
+        SceneError, SceneErrors, SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions,
+        SimStats, SimWarning, Simulation, SimulationResult, Solid, SolidMaterial, Wrench,
     };
     pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};

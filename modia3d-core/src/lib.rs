@@ -43,7 +43,7 @@ mod counting_alloc;
 
 #[cfg(feature = "solver")]
 pub use contact::ContactError;
-pub use geometry::{Axis, Shape};
+pub use geometry::{Axis, MeshCollision, Shape};
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]

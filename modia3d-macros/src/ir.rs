@@ -170,6 +170,22 @@ pub enum ShapeIr {
     },
     /// `ConvexHull(points)`.
     Hull(Expr),
+    /// `FileMesh(path, scale, convex_decomposition)`.
+    FileMesh {
+        /// The path (anything `PathBuf::from` takes).
+        path: Expr,
+        /// `[f64; 3]` factors (default ones).
+        scale: Option<Num>,
+        /// A `bool` (default false).
+        convex_decomposition: Option<Expr>,
+    },
+    /// `Beam(axis, length, width, thickness)`.
+    Beam {
+        /// The longitudinal axis.
+        axis: AxisIr,
+        /// `[length, width, thickness]`.
+        dims: [Num; 3],
+    },
 }
 
 /// A shape's axis.

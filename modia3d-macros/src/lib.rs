@@ -95,6 +95,8 @@ use proc_macro::TokenStream;
 /// | `Cylinder`, `Capsule` | `axis = 3` (literal 1..3 or an `Axis` expression), `diameter*`, `length*` |
 /// | `Cone` | `axis = 3`, `diameter*`, `length*`, `top_diameter = 0` |
 /// | `ConvexHull` | `points*`: anything iterable over `[f64; 3]` or `Point3<f64>` |
+/// | `FileMesh` | `path*` (`.obj` or `.stl`; anything `PathBuf::from` takes, read by `build()`, relative to the current directory: write `concat!(env!("CARGO_MANIFEST_DIR"), "/…")` for a crate's own file), `scale = [1, 1, 1]` (factors to metres), `convex_decomposition = false` (`bool`: collide as convex parts instead of the convex hull) |
+/// | `Beam` | `axis = 3`, `length*` (straight part, without the round ends), `width*` (= diameter of the ends), `thickness*` (m) |
 ///
 /// Any `feature` or `shape` value that is not one of these constructors is taken as a Rust
 /// expression of type `Feature` or `Shape`.

@@ -38,6 +38,8 @@ pub const NESTED: &[&str] = &[
     "Cone",
     "Ellipsoid",
     "ConvexHull",
+    "Beam",
+    "FileMesh",
 ];
 
 /// Constructors of `feature = …`.
@@ -52,6 +54,8 @@ pub const SHAPES: &[&str] = &[
     "Cone",
     "Ellipsoid",
     "ConvexHull",
+    "Beam",
+    "FileMesh",
 ];
 
 /// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).

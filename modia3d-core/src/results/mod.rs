@@ -515,7 +515,8 @@ impl SimulationResult {
         }
     }
 
-    /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
+    /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals); a
+    /// part of a mesh collided as a convex decomposition is `<object>#<k>` (`k` from 0).
     pub fn contact_pairs(&self) -> Vec<String> {
         match &self.model.contact {
             Some(cp) => cp

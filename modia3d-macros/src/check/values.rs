@@ -303,6 +303,26 @@ impl Checker {
                     top_diameter: top,
                 })
             }
+            "FileMesh" => {
+                let a = self.args(&sc, &["path", "scale", "convex_decomposition"]);
+                let scale = self.num(&a, "scale", false);
+                Some(ShapeIr::FileMesh {
+                    path: self.required(&a, "path")?.clone(),
+                    scale,
+                    convex_decomposition: a.get("convex_decomposition").cloned(),
+                })
+            }
+            "Beam" => {
+                let a = self.args(&sc, &["axis", "length", "width", "thickness"]);
+                let axis = self.shape_axis(a.get("axis"));
+                let l = self.num(&a, "length", true);
+                let w = self.num(&a, "width", true);
+                let t = self.num(&a, "thickness", true);
+                Some(ShapeIr::Beam {
+                    axis: axis?,
+                    dims: [l?, w?, t?],
+                })
+            }
             _ => {
                 let a = self.args(&sc, &["points"]);
                 Some(ShapeIr::Hull(self.required(&a, "points")?.clone()))

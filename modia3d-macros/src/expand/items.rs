@@ -323,13 +323,7 @@ fn shape(s: &ShapeIr) -> TokenStream {
             length,
             top_diameter,
         } => {
-            let ax = quote!(::modia3d::core::Axis);
-            let axis = match axis {
-                AxisIr::Index(1) => quote!(#ax::X),
-                AxisIr::Index(2) => quote!(#ax::Y),
-                AxisIr::Index(_) => quote!(#ax::Z),
-                AxisIr::Expr(e) => quote!(#e),
-            };
+            let axis = shape_axis(axis);
             let (d, l) = (&diameter.expr, &length.expr);
             let top = (*ctor == "Cone").then(|| {
                 let t = num_or(top_diameter, quote!(0.0));
@@ -341,6 +335,41 @@ fn shape(s: &ShapeIr) -> TokenStream {
         ShapeIr::Hull(p) => {
             quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) })
         }
+        ShapeIr::FileMesh {
+            path,
+            scale,
+            convex_decomposition,
+        } => {
+            let scale = num_or(scale, quote!([1.0, 1.0, 1.0]));
+            let mc = quote!(::modia3d::core::MeshCollision);
+            let collision = match convex_decomposition {
+                Some(e) => quote!(if #e { #mc::ConvexDecomposition } else { #mc::ConvexHull }),
+                None => quote!(#mc::ConvexHull),
+            };
+            // Spanned on the user's path so a type error points at it.
+            let path = quote_spanned!(syn::spanned::Spanned::span(path)=> ::std::path::PathBuf::from(#path));
+            quote!(#shape::FileMesh {
+                path: #path,
+                scale: #v3(#scale),
+                collision: #collision,
+            })
+        }
+        ShapeIr::Beam { axis, dims } => {
+            let axis = shape_axis(axis);
+            let [l, w, t] = dims.each_ref().map(|n| &n.expr);
+            quote!(#shape::Beam { axis: #axis, length: #l, width: #w, thickness: #t })
+        }
+    }
+}
+
+/// A shape's axis as an `Axis` expression.
+fn shape_axis(axis: &AxisIr) -> TokenStream {
+    let ax = quote!(::modia3d::core::Axis);
+    match axis {
+        AxisIr::Index(1) => quote!(#ax::X),
+        AxisIr::Index(2) => quote!(#ax::Y),
+        AxisIr::Index(_) => quote!(#ax::Z),
+        AxisIr::Expr(e) => quote!(#e),
     }
 }
 

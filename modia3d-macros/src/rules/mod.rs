@@ -431,6 +431,15 @@ impl<'a> Probe<'a> {
                     Shape::Box { lengths }
                 }
             }
+            ShapeIr::Beam { axis, dims } => {
+                let [length, width, thickness] = dims.each_ref().map(|n| self.scalar(owner, n));
+                Shape::Beam {
+                    axis: shape_axis(axis),
+                    length,
+                    width,
+                    thickness,
+                }
+            }
             ShapeIr::Round {
                 ctor,
                 axis,
@@ -438,11 +447,7 @@ impl<'a> Probe<'a> {
                 length,
                 top_diameter,
             } => {
-                let axis = match axis {
-                    AxisIr::Index(1) => Axis::X,
-                    AxisIr::Index(2) => Axis::Y,
-                    _ => Axis::Z,
-                };
+                let axis = shape_axis(axis);
                 let (diameter, length) = (self.scalar(owner, diameter), self.scalar(owner, length));
                 match *ctor {
                     "Cylinder" => Shape::Cylinder {
@@ -463,7 +468,8 @@ impl<'a> Probe<'a> {
                     },
                 }
             }
-            ShapeIr::Hull(_) => Shape::ConvexHull {
+            // The file is read by `build()` at run time; a tetrahedron stands in.
+            ShapeIr::Hull(_) | ShapeIr::FileMesh { .. } => Shape::ConvexHull {
                 points: vec![
                     Point3::origin(),
                     Point3::new(STAND_IN, 0.0, 0.0),
@@ -509,5 +515,14 @@ impl<'a> Probe<'a> {
             solid.smoothing_radius = Some(self.scalar(owner, r));
         }
         solid
+    }
+}
+
+/// A shape's literal axis (an `Axis` expression stands in as z: no rule depends on it).
+fn shape_axis(axis: &AxisIr) -> Axis {
+    match axis {
+        AxisIr::Index(1) => Axis::X,
+        AxisIr::Index(2) => Axis::Y,
+        _ => Axis::Z,
     }
 }

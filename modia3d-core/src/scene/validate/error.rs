@@ -108,6 +108,15 @@ pub enum SceneError {
         /// The admissible range in words.
         expected: &'static str,
     },
+    /// A mesh shape that cannot be used: its file is missing or malformed, or the mesh bounds no
+    /// solid (not closed, no volume).
+    #[error("object `{object}`: {error}")]
+    Mesh {
+        /// The object whose shape it is.
+        object: String,
+        /// What is wrong with the mesh (file, line or facet, edge).
+        error: crate::geometry::GeometryError,
+    },
     /// A solid whose mass cannot be determined.
     #[error("solid `{object}` has no mass: {reason}")]
     NoMassSource {
