@@ -211,6 +211,7 @@ pub mod prelude {
         SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats, SimWarning,
         Simulation, SimulationResult, Solid, SolidMaterial, Wrench,
     };
+    pub use modia3d_core::{Bushing, GravityField, Law, VectorLaw};
     pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 }
