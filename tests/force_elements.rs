@@ -68,7 +68,7 @@ fn bushing_translational_oscillator_matches_closed_form() {
         .damping([d, 1.0, 1.0])
         .rot_stiffness([3.0; 3]);
     b.nominal_force = Vector3::new(f0, 0.0, 0.0);
-    s.add_force(ForceElement::Bushing(b));
+    s.add_force(ForceElement::from(b));
     let res = run(&s, 5.0, 1e-12, 1e-14, 0.01);
     let x = res.signal("slide.s").unwrap();
     let mut worst = 0.0f64;
@@ -109,7 +109,7 @@ fn large_angle_bushing_torsional_oscillator_matches_closed_form() {
             Matrix3::from_diagonal(&Vector3::new(i, 0.7, 0.9)),
         ))
         .add_joint(Joint::new("rev", "world", "rotor", JointKind::revolute(1)).init_position(phi0))
-        .add_force(ForceElement::Bushing(
+        .add_force(ForceElement::from(
             Bushing::new("tors", "world", "rotor")
                 .rot_stiffness([k, 0.0, 0.0])
                 .rot_damping([d, 0.0, 0.0])
@@ -139,7 +139,7 @@ fn small_angle_bushing_conserves_its_energy() {
     s.add(world_no_gravity())
         .add(body("rotor", 1.0, Matrix3::identity() * i))
         .add_joint(Joint::new("rev", "world", "rotor", JointKind::revolute(1)).init_position(phi0))
-        .add_force(ForceElement::Bushing(
+        .add_force(ForceElement::from(
             Bushing::new("tors", "world", "rotor").rot_stiffness([k; 3]),
         ));
     let res = run(&s, 5.0, 1e-11, 1e-13, 0.01);
@@ -186,7 +186,7 @@ fn large_angle_bushing_conserves_energy_in_three_axes() {
                 w: Vector3::new(0.3, -0.5, 0.8),
             },
         ))
-        .add_force(ForceElement::Bushing(
+        .add_force(ForceElement::from(
             Bushing::new("mount", "world", "gimbal")
                 .rot_stiffness(k)
                 .large_angles(true),
@@ -236,7 +236,7 @@ fn large_angle_bushing_at_gimbal_lock_is_a_typed_error() {
                 w: Vector3::zeros(),
             },
         ))
-        .add_force(ForceElement::Bushing(
+        .add_force(ForceElement::from(
             Bushing::new("mount", "world", "gimbal")
                 .rot_stiffness([1.0; 3])
                 .large_angles(true),
@@ -562,7 +562,7 @@ fn new_elements_are_validated_in_one_round() {
     }))
     .add(body("block", 1.0, Matrix3::identity()))
     .add_joint(Joint::new("free", "world", "block", JointKind::free()))
-    .add_force(ForceElement::Bushing(
+    .add_force(ForceElement::from(
         Bushing::new("mount", "world", "blok").stiffness([1.0, -2.0, 1.0]),
     ))
     .add_force(ForceElement::WorldTorque {

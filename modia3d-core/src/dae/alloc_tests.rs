@@ -211,7 +211,7 @@ fn force_elements_and_point_gravity_do_not_allocate() {
         .rot_stiffness([10.0; 3])
         .large_angles(true);
     b.rot_damper[2] = Law::new(|w| 0.1 * w + 0.01 * w * w * w);
-    s.add_force(ForceElement::Bushing(b))
+    s.add_force(ForceElement::from(b))
         .add_force(ForceElement::SpringDamperPtP {
             name: "cubic".into(),
             obj1: "world".into(),

@@ -681,8 +681,8 @@ pub enum ForceElement {
         /// Damper law: tension \[N\] from the rate `L̇` [m/s].
         damper: Law,
     },
-    /// A six-axis bushing (see [`Bushing`]).
-    Bushing(Bushing),
+    /// A six-axis bushing (see [`Bushing`]; `Bushing::into()` makes the element).
+    Bushing(Box<Bushing>),
     /// A force \[N\] at `object`'s origin (Modia3D's `WorldForce`), resolved in world or, with
     /// `resolved_in`, in that object's frame (turning with it).
     WorldForce {

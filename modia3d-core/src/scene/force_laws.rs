@@ -193,6 +193,12 @@ impl Bushing {
     }
 }
 
+impl From<Bushing> for super::ForceElement {
+    fn from(b: Bushing) -> Self {
+        super::ForceElement::Bushing(Box::new(b))
+    }
+}
+
 /// The gravity field of a scene ([`SceneOptions::gravity_field`](super::SceneOptions)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum GravityField {

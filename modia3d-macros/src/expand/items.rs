@@ -569,7 +569,7 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
                 .as_ref()
                 .map_or_else(|| quote!(false), |e| quote!(#e));
             quote! {
-                #fe::Bushing(::modia3d::core::Bushing {
+                #fe::from(::modia3d::core::Bushing {
                     name: #to_string(#n),
                     obj1: #to_string(#o1),
                     obj2: #to_string(#o2),

@@ -333,7 +333,7 @@ impl<'a> Probe<'a> {
                                 let v = vec3(l);
                                 [v.x, v.y, v.z].map(Law::Linear)
                             });
-                        ForceElement::Bushing(b)
+                        ForceElement::from(b)
                     }
                     ForceIr::WorldVector {
                         object,

@@ -67,7 +67,7 @@ pub(super) fn forces(
                     forces.push(ValidForce::Bushing {
                         obj1,
                         obj2,
-                        spec: Box::new(b.clone()),
+                        spec: b.clone(),
                     });
                 }
             }

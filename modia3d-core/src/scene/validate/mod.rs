@@ -320,8 +320,8 @@ impl<'a> Names<'a> {
         // signals `<name>.<quantity>` ambiguous.
         let spring_names = desc.forces.iter().filter_map(|f| match f {
             ForceElement::SpringDamper { name, .. }
-            | ForceElement::SpringDamperPtP { name, .. }
-            | ForceElement::Bushing(crate::scene::Bushing { name, .. }) => Some(name.as_str()),
+            | ForceElement::SpringDamperPtP { name, .. } => Some(name.as_str()),
+            ForceElement::Bushing(b) => Some(b.name.as_str()),
             _ => None,
         });
         let mut seen: HashMap<&str, &'static str> =
