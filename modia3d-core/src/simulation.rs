@@ -33,7 +33,8 @@ pub enum SimErrorKind {
         /// Time \[s\].
         t: f64,
     },
-    /// A user closure (an `ObjectForce` force law) panicked; the panic was caught at the call.
+    /// A user closure (an `ObjectForce` law, or a law of a `Bushing`, `SpringDamperPtP`,
+    /// `WorldForce` or `WorldTorque`) panicked; the panic was caught at the call.
     #[error("{element} panicked at t = {t} s: {message}; the run was stopped: a force law must return a finite wrench for every state the integrator tries")]
     UserPanic {
         /// The element whose closure panicked, e.g. ``ObjectForce on `ball` (force element 0)``.
