@@ -593,3 +593,55 @@ fn new_elements_are_validated_in_one_round() {
     let text = s.build().unwrap_err().to_string();
     assert!(text.contains("point gravity's mu"), "{text}");
 }
+
+/// A law closure that panics or returns NaN ends the run with a typed error naming the element
+/// (the panic caught at the call), with the results up to the failure.
+#[test]
+fn failing_law_closures_are_typed_errors_naming_the_element() {
+    let scene = |spring: Law| {
+        let mut s = SceneDesc::new();
+        s.add(world_no_gravity())
+            .add(body("slider", 1.0, Matrix3::identity()))
+            .add_joint(
+                Joint::new("slide", "world", "slider", JointKind::prismatic(1)).init_velocity(1.0),
+            )
+            .add_force(ForceElement::SpringDamperPtP {
+                name: "sd".into(),
+                obj1: "world".into(),
+                obj2: "slider".into(),
+                length0: 0.0,
+                spring,
+                damper: Law::Linear(0.0),
+            });
+        s.build()
+            .unwrap()
+            .simulate(&SimOptions::new(1.0).progress(false))
+            .unwrap_err()
+    };
+    let err = scene(Law::new(|x| if x < 0.5 { x } else { panic!("too far") }));
+    match &err.kind {
+        SimErrorKind::UserPanic {
+            element, message, ..
+        } => {
+            assert!(element.contains("spring-damper `sd`"), "{element}");
+            assert_eq!(message, "too far");
+        }
+        other => panic!("expected a panic error, got {other}"),
+    }
+    // Up to the failure at x = sin t = 0.5, t = π/6 (the last output point is before it).
+    assert!(err
+        .partial
+        .time()
+        .last()
+        .is_some_and(|&t| t > 0.4 && t <= PI / 6.0));
+    let err = scene(Law::new(|x| if x < 0.5 { x } else { f64::NAN }));
+    match &err.kind {
+        SimErrorKind::ForceElement {
+            element, reason, ..
+        } => {
+            assert!(element.contains("spring-damper `sd`"), "{element}");
+            assert!(reason.contains("spring law returned NaN"), "{reason}");
+        }
+        other => panic!("expected a force-element error, got {other}"),
+    }
+}
