@@ -5,7 +5,7 @@
 use super::kinematics::{object_in_world, point_velocity};
 use super::spatial::Force;
 use super::{BodyId, InputTarget, ObjectId, Plan, Workspace};
-use crate::scene::{Bushing, Law, ObjectMotion, VectorLaw, Wrench};
+use crate::scene::{Bushing, Law, ObjectMotion, ScalarLaw, VectorLaw, Wrench};
 use crate::scene::{SceneError, SceneErrors, ValidForce};
 use nalgebra::{Matrix3, Vector3};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -98,14 +98,20 @@ pub fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
     }
 }
 
-/// Evaluates a scalar law at `x`: a linear law directly, a closure with its panic caught and
-/// its value checked (`law` names it in the error: "spring law", …).
+/// Evaluates a scalar law at `x`: a linear law inline, a closure out of line (`call_law`), so
+/// the linear elements cost what they did before laws existed.
 #[inline]
 fn eval_law(law: &Law, x: f64, name: &'static str) -> Result<f64, FaultKind> {
-    let f = match law {
-        Law::Linear(c) => return Ok(c * x),
-        Law::Fn(f) => f,
-    };
+    match law {
+        Law::Linear(c) => Ok(c * x),
+        Law::Fn(f) => call_law(&**f, x, name),
+    }
+}
+
+/// A closure law with its panic caught and its value checked (`name` says which law in the
+/// error: "spring law", …).
+#[inline(never)]
+fn call_law(f: &ScalarLaw, x: f64, name: &'static str) -> Result<f64, FaultKind> {
     match catch_unwind(AssertUnwindSafe(|| f(x))) {
         Ok(y) if y.is_finite() => Ok(y),
         Ok(y) => Err(FaultKind::Undefined(format!(
@@ -123,8 +129,9 @@ pub(crate) struct PtpState {
     pub(crate) rate: f64,
     pub(crate) tension: f64,
     pub(crate) dir: Vector3<f64>,
-    pub(crate) m1: ObjectMotion,
-    pub(crate) m2: ObjectMotion,
+    /// The ends' origins, resolved in world \[m\].
+    pub(crate) r1: Vector3<f64>,
+    pub(crate) r2: Vector3<f64>,
 }
 
 /// [`PtpState`] of a `ValidForce::SpringDamper`.
@@ -156,8 +163,8 @@ pub(crate) fn ptp_state(
         rate,
         tension,
         dir,
-        m1,
-        m2,
+        r1: m1.r_abs,
+        r2: m2.r_abs,
     })
 }
 
@@ -303,8 +310,8 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
             } => match ptp_state(plan, ws, (*obj1, *obj2), (spring, damper), *length0) {
                 Ok(s) => {
                     let f2 = -s.dir * s.tension; // on obj2, towards obj1 when stretched
-                    add_world_wrench(ws, plan.objects[*obj2].body, &s.m2.r_abs, &f2, &zero);
-                    add_world_wrench(ws, plan.objects[*obj1].body, &s.m1.r_abs, &-f2, &zero);
+                    add_world_wrench(ws, plan.objects[*obj2].body, &s.r2, &f2, &zero);
+                    add_world_wrench(ws, plan.objects[*obj1].body, &s.r1, &-f2, &zero);
                 }
                 Err(k) => record(ws, || fault(name, "spring-damper", k)),
             },
