@@ -51,6 +51,7 @@ pub use results::{
     ContactPhase, Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimWarning,
     SimulationResult, EVENT_MARKER_COLOR,
 };
+pub use scene::{Bushing, GravityField, Law, VectorLaw};
 pub use scene::{
     ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn, FreeRotation, Input,
     InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef, Object3D, ObjectMotion,

@@ -206,6 +206,13 @@ impl Checker {
     /// `Scene(…)` → the options given; the others come from `SceneOptions::default()`.
     fn scene_options(&mut self, a: &super::Args) -> SceneIr {
         let gravity = a.get("gravity").cloned();
+        let gravity_field = a.get("gravity_field").cloned();
+        if let (Some(_), Some(k)) = (&gravity, a.key("gravity_field")) {
+            self.err(
+                k.span(),
+                "`gravity_field` replaces `gravity`: give one of them (hint: `gravity_field = GravityField::Uniform(…)` is `gravity = …`)",
+            );
+        }
         let contact_detection = a.get("contact_detection").map(|c| (c.clone(), lit_bool(c)));
         let exact_restitution = a.get("exact_restitution").cloned();
         let average_missing_pairs = a
@@ -246,6 +253,7 @@ impl Checker {
         }
         SceneIr {
             gravity,
+            gravity_field,
             contact_detection,
             exact_restitution,
             average_missing_pairs,
