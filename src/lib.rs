@@ -80,6 +80,17 @@ pub mod __private {
         v.into_vector3()
     }
 
+    /// `Scene(gravity_field = …)`: the field, set.
+    pub fn gravity_field(g: modia3d_core::GravityField) -> Option<modia3d_core::GravityField> {
+        Some(g)
+    }
+
+    /// Three force laws from an array of numbers (linear coefficients) or `Law`s: a
+    /// `Bushing`'s law key given as an expression rather than an array literal.
+    pub fn laws<T: Into<modia3d_core::Law>>(a: [T; 3]) -> [modia3d_core::Law; 3] {
+        a.map(Into::into)
+    }
+
     /// What `model!` accepts for a contact pair's `v_min` / `w_min`: `f64` or `Option<f64>`.
     #[diagnostic::on_unimplemented(
         message = "expected `f64` or `Option<f64>`, found `{Self}`",
@@ -207,10 +218,12 @@ pub mod prelude {
         Action, ActionError, ActionKind, Axis, BodyInfo, ContactPairInfo, ContactPairMaterial,
         ContactPhase, ContactProfile, Event, Feature, ForceElement, ForceFn, FreeRotation, Input,
         InputError, InputKind, Joint, JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef,
-        Model, Object3D, ObjectMotion, PlotFormat, PlotOptions, ResultError, Rotation, SceneDesc,
-        SceneError, SceneErrors, SceneOptions, Shape, Signal, SimError, SimErrorKind, SimOptions,
-        SimStats, SimWarning, Simulation, SimulationResult, Solid, SolidMaterial, Wrench,
+        MeshCollision, Model, Object3D, ObjectMotion, PlotFormat, PlotOptions, ResultError,
+        Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Shape, Signal, SimError,
+        SimErrorKind, SimOptions, SimStats, SimWarning, Simulation, SimulationResult, Solid,
+        SolidMaterial, Wrench,
     };
+    pub use modia3d_core::{Bushing, GravityField, Law, VectorLaw};
     pub use modia3d_macros::model;
     pub use nalgebra::{Matrix3, Point3, UnitQuaternion, Vector3};
 }

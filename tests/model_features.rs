@@ -432,6 +432,7 @@ fn scene_options_and_contact_pairs() {
     let mut b = SceneDesc::new();
     b.add(Object3D::new("world").scene(SceneOptions {
         gravity: Vector3::new(0.0, 0.0, -1.0),
+        gravity_field: None,
         contact_detection: true,
         k_red: 1e-3,
         d_max: 2000.0,

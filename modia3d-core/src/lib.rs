@@ -43,7 +43,7 @@ mod counting_alloc;
 
 #[cfg(feature = "solver")]
 pub use contact::ContactError;
-pub use geometry::{Axis, Shape};
+pub use geometry::{Axis, MeshCollision, Shape};
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]
@@ -51,6 +51,7 @@ pub use results::{
     ContactPhase, Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimWarning,
     SimulationResult, EVENT_MARKER_COLOR,
 };
+pub use scene::{Bushing, GravityField, Law, VectorLaw};
 pub use scene::{
     Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,
     FreeRotation, Input, InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef,

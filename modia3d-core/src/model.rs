@@ -119,6 +119,7 @@ impl Model {
         crate::dynamics::loops::assemble_initial(&mut plan).map_err(|e| SceneErrors(vec![e]))?;
         let contact = ContactPlan::compile(&plan.scene, &plan.objects).map_err(SceneErrors)?;
         plan.check_inertia()?;
+        crate::dynamics::forces::check_gravity_centre(&plan)?;
         if let Some(cp) = contact.as_ref().filter(|_| penetration) {
             let deep = crate::contact::initial_penetrations(&plan, cp);
             if !deep.is_empty() {

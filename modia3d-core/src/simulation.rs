@@ -35,7 +35,8 @@ pub enum SimErrorKind {
         /// Time \[s\].
         t: f64,
     },
-    /// A user closure (an `ObjectForce` force law) panicked; the panic was caught at the call.
+    /// A user closure (an `ObjectForce` law, or a law of a `Bushing`, `SpringDamperPtP`,
+    /// `WorldForce` or `WorldTorque`) panicked; the panic was caught at the call.
     #[error("{element} panicked at t = {t} s: {message}; the run was stopped: a force law must return a finite wrench for every state the integrator tries")]
     UserPanic {
         /// The element whose closure panicked, e.g. ``ObjectForce on `ball` (force element 0)``.
@@ -56,6 +57,18 @@ pub enum SimErrorKind {
         force: [f64; 3],
         /// The torque returned [N·m], resolved in world.
         torque: [f64; 3],
+    },
+    /// A force element is undefined in the state reached, or one of its scalar laws returned a
+    /// non-finite value: a bushing's Cardan angles at gimbal lock, a body at the centre of point
+    /// gravity, a spring law returning NaN.
+    #[error("{element} failed at t = {t} s: {reason}; the run was stopped")]
+    ForceElement {
+        /// The element, e.g. ``bushing `mount` (force element 0)``.
+        element: String,
+        /// Time \[s\].
+        t: f64,
+        /// What happened and what to do.
+        reason: String,
     },
     /// A kinematic loop could not be closed again at a restart (an event or an input change).
     #[error("kinematic loop closed by joint `{cut}` (through {joints:?}) does not close at t = {t} s: constraint residual {residual:.3e} after projection; the mechanism reached a position its links cannot take (a singular or locked position), check the drive and its inputs")]
@@ -123,6 +136,11 @@ impl From<UserFault> for SimErrorKind {
                 t: f.t,
                 force,
                 torque,
+            },
+            FaultKind::Undefined(reason) => SimErrorKind::ForceElement {
+                element,
+                t: f.t,
+                reason,
             },
         }
     }

@@ -72,6 +72,8 @@ pub enum MaterialName {
 pub struct SceneIr {
     /// `gravity = …`.
     pub gravity: Option<Expr>,
+    /// `gravity_field = …` (a `GravityField` expression).
+    pub gravity_field: Option<Expr>,
     /// `contact_detection = …` and its literal value.
     pub contact_detection: Option<(Expr, Option<bool>)>,
     /// `exact_restitution = …` (`bool`; no scene rule depends on it).
@@ -170,6 +172,22 @@ pub enum ShapeIr {
     },
     /// `ConvexHull(points)`.
     Hull(Expr),
+    /// `FileMesh(path, scale, convex_decomposition)`.
+    FileMesh {
+        /// The path (anything `PathBuf::from` takes).
+        path: Expr,
+        /// `[f64; 3]` factors (default ones).
+        scale: Option<Num>,
+        /// A `bool` (default false).
+        convex_decomposition: Option<Expr>,
+    },
+    /// `Beam(axis, length, width, thickness)`.
+    Beam {
+        /// The longitudinal axis.
+        axis: AxisIr,
+        /// `[length, width, thickness]`.
+        dims: [Num; 3],
+    },
 }
 
 /// A shape's axis.
@@ -254,12 +272,41 @@ pub enum ForceIr {
         obj1: NameRef,
         /// Ends.
         obj2: NameRef,
-        /// `stiffness`.
-        stiffness: Num,
+        /// `stiffness`, or `spring_law` (then `stiffness` is `None`).
+        stiffness: Option<Num>,
         /// `damping`.
         damping: Option<Num>,
         /// `length0`.
         length0: Option<Num>,
+        /// `spring_law = <number or closure>` (a `SpringDamperPtP`).
+        spring_law: Option<Num>,
+        /// `damper_law = <number or closure>`.
+        damper_law: Option<Num>,
+    },
+    /// `Bushing`.
+    Bushing {
+        /// Ends.
+        obj1: NameRef,
+        /// Ends.
+        obj2: NameRef,
+        /// `nominal_force`, `nominal_torque`: 3-vectors.
+        nominal: [Option<Num>; 2],
+        /// `spring_law`, `damper_law`, `rot_spring_law`, `rot_damper_law` (`vocab::BUSHING_LAWS`):
+        /// 3-arrays of numbers or closures.
+        laws: [Option<Num>; 4],
+        /// `large_angles`.
+        large_angles: Option<Expr>,
+    },
+    /// `WorldForce` (`torque = false`) or `WorldTorque`.
+    WorldVector {
+        /// The object acted on.
+        object: NameRef,
+        /// The value: a 3-vector or a closure `|t, motion| …`.
+        value: Expr,
+        /// `resolved_in`.
+        resolved_in: Option<NameRef>,
+        /// `WorldTorque`.
+        torque: bool,
     },
     /// `JointSpringDamper`.
     JointSpringDamper {

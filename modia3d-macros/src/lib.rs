@@ -71,7 +71,10 @@ use proc_macro::TokenStream;
 /// | `Cylindrical` | `obj1*`, `obj2*`, `axis = 3`, `phi` (rad), `s` (m), `w` (rad/s), `v` (m/s) as `Var(init = …)`, `can_collide`, `cut` |
 /// | `Planar` | `obj1*`, `obj2*`, `normal = 3` (as `axis`), `x`, `y` (m, resolved in obj1 along the plane axes: normal z → x, y; x → y, z; y → z, x), `phi` (rad), `vx`, `vy` (m/s), `w` (rad/s) as `Var(init = …)`, `can_collide`, `cut` |
 /// | `Fix` | `obj1*`, `obj2*`, `can_collide`, `cut` |
-/// | `SpringDamper` | `obj1*`, `obj2*`, `stiffness*` (N/m), `damping = 0` (N·s/m), `length0 = 0` (m) |
+/// | `SpringDamper` | `obj1*`, `obj2*`, `stiffness*` (N/m), `damping = 0` (N·s/m), `length0 = 0` (m); or `spring_law` (N from the elongation in m) / `damper_law` (N from the rate in m/s) in place of `stiffness` / `damping`: a number (the coefficient) or a closure `\|x\| …` (a `SpringDamperPtP`; signals `length`, `length_rate`, `tension`) |
+/// | `Bushing` | `obj1*`, `obj2*`, `nominal_force = 0` (N, along obj1's axes), `spring_law`, `damper_law` (per axis x, y, z of obj1: `[a, b, c]`, each a number in N/m, N·s/m or a closure `\|x\| …` → N), `nominal_torque = 0` (N·m), `rot_spring_law`, `rot_damper_law` (per angle, N·m/rad, N·m·s/rad or closures → N·m), `large_angles = false` (Cardan formulation); unset laws are 0; signals `r`, `v`, `angles`, `rates`, `force`, `torque` |
+/// | `WorldForce` | `object*`, `force*` (N: `[f64; 3]`, `Vector3<f64>` or a closure `\|t, m: &ObjectMotion\| -> Vector3<f64>`), `resolved_in` (an object whose axes resolve the force; default world) |
+/// | `WorldTorque` | `object*`, `torque*` (N·m, as `force`), `resolved_in` |
 /// | `JointSpringDamper` | `joint*` (a joint with scalar coordinates), `coordinate` (`"phi2"`, `"s"`, …; needed on a joint with several), `stiffness*`, `damping = 0`, `offset = 0` |
 /// | `ObjectForce` | `object*`, `law*`: a closure `move \|t: f64, m: &ObjectMotion\| -> Wrench` |
 /// | `SolidMaterial` | `density*` (kg/m³), `young_modulus*` (N/m²), `poisson_ratio*` — a material of this block |
@@ -88,7 +91,7 @@ use proc_macro::TokenStream;
 ///
 /// | constructor | keys |
 /// |---|---|
-/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `contact_detection = true`, `exact_restitution = false` (`bool`: damping from the exact restitution relation instead of the paper's approximation), `average_missing_pairs = false` (`bool`: a missing contact pair is the mean of its two self-pairs, with a warning), `modia3d_conventions = false` (`bool`: Modia3D.jl's readings of contact stiffness, `can_collide`, `MassProperties(mass = …)` and atol; `SceneOptions::modia3d_conventions`), `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
+/// | `Scene` | the fields of `SceneOptions`, others from its `Default`: `gravity = [0, 0, -9.81]` (`[f64; 3]` or `Vector3<f64>`, m/s²), `gravity_field` (a `GravityField`: `None`, `Uniform(g)`, `Point { mu, centre }`; replaces `gravity`), `contact_detection = true`, `exact_restitution = false` (`bool`: damping from the exact restitution relation instead of the paper's approximation), `average_missing_pairs = false` (`bool`: a missing contact pair is the mean of its two self-pairs, with a warning), `modia3d_conventions = false` (`bool`: Modia3D.jl's readings of contact stiffness, `can_collide`, `MassProperties(mass = …)` and atol; `SceneOptions::modia3d_conventions`), `k_red = 1`, `d_max = 1000` (s/m), `cor_min = 0.001`, `v_min = 0.01` (m/s), `w_min = 0.01` (rad/s), `hysteresis = 1e-8` (m), `mpr_tolerance = 1e-11`, `mpr_max_iterations = 100` (`u32`), `smoothing_radius = 0.001` (m), `profile = Paper2019` (or `Modia3DLater`, or a `ContactProfile` expression; sets only the profile) |
 /// | `Solid` | `shape*` (unless explicit mass properties), `solid_material` (`"Steel"`, a block material's name as string or identifier, or a `&str`/`String` expression), `mass_properties` (default: from density), `collision = false`, `contact_material` (string), `smoothing_radius` (m) |
 /// | `Visual` | `shape*` |
 /// | `MassProperties` | `mass*` (kg): the shape's inertia scaled to the mass, or a point mass with `modia3d_conventions`; with `inertia` (`Matrix3<f64>` or rows `[[f64; 3]; 3]`, kg·m², about the centre of mass) and `com = [0,0,0]`: explicit properties |
@@ -98,6 +101,8 @@ use proc_macro::TokenStream;
 /// | `Cylinder`, `Capsule` | `axis = 3` (literal 1..3 or an `Axis` expression), `diameter*`, `length*` |
 /// | `Cone` | `axis = 3`, `diameter*`, `length*`, `top_diameter = 0` |
 /// | `ConvexHull` | `points*`: anything iterable over `[f64; 3]` or `Point3<f64>` |
+/// | `FileMesh` | `path*` (`.obj` or `.stl`; anything `PathBuf::from` takes, read by `build()`, relative to the current directory: write `concat!(env!("CARGO_MANIFEST_DIR"), "/…")` for a crate's own file), `scale = [1, 1, 1]` (factors to metres), `convex_decomposition = false` (`bool`: collide as convex parts instead of the convex hull) |
+/// | `Beam` | `axis = 3`, `length*` (straight part, without the round ends), `width*` (= diameter of the ends), `thickness*` (m) |
 ///
 /// Any `feature` or `shape` value that is not one of these constructors is taken as a Rust
 /// expression of type `Feature` or `Shape`.

@@ -16,6 +16,9 @@ pub const COMPONENTS: &[&str] = &[
     "SpringDamper",
     "JointSpringDamper",
     "ObjectForce",
+    "Bushing",
+    "WorldForce",
+    "WorldTorque",
     "SolidMaterial",
     "ContactPair",
     "JointForce",
@@ -41,6 +44,8 @@ pub const NESTED: &[&str] = &[
     "Cone",
     "Ellipsoid",
     "ConvexHull",
+    "Beam",
+    "FileMesh",
 ];
 
 /// Constructors of `feature = …`.
@@ -55,11 +60,14 @@ pub const SHAPES: &[&str] = &[
     "Cone",
     "Ellipsoid",
     "ConvexHull",
+    "Beam",
+    "FileMesh",
 ];
 
 /// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).
 pub const SCENE_KEYS: &[&str] = &[
     "gravity",
+    "gravity_field",
     "contact_detection",
     "exact_restitution",
     "average_missing_pairs",
@@ -90,6 +98,47 @@ pub const SCENE_NUMBERS: &[&str] = &[
 
 /// The variants of `ContactProfile`.
 pub const PROFILES: &[&str] = &["Paper2019", "Modia3DLater"];
+
+/// Keys of `SpringDamper(…)`: `spring_law`/`damper_law` (a number or a closure of the
+/// elongation / its rate) replace `stiffness`/`damping`.
+pub const SPRING_DAMPER_KEYS: &[&str] = &[
+    "obj1",
+    "obj2",
+    "stiffness",
+    "damping",
+    "length0",
+    "spring_law",
+    "damper_law",
+];
+
+/// Keys of `Bushing(…)` (Modia3D's, in snake case; each law a 3-array of numbers or closures).
+pub const BUSHING_KEYS: &[&str] = &[
+    "obj1",
+    "obj2",
+    "nominal_force",
+    "spring_law",
+    "damper_law",
+    "nominal_torque",
+    "rot_spring_law",
+    "rot_damper_law",
+    "large_angles",
+];
+
+/// The law keys of `Bushing(…)`.
+pub const BUSHING_LAWS: &[&str] = &[
+    "spring_law",
+    "damper_law",
+    "rot_spring_law",
+    "rot_damper_law",
+];
+
+/// Keys of `WorldForce(…)` and `WorldTorque(…)` (the value key is `force` or `torque`).
+pub fn world_vector_keys(ctor: &str) -> &'static [&'static str] {
+    match ctor {
+        "WorldTorque" => &["object", "torque", "resolved_in"],
+        _ => &["object", "force", "resolved_in"],
+    }
+}
 
 /// Keys of `Solid(…)`.
 pub const SOLID_KEYS: &[&str] = &[
@@ -215,6 +264,20 @@ pub const SYNONYMS: &[(&str, &str)] = &[
     ("contact_profile", "profile"),
     ("mu", "mu_k"),
     ("e", "cor"),
+    ("spring_force_law", "spring_law"),
+    ("damper_force_law", "damper_law"),
+    ("rot_spring_force_law", "rot_spring_law"),
+    ("rot_damper_force_law", "rot_damper_law"),
+    ("stiffness", "spring_law"),
+    ("damping", "damper_law"),
+    ("rot_stiffness", "rot_spring_law"),
+    ("rot_damping", "rot_damper_law"),
+    ("large_angle", "large_angles"),
+    ("obj", "object"),
+    ("frame", "resolved_in"),
+    ("frame_coord", "resolved_in"),
+    ("force", "torque"),
+    ("torque", "force"),
 ];
 
 /// What a component is.
@@ -245,7 +308,8 @@ impl Kind {
             "Object3D" => Kind::Object,
             "Fix" | "Revolute" | "Prismatic" | "FreeMotion" | "Spherical" | "Universal"
             | "Cylindrical" | "Planar" => Kind::Joint,
-            "SpringDamper" | "JointSpringDamper" | "ObjectForce" => Kind::Force,
+            "SpringDamper" | "JointSpringDamper" | "ObjectForce" | "Bushing" | "WorldForce"
+            | "WorldTorque" => Kind::Force,
             "SolidMaterial" => Kind::Material,
             "ContactPair" => Kind::ContactPair,
             "JointForce" | "JointAcceleration" | "ObjectWrench" => Kind::Input,

@@ -8,7 +8,7 @@
 
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::{BodyId, ObjectPlan};
-use crate::geometry::{CollisionShape, NarrowPhaseOptions, Shape};
+use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
 /// A collision shape of the plan.
@@ -16,6 +16,9 @@ use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 pub struct ShapePlan {
     /// Scene object index (the shape frame is the object frame).
     pub object: usize,
+    /// Index of this convex part of a decomposed mesh (`None` for every other shape): the
+    /// pair names call it `<object>#<part>`.
+    pub part: Option<usize>,
     /// Moving body it belongs to; `None` = fixed to the world.
     pub body: Option<BodyId>,
     /// The object frame placed in the body frame (or in world) \[m\].
@@ -130,11 +133,14 @@ struct PairMaterial {
 impl ContactPlan {
     /// Display name of pair `pp`: `"<object a>|<object b>"` (the owner part of its signals).
     pub fn pair_name(&self, scene: &ValidScene, pp: &PairPlan) -> String {
-        format!(
-            "{}|{}",
-            scene.objects[self.shapes[pp.a].object].name,
-            scene.objects[self.shapes[pp.b].object].name
-        )
+        let name = |s: &ShapePlan| {
+            let o = &scene.objects[s.object].name;
+            match s.part {
+                Some(k) => format!("{o}#{k}"),
+                None => o.clone(),
+            }
+        };
+        format!("{}|{}", name(&self.shapes[pp.a]), name(&self.shapes[pp.b]))
     }
 
     /// Compiles the pipeline; `Ok(None)` when collision handling is off or there is no
@@ -161,39 +167,51 @@ impl ContactPlan {
                 continue; // reported by validation
             };
             let r = s.smoothing_radius.unwrap_or(opts.smoothing_radius);
-            let cs = match CollisionShape::with_smoothing(shape, r) {
-                Ok(cs) => cs,
-                Err(e) => {
-                    errors.push(SceneError::InvalidValue {
-                        what: format!("object `{}`: collision shape ({e})", o.name),
-                        value: r,
-                        expected: "a shape that can be smoothed with this radius",
-                    });
-                    continue;
+            // One collision shape per convex part (a decomposed mesh has several, all on the
+            // same body, so they never pair with each other).
+            let decomposed = matches!(
+                shape,
+                Shape::Mesh {
+                    collision: MeshCollision::ConvexDecomposition,
+                    ..
                 }
-            };
-            shapes.push(ShapePlan {
-                object: i,
-                body: objects[i].body,
-                in_body: objects[i].in_body,
-                shape: cs,
-                contact_material: cm.clone(),
-                c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
-                round: matches!(shape, Shape::Sphere { .. }),
-                material: 0, // set below
-                geo: {
-                    let (radius, flat) = contact_radius(shape);
-                    let sphere_diameter = match shape {
-                        Shape::Sphere { diameter } => Some(*diameter),
-                        _ => None,
-                    };
-                    ShapeGeo {
-                        sphere_diameter,
-                        radius,
-                        flat,
+            );
+            for (k, shape) in shape.collision_parts().iter().enumerate() {
+                let cs = match CollisionShape::with_smoothing(shape, r) {
+                    Ok(cs) => cs,
+                    Err(e) => {
+                        errors.push(SceneError::InvalidValue {
+                            what: format!("object `{}`: collision shape ({e})", o.name),
+                            value: r,
+                            expected: "a shape that can be smoothed with this radius",
+                        });
+                        continue;
                     }
-                },
-            });
+                };
+                shapes.push(ShapePlan {
+                    object: i,
+                    part: decomposed.then_some(k),
+                    body: objects[i].body,
+                    in_body: objects[i].in_body,
+                    shape: cs,
+                    contact_material: cm.clone(),
+                    c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
+                    round: matches!(shape, Shape::Sphere { .. }),
+                    material: 0, // set below
+                    geo: {
+                        let (radius, flat) = contact_radius(shape);
+                        let sphere_diameter = match shape {
+                            Shape::Sphere { diameter } => Some(*diameter),
+                            _ => None,
+                        };
+                        ShapeGeo {
+                            sphere_diameter,
+                            radius,
+                            flat,
+                        }
+                    },
+                });
+            }
         }
         // Which solids can meet: the scene's contact rules (`scene/contact_rules.rs`), which
         // validation also uses to report pairs without a material.
@@ -392,7 +410,11 @@ fn contact_radius(s: &Shape) -> (f64, bool) {
             ..
         } => (0.25 * (diameter + top_diameter), false),
         Shape::Ellipsoid { lengths } => (0.5 * lengths.min(), false),
-        Shape::ConvexHull { .. } => {
+        // Its flat faces are what it usually rests on.
+        Shape::Beam {
+            width, thickness, ..
+        } => (0.5 * width.min(*thickness), true),
+        Shape::ConvexHull { .. } | Shape::Mesh { .. } | Shape::FileMesh { .. } => {
             let w = s
                 .unit_mass_properties()
                 .map(|u| u.volume.cbrt())

@@ -9,6 +9,20 @@ use crate::solver::DaeSystem;
 use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
 use nalgebra::Vector3;
 
+/// A fixed collision table `side × side × 0.1` m of `material`, its top face at z = 0.
+fn table(side: f64, material: &str) -> Object3D {
+    Object3D::new("table")
+        .parent("world")
+        .translation([0.0, 0.0, -0.05])
+        .solid(
+            Solid::new(Shape::Box {
+                lengths: Vector3::new(side, side, 0.1),
+            })
+            .material(material)
+            .collision(true),
+        )
+}
+
 /// Eight steel balls (d = 0.06 m) on a steel table, each 1e-7 m into it (in contact from the
 /// start), 0.02 m apart from each other: 8 ball–table contacts, 28 ball–ball candidate pairs
 /// (all separated), exercising the broad phase, narrow phase and response of both kinds.
@@ -16,18 +30,7 @@ pub(crate) fn balls_on_a_table() -> SceneDesc {
     let d = 0.06;
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(
-            Object3D::new("table")
-                .parent("world")
-                .translation([0.0, 0.0, -0.05])
-                .solid(
-                    Solid::new(Shape::Box {
-                        lengths: Vector3::new(1.0, 1.0, 0.1),
-                    })
-                    .material("Steel")
-                    .collision(true),
-                ),
-        );
+        .add(table(1.0, "Steel"));
     for i in 0..8 {
         let name = format!("ball{i}");
         let (x, y) = ((i % 4) as f64 * (d + 0.02), (i / 4) as f64 * (d + 0.02));
@@ -55,7 +58,57 @@ pub(crate) fn balls_on_a_table() -> SceneDesc {
 
 #[test]
 fn residual_roots_and_events_do_not_allocate() {
-    let model = balls_on_a_table().build().unwrap();
+    let g = hot_path_allocations(balls_on_a_table());
+    assert!(
+        g[0] < 0.0 && g[1] > 0.0,
+        "balls rest on the table, none touch each other: {g:?}"
+    );
+}
+
+/// A beam (its own core) and a decomposed L-block mesh (two hull parts on one body) resting
+/// 1e-7 m into a table: the contact hot path allocates nothing for them either.
+#[test]
+fn beam_and_decomposed_mesh_do_not_allocate() {
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(table(2.0, "DryWood"));
+    let beam = Shape::Beam {
+        axis: crate::geometry::Axis::X,
+        length: 0.3,
+        width: 0.1,
+        thickness: 0.04,
+    };
+    let mesh = Shape::FileMesh {
+        path: concat!(env!("CARGO_MANIFEST_DIR"), "/../tests/data/l_block.stl").into(),
+        scale: Vector3::repeat(1.0),
+        collision: crate::geometry::MeshCollision::ConvexDecomposition,
+    };
+    for (name, shape, r) in [
+        ("beam", beam, Vector3::new(-0.5, 0.0, 0.02 - 1e-7)),
+        ("block", mesh, Vector3::new(0.2, 0.0, -1e-7)),
+    ] {
+        s.add(Object3D::new(name).solid(Solid::new(shape).material("DryWood").collision(true)))
+            .add_joint(Joint::new(
+                &format!("{name}.free"),
+                "world",
+                name,
+                JointKind::FreeMotion {
+                    r,
+                    rot: FreeRotation::Cardan([0.0; 3]),
+                    v: Vector3::zeros(),
+                    w: Vector3::zeros(),
+                },
+            ));
+    }
+    let g = hot_path_allocations(s);
+    assert!(g[0] < 0.0, "in contact: {g:?}");
+}
+
+/// Runs residual, roots and event handling 100 times on the built `scene` at its initial state
+/// after a warm-up, asserts that nothing was allocated and that the consistent derivative
+/// solves the residual; returns the root values.
+fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
+    let model = scene.build().unwrap();
     assert!(model.contact.is_some(), "the scene has candidate pairs");
     let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
     let y = model.plan.y0();
@@ -76,13 +129,11 @@ fn residual_roots_and_events_do_not_allocate() {
     }
     let after = allocs();
     assert_eq!(after - before, 0, "allocations on the contact hot path");
-    assert!(
-        g[0] < 0.0 && g[1] > 0.0,
-        "balls rest on the table, none touch each other: {g:?}"
-    );
     // The consistent derivative solves the residual to round-off of the forces (m g ≈ 8.7 N
-    // per ball; 1e-6 is far above round-off and far below any missed term).
+    // per ball, 10 to 40 N for the beam and block; 1e-6 is far above round-off and far below
+    // any missed term).
     assert!(res.iter().all(|r| r.abs() < 1e-6), "consistent start");
+    g
 }
 
 /// A planar parallelogram four-bar (crank and rocker 0.1 m, coupler 0.3 m, ground 0.3 m) closed
@@ -176,4 +227,73 @@ fn only_near_pairs_have_a_state() {
         assert_eq!(cp.pair_by_id(id), Some(pp));
     }
     assert_eq!(cp.pair_by_id(cp.n_pairs), None);
+}
+
+/// The new force elements allocate nothing in the residual: a large-angle bushing with a
+/// closure law, a nonlinear point-to-point spring-damper, world forces and torques (constant,
+/// closure, resolved in an object) under point gravity.
+#[test]
+fn force_elements_and_point_gravity_do_not_allocate() {
+    use crate::scene::{Bushing, ForceElement, GravityField, Law, VectorLaw};
+    let mut s = SceneDesc::new();
+    let field = GravityField::Point {
+        mu: 1.0,
+        centre: Vector3::new(0.0, 0.0, -3.0),
+    };
+    s.add(Object3D::new("world").scene(SceneOptions {
+        gravity_field: Some(field),
+        ..Default::default()
+    }))
+    .add(Object3D::new("block").solid(Solid::new(Shape::Sphere { diameter: 0.2 }).mass(1.0)))
+    .add_joint(Joint::new(
+        "free",
+        "world",
+        "block",
+        JointKind::FreeMotion {
+            r: Vector3::new(0.1, 0.0, 0.2),
+            rot: FreeRotation::Cardan([0.3, 0.2, 0.1]),
+            v: Vector3::new(0.0, 0.1, 0.0),
+            w: Vector3::new(0.2, 0.0, 0.1),
+        },
+    ));
+    let mut b = Bushing::new("mount", "world", "block")
+        .stiffness([100.0; 3])
+        .damping([1.0; 3])
+        .rot_stiffness([10.0; 3])
+        .large_angles(true);
+    b.rot_damper[2] = Law::new(|w| 0.1 * w + 0.01 * w * w * w);
+    s.add_force(ForceElement::from(b))
+        .add_force(ForceElement::SpringDamperPtP {
+            name: "cubic".into(),
+            obj1: "world".into(),
+            obj2: "block".into(),
+            length0: 0.1,
+            spring: Law::new(|x| 50.0 * x + 1e3 * x * x * x),
+            damper: Law::Linear(0.5),
+        })
+        .add_force(ForceElement::WorldForce {
+            object: "block".into(),
+            force: VectorLaw::new(|t, m| Vector3::new(t.sin(), 0.0, -m.v_abs.z)),
+            resolved_in: None,
+        })
+        .add_force(ForceElement::WorldTorque {
+            object: "block".into(),
+            torque: VectorLaw::from([0.0, 0.0, 0.5]),
+            resolved_in: Some("block".into()),
+        });
+    let model = s.build().unwrap();
+    let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+    let y = model.plan.y0();
+    let yp = dae.consistent_derivative(0.0, &mut y.clone()).unwrap();
+    let mut res = vec![0.0; y.len()];
+    dae.residual(0.0, &y, &yp, &mut res).unwrap();
+    let before = allocs();
+    for k in 0..100 {
+        dae.residual(k as f64 * 1e-3, &y, &yp, &mut res).unwrap();
+    }
+    assert_eq!(allocs() - before, 0, "allocations in the force elements");
+    // At t = 0 the consistent derivative makes the residual vanish: every element is applied
+    // the same way in both (the time-dependent force changes it at later times).
+    dae.residual(0.0, &y, &yp, &mut res).unwrap();
+    assert!(res.iter().all(|r| r.abs() < 1e-9), "{res:?}");
 }

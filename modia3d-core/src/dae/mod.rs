@@ -8,7 +8,6 @@ use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
-use crate::scene::ValidForce;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
@@ -75,8 +74,8 @@ impl TreeBlocks {
             }
         }
         for f in &plan.scene.forces {
-            if let ValidForce::SpringDamper { obj1, obj2, .. } = f {
-                if let (Some(a), Some(b)) = (plan.objects[*obj1].body, plan.objects[*obj2].body) {
+            if let Some((obj1, obj2)) = f.coupled_objects() {
+                if let (Some(a), Some(b)) = (plan.objects[obj1].body, plan.objects[obj2].body) {
                     if of_body[a.index()] != of_body[b.index()] {
                         couplings.push((of_body[a.index()], of_body[b.index()]));
                     }

@@ -7,7 +7,9 @@
 use super::ids::{BodyId, IdVec, JointId, ObjectId};
 use super::spatial::{Inertia, Transform};
 pub use crate::joints::JointCoord;
-use crate::scene::{SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene};
+use crate::scene::{
+    GravityField, SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene,
+};
 use nalgebra::{Isometry3, Vector3};
 
 /// A moving body: the objects rigidly attached to each other, moved by one joint.
@@ -113,8 +115,12 @@ pub struct Plan {
     pub q0: Vec<f64>,
     /// Initial velocities.
     pub v0: Vec<f64>,
-    /// Gravity, resolved in world [m/s²].
+    /// Uniform gravity, resolved in world [m/s²] (zero for no field and for point gravity):
+    /// the base acceleration of the recursive Newton–Euler pass.
     pub gravity: Vector3<f64>,
+    /// Point gravity `(μ [m³/s²], centre resolved in world [m])`, applied per body in
+    /// `forces::applied_forces` (it differs from body to body, so it is no base acceleration).
+    pub point_gravity: Option<(f64, Vector3<f64>)>,
     /// The validated scene it was compiled from.
     pub scene: ValidScene,
     /// Inputs, in declaration order.
@@ -339,7 +345,14 @@ impl Plan {
             nv,
             q0,
             v0,
-            gravity: scene.options.gravity,
+            gravity: match scene.options.field() {
+                GravityField::Uniform(g) => g,
+                GravityField::None | GravityField::Point { .. } => Vector3::zeros(),
+            },
+            point_gravity: match scene.options.field() {
+                GravityField::Point { mu, centre } => Some((mu, centre)),
+                _ => None,
+            },
             scene,
         }
     }

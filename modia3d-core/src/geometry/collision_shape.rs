@@ -2,8 +2,8 @@
 //!
 //! `CollisionShape = core ⊕ ball(margin)`: the core's support map (see [`CoreShape`]) plus a
 //! margin radius. Spheres are a point swept by their radius and capsules a segment swept by their
-//! radius (this is what makes MPR exact for them); boxes, cylinders, cones and convex hulls are
-//! shrunk by their smoothing radius and swept by it (see [`super::smoothing`]); ellipsoids have
+//! radius (this is what makes MPR exact for them); boxes, cylinders, cones, beams and convex
+//! hulls are shrunk by their smoothing radius and swept by it (see [`super::smoothing`]); ellipsoids have
 //! margin 0.
 
 use super::error::GeometryError;
@@ -96,18 +96,42 @@ impl CollisionShape {
                 },
                 r,
             ),
+            Shape::Beam {
+                axis,
+                length,
+                width,
+                thickness,
+            } => (
+                CoreShape::Beam {
+                    axis: *axis,
+                    half_length: 0.5 * length,
+                    half_thickness: 0.5 * thickness - r,
+                    radius: 0.5 * width - r,
+                },
+                r,
+            ),
             Shape::Cone {
                 axis,
                 diameter,
                 length,
                 top_diameter,
             } => (shrunk_cone(*axis, *diameter, *length, *top_diameter, r), r),
+            // A mesh as one shape is its convex hull (`Shape::collision_parts` splits it).
             Shape::ConvexHull { points } => (
                 CoreShape::Hull {
                     vertices: shrink_convex_hull(points, r)?,
                 },
                 r,
             ),
+            Shape::Mesh { mesh, .. } => (
+                CoreShape::Hull {
+                    vertices: shrink_convex_hull(&mesh.vertices, r)?,
+                },
+                r,
+            ),
+            Shape::FileMesh { path, .. } => {
+                return Err(GeometryError::MeshNotLoaded(path.display().to_string()))
+            }
         };
         let centre = core.interior_point();
         // Local AABB of the core (support along ±axes) grown by the margin.

@@ -5,7 +5,8 @@
 //! - [`shapes`]: the user's [`Shape`] and its exact mass properties;
 //! - [`collision_shape`]: [`CollisionShape`] = core ⊕ ball(margin), built once per solid, with
 //!   [`smoothing`] (rounded edges of boxes, cylinders, cones, hulls) and [`support`] (closed-form
-//!   support maps of the cores); [`mesh_file`]: hull vertices from an OBJ file;
+//!   support maps of the cores); [`mesh_file`]: triangle meshes from OBJ/STL files, their
+//!   mass properties and convex parts;
 //! - [`aabb`]: tight world AABBs and the distance between separated AABBs (`δ_AABB`);
 //! - [`broad_phase`]: sort and sweep with temporal coherence → candidate pairs;
 //! - [`narrow_phase`]: [`signed_distance`] — one dispatch `match`: closed forms
@@ -30,11 +31,13 @@ pub use aabb::{aabb_distance, aabbs_overlap, world_aabb, world_aabbs_into, Aabb}
 pub use broad_phase::BroadPhase;
 pub use collision_shape::CollisionShape;
 pub use error::GeometryError;
-pub use mesh_file::{convex_hull_from_obj, obj_vertices};
+pub use mesh_file::{
+    convex_hull_from_obj, convex_parts, load_mesh, mesh_mass_properties, obj_vertices, TriangleMesh,
+};
 pub use narrow_phase::{
     contact_patch, contact_point, signed_distance, signed_distance_method, ContactPatch,
     NarrowPhaseOptions, SignedDistance,
 };
-pub use shapes::{Axis, Shape, ShapeKind, UnitMassProperties};
+pub use shapes::{Axis, MeshCollision, Shape, ShapeKind, UnitMassProperties};
 pub use smoothing::{effective_smoothing_radius, DEFAULT_SMOOTHING_RADIUS};
 pub use support::CoreShape;

@@ -7,10 +7,31 @@
 //! - `Capsule::length` is the length of its cylindrical part (the total length is
 //!   `length + diameter`);
 //! - a `Cone`'s base circle (diameter `diameter`) lies in the plane `axis = 0`, its top circle
-//!   (diameter `top_diameter`, 0 for a pointed cone) at `axis = length`.
+//!   (diameter `top_diameter`, 0 for a pointed cone) at `axis = length`;
+//! - a `Beam` (Modia3D's `Beam`) is a box with two half-cylinder ends, centred at the origin:
+//!   `length` (the box part only; the total length is `length + width`) along `axis`, `width`
+//!   (= the diameter of the ends) along the next axis cyclically and `thickness` along the one
+//!   after (axis x: width y, thickness z; y: z, x; z: x, y); the ends' cylinder axes point along
+//!   the thickness direction, their centres at `±length/2` on `axis`.
 
+use super::error::GeometryError;
+use super::mesh_file::{load_mesh, mesh_mass_properties, TriangleMesh};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::f64::consts::PI;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// How a triangle mesh collides.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MeshCollision {
+    /// One collision shape: the convex hull of all vertices (exact for a convex mesh).
+    #[default]
+    ConvexHull,
+    /// Several collision shapes of the same body: the convex parts of a decomposition
+    /// (parry's V-HACD; see `geometry::mesh_file::convex_parts`), for non-convex meshes. The
+    /// parts never collide with each other; each forms its own pairs, named `<object>#<k>`.
+    ConvexDecomposition,
+}
 
 /// A frame axis: 1 = x, 2 = y, 3 = z (Modia's numbering).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -32,6 +53,13 @@ impl Axis {
             3 => Some(Axis::Z),
             _ => None,
         }
+    }
+
+    /// Index (0, 1, 2) of the width and of the thickness direction of a [`Shape::Beam`] along
+    /// this axis: the next two axes cyclically (x → y, z; y → z, x; z → x, y).
+    pub fn beam_directions(self) -> (usize, usize) {
+        let k = self.index();
+        ((k + 1) % 3, (k + 2) % 3)
     }
 
     /// 0, 1 or 2.
@@ -93,6 +121,19 @@ pub enum Shape {
         /// Diameter of the top (0 for a pointed cone) \[m\].
         top_diameter: f64,
     },
+    /// A box with half-cylinder ends (Modia3D's `Beam`), centred at the origin; see the module
+    /// docs for the directions.
+    Beam {
+        /// Longitudinal axis; width along the next axis cyclically, thickness along the third.
+        axis: Axis,
+        /// Length of the box part along `axis`, without the rounded ends (the total length is
+        /// `length + width`), > 0 (with no straight part it is a [`Shape::Cylinder`]) \[m\].
+        length: f64,
+        /// Width = diameter of the half-cylinder ends \[m\].
+        width: f64,
+        /// Thickness, along the ends' cylinder axes \[m\].
+        thickness: f64,
+    },
     /// An ellipsoid with full axis lengths along x, y, z \[m\], centred at the origin.
     Ellipsoid {
         /// Full lengths of the three axes (twice the semi-axes) \[m\].
@@ -102,6 +143,26 @@ pub enum Shape {
     ConvexHull {
         /// Points whose convex hull is the solid \[m\].
         points: Vec<Point3<f64>>,
+    },
+    /// A triangle mesh read from an OBJ or STL file (Modia3D's `FileMesh`), its frame the
+    /// file's. Loaded by `SceneDesc::build` (or [`Shape::load`]) into a [`Shape::Mesh`]; a
+    /// relative `path` is relative to the current directory (see `geometry::mesh_file`). Mass
+    /// properties come from the closed mesh, collision from `collision`.
+    FileMesh {
+        /// The file, `.obj` or `.stl`.
+        path: PathBuf,
+        /// Factors applied to the file's x, y, z coordinates (each > 0) [-]; the file's unit
+        /// times the factor must give metres.
+        scale: Vector3<f64>,
+        /// Convex hull or convex decomposition for collision.
+        collision: MeshCollision,
+    },
+    /// A closed triangle mesh (what a [`Shape::FileMesh`] becomes when loaded).
+    Mesh {
+        /// The mesh, in the shape frame \[m\].
+        mesh: Arc<TriangleMesh>,
+        /// Convex hull or convex decomposition for collision.
+        collision: MeshCollision,
     },
 }
 
@@ -130,10 +191,14 @@ pub enum ShapeKind {
     Capsule,
     /// [`Shape::Cone`]
     Cone,
+    /// [`Shape::Beam`]
+    Beam,
     /// [`Shape::Ellipsoid`]
     Ellipsoid,
     /// [`Shape::ConvexHull`]
     ConvexHull,
+    /// [`Shape::FileMesh`], [`Shape::Mesh`]
+    Mesh,
 }
 
 impl Shape {
@@ -145,8 +210,43 @@ impl Shape {
             Shape::Cylinder { .. } => ShapeKind::Cylinder,
             Shape::Capsule { .. } => ShapeKind::Capsule,
             Shape::Cone { .. } => ShapeKind::Cone,
+            Shape::Beam { .. } => ShapeKind::Beam,
             Shape::Ellipsoid { .. } => ShapeKind::Ellipsoid,
             Shape::ConvexHull { .. } => ShapeKind::ConvexHull,
+            Shape::FileMesh { .. } | Shape::Mesh { .. } => ShapeKind::Mesh,
+        }
+    }
+
+    /// This shape with a [`Shape::FileMesh`] read into a [`Shape::Mesh`]; other shapes
+    /// unchanged. Only reading and parsing can fail here; whether the mesh bounds a solid
+    /// (needed for mass properties, not for a visual) is [`mesh_mass_properties`]' check.
+    pub fn load(&self) -> Result<Shape, GeometryError> {
+        match self {
+            Shape::FileMesh {
+                path,
+                scale,
+                collision,
+            } => {
+                let mesh = load_mesh(path, *scale)?;
+                Ok(Shape::Mesh {
+                    mesh: Arc::new(mesh),
+                    collision: *collision,
+                })
+            }
+            _ => Ok(self.clone()),
+        }
+    }
+
+    /// The shapes of the collision shapes this shape becomes: itself, or for a mesh the
+    /// convex hulls of its parts ([`MeshCollision`]). Empty for an unloaded file mesh.
+    pub fn collision_parts(&self) -> Vec<Shape> {
+        match self {
+            Shape::Mesh { mesh, collision } => super::mesh_file::convex_parts(mesh, *collision)
+                .into_iter()
+                .map(|points| Shape::ConvexHull { points })
+                .collect(),
+            Shape::FileMesh { .. } => vec![],
+            _ => vec![self.clone()],
         }
     }
 
@@ -169,12 +269,28 @@ impl Shape {
             Shape::Cone {
                 diameter, length, ..
             } => vec![("diameter", *diameter), ("length", *length)],
-            Shape::ConvexHull { .. } => vec![],
+            Shape::Beam {
+                length,
+                width,
+                thickness,
+                ..
+            } => vec![
+                ("length", *length),
+                ("width", *width),
+                ("thickness", *thickness),
+            ],
+            Shape::FileMesh { scale, .. } => vec![
+                ("scale[0]", scale.x),
+                ("scale[1]", scale.y),
+                ("scale[2]", scale.z),
+            ],
+            Shape::ConvexHull { .. } | Shape::Mesh { .. } => vec![],
         }
     }
 
-    /// Exact volume, centre of mass and unit-density inertia. `None` only for a degenerate
-    /// convex hull (fewer than 4 points not in a plane).
+    /// Exact volume, centre of mass and unit-density inertia. `None` for a degenerate convex
+    /// hull (fewer than 4 points not in a plane), a mesh that is not closed (see
+    /// [`mesh_mass_properties`] for the reason) and a [`Shape::FileMesh`] not yet loaded.
     pub fn unit_mass_properties(&self) -> Option<UnitMassProperties> {
         let diag = |d: Vector3<f64>| Matrix3::from_diagonal(&d);
         // Axisymmetric inertia (axial, transverse) placed on `axis`.
@@ -250,6 +366,12 @@ impl Shape {
                     inertia: axisym(*axis, axial, transverse),
                 }
             }
+            Shape::Beam {
+                axis,
+                length,
+                width,
+                thickness,
+            } => beam_mass_properties(*axis, *length, *width, *thickness),
             Shape::Cone {
                 axis,
                 diameter,
@@ -273,6 +395,8 @@ impl Shape {
                     inertia: axisym(*axis, axial, trans_base - v * zc * zc),
                 }
             }
+            Shape::FileMesh { .. } => return None,
+            Shape::Mesh { mesh, .. } => return mesh_mass_properties(mesh).ok(),
             Shape::ConvexHull { points } => {
                 let poly = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(points)?;
                 let mp = parry3d_f64::shape::Shape::mass_properties(&poly, 1.0);
@@ -291,6 +415,33 @@ impl Shape {
             }
         };
         Some(p)
+    }
+}
+
+/// Exact mass properties of a [`Shape::Beam`] of unit density: box `l × w × t` plus two
+/// half-cylinders (radius `w/2`, height `t`) whose flat faces are the box's end faces. With
+/// `u`, `v`, `s` the length, width and thickness coordinates, the second moments `∫u²`, `∫v²`,
+/// `∫s²` are summed over the parts; a half-disk of radius `r` (area `A = πr²/2`) with its flat
+/// side on `u = l/2` has `∫u² dA = A (l²/4 + l·4r/(3π) + r²/4)` and `∫v² dA = A r²/4`. All
+/// products of inertia vanish (the beam is symmetric in every coordinate plane).
+fn beam_mass_properties(axis: Axis, l: f64, w: f64, t: f64) -> UnitMassProperties {
+    let r = 0.5 * w;
+    let v_box = l * w * t;
+    let v_ends = PI * r * r * t; // both half-cylinders
+    let s_u = v_box * l * l / 12.0
+        + v_ends * (0.25 * l * l + 0.25 * r * r)
+        + 4.0 / 3.0 * l * r.powi(3) * t;
+    let s_v = v_box * w * w / 12.0 + v_ends * 0.25 * r * r;
+    let s_s = (v_box + v_ends) * t * t / 12.0;
+    let (kw, kt) = axis.beam_directions();
+    let mut d = Vector3::zeros();
+    d[axis.index()] = s_v + s_s;
+    d[kw] = s_u + s_s;
+    d[kt] = s_u + s_v;
+    UnitMassProperties {
+        volume: v_box + v_ends,
+        com: Vector3::zeros(),
+        inertia: Matrix3::from_diagonal(&d),
     }
 }
 
@@ -379,6 +530,41 @@ mod tests {
         for i in 0..3 {
             assert!(close(cap.inertia[(i, i)], sph.inertia[(i, i)], 1e-13));
         }
+    }
+
+    /// The beam's closed form against Modia3D's route to it (each half-cylinder's inertia about
+    /// the full cylinder's axis, shifted to its own centroid `4r/(3π)` away, then to the beam's
+    /// centre): the same numbers by different algebra, to rounding (1e-12).
+    #[test]
+    fn beam_matches_the_parallel_axis_route() {
+        let (l, w, t) = (0.7, 0.3, 0.11);
+        for axis in [Axis::X, Axis::Y, Axis::Z] {
+            let p = Shape::Beam {
+                axis,
+                length: l,
+                width: w,
+                thickness: t,
+            }
+            .unit_mass_properties()
+            .unwrap();
+            let r = w / 2.0;
+            let (m_box, m_half) = (l * w * t, PI * r * r * t / 2.0);
+            let d = 4.0 * r / (3.0 * PI);
+            let shift = |i0: f64| i0 - m_half * d * d + m_half * (d + l / 2.0).powi(2);
+            let i_l = m_box / 12.0 * (w * w + t * t) + 2.0 * m_half / 12.0 * (3.0 * r * r + t * t);
+            let i_w =
+                m_box / 12.0 * (t * t + l * l) + 2.0 * shift(m_half / 12.0 * (3.0 * r * r + t * t));
+            let i_t = m_box / 12.0 * (l * l + w * w) + 2.0 * shift(m_half / 2.0 * r * r);
+            assert!(close(p.volume, m_box + 2.0 * m_half, 1e-14));
+            assert_eq!(p.com, Vector3::zeros());
+            let (kw, kt) = axis.beam_directions();
+            assert!(close(p.inertia[(axis.index(), axis.index())], i_l, 1e-12));
+            assert!(close(p.inertia[(kw, kw)], i_w, 1e-12));
+            assert!(close(p.inertia[(kt, kt)], i_t, 1e-12));
+            assert_eq!(p.inertia[(0, 1)], 0.0);
+        }
+        // Modia3D's table: axis 2 puts length on y, width on z, thickness on x.
+        assert_eq!(Axis::Y.beam_directions(), (2, 0));
     }
 
     #[test]

@@ -1,6 +1,6 @@
 //! Smoothing of non-smooth shapes (geometry stage; touches nothing else).
 //!
-//! A box, cylinder, cone or convex hull with smoothing radius `r_s > 0` is replaced by
+//! A box, cylinder, cone, beam or convex hull with smoothing radius `r_s > 0` is replaced by
 //! `core ⊕ ball(r_s)`, the core being the shape shrunk by `r_s` (every face moved inwards by
 //! `r_s`). Flat faces keep their place, so the outer dimensions stay as given; edges and vertices
 //! become round, and the outward normal is unique and continuous (the idea of parry's
@@ -34,7 +34,15 @@ pub fn effective_smoothing_radius(shape: &Shape, requested: f64) -> Result<f64, 
         | Shape::Cone {
             diameter, length, ..
         } => diameter.min(*length),
+        // The length is not counted: the straight part is not shrunk (its ends are round).
+        Shape::Beam {
+            width, thickness, ..
+        } => width.min(*thickness),
         Shape::ConvexHull { points } => hull_inner_width(points)?,
+        Shape::Mesh { mesh, .. } => hull_inner_width(&mesh.vertices)?,
+        Shape::FileMesh { path, .. } => {
+            return Err(GeometryError::MeshNotLoaded(path.display().to_string()))
+        }
     };
     Ok(requested.min(MAX_SMOOTHING_FRACTION * smallest))
 }

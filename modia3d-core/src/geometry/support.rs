@@ -48,6 +48,20 @@ pub enum CoreShape {
         /// Radius of the second disk \[m\], ≥ 0.
         r1: f64,
     },
+    /// Core of a [`Shape::Beam`](super::Shape::Beam): the Minkowski sum of a segment
+    /// `±half_length` along `axis`, a segment `±half_thickness` along the beam's thickness
+    /// direction and a disk of radius `radius` in the plane of `axis` and the width direction
+    /// (see [`Axis::beam_directions`]). A stadium extruded along the thickness.
+    Beam {
+        /// Longitudinal axis.
+        axis: Axis,
+        /// Half the length of the straight part \[m\], ≥ 0.
+        half_length: f64,
+        /// Half the thickness \[m\], ≥ 0.
+        half_thickness: f64,
+        /// Radius of the ends \[m\], ≥ 0.
+        radius: f64,
+    },
     /// An ellipsoid centred at the origin with semi-axes along x, y, z \[m\].
     Ellipsoid {
         /// Semi-axes (half the full axis lengths) \[m\], each > 0.
@@ -121,6 +135,19 @@ fn soft_rim_fraction(r: f64, s: f64, band: f64) -> f64 {
     }
 }
 
+/// The point at distance `rad` from the origin in the plane of axes `k`, `kw` in the direction
+/// of `dir`'s part in that plane (the origin when that part is zero).
+#[inline]
+fn disk_point(k: usize, kw: usize, dir: &Vector3<f64>, rad: f64) -> Point3<f64> {
+    let rn = dir[k].hypot(dir[kw]);
+    let mut p = Point3::origin();
+    if rn > 0.0 {
+        p[k] = rad * dir[k] / rn;
+        p[kw] = rad * dir[kw] / rn;
+    }
+    p
+}
+
 impl CoreShape {
     /// The "soft" support feature in unit direction `dir` (shape frame): the centroid of the
     /// points of the core lying at most `band` \[m\] below the support plane `dir·x = h(dir)`,
@@ -191,6 +218,23 @@ impl CoreShape {
                 let var_rim = (w0 * r0 * r0 + w1 * r1 * r1) / sum - rad * rad;
                 (p, var_axial + var_rim.max(0.0))
             }
+            CoreShape::Beam {
+                axis,
+                half_length,
+                half_thickness,
+                radius,
+            } => {
+                // Minkowski sum: the parts' soft centroids add, as for the box.
+                let (k, (kw, kt)) = (axis.index(), axis.beam_directions());
+                let (cu, vu) = soft_segment(*half_length, dir[k], band);
+                let (ct, vt) = soft_segment(*half_thickness, dir[kt], band);
+                let rn = dir[k].hypot(dir[kw]);
+                let rad = radius * soft_rim_fraction(*radius, rn, band);
+                let mut p = disk_point(k, kw, dir, rad);
+                p[k] += cu;
+                p[kt] = ct;
+                (p, vu + vt + (radius * radius - rad * rad).max(0.0))
+            }
             CoreShape::Hull { vertices } => {
                 let h = vertices
                     .iter()
@@ -249,6 +293,18 @@ impl CoreShape {
                 p[k] = z;
                 p
             }
+            CoreShape::Beam {
+                axis,
+                half_length,
+                half_thickness,
+                radius,
+            } => {
+                let (k, (kw, kt)) = (axis.index(), axis.beam_directions());
+                let mut p = disk_point(k, kw, dir, *radius);
+                p[k] += sgn(dir[k]) * half_length;
+                p[kt] = sgn(dir[kt]) * half_thickness;
+                p
+            }
             CoreShape::Ellipsoid { semi_axes: a } => {
                 // x = A² d / |A d| with A = diag(a).
                 let ad = a.component_mul(dir);
@@ -288,9 +344,10 @@ impl CoreShape {
                 let s: Vector3<f64> = vertices.iter().map(|v| v.coords).sum();
                 Point3::from(s / vertices.len() as f64)
             }
-            CoreShape::Segment { .. } | CoreShape::Box { .. } | CoreShape::Ellipsoid { .. } => {
-                Point3::origin()
-            }
+            CoreShape::Segment { .. }
+            | CoreShape::Box { .. }
+            | CoreShape::Beam { .. }
+            | CoreShape::Ellipsoid { .. } => Point3::origin(),
         }
     }
 }

@@ -2,8 +2,9 @@
 //! Pure geometry in the shape frame (see `geometry::shapes` for the conventions); touches
 //! nothing else.
 //!
-//! Every shape is convex, so triangles are generated in any order and then turned to face away
-//! from the shape's centre; each triangle gets its own (flat) normal.
+//! Every built-in shape is convex, so triangles are generated in any order and then turned to
+//! face away from the shape's centre; a mesh keeps its triangles' orientation. Each triangle
+//! gets its own (flat) normal.
 // Export encoding: offsets into buffers this module sized itself from the same lengths; no
 // index comes from user input, which reaches it only through the checked signal look-up.
 #![allow(clippy::indexing_slicing)]
@@ -180,22 +181,63 @@ pub(crate) fn shape_mesh(shape: &Shape) -> TriMesh {
             }
             m
         }
-        Shape::ConvexHull { points } => {
-            let (verts, tris) = convex_hull(points);
-            let centre =
-                verts.iter().fold(Vector3::zeros(), |s, p| s + p) / verts.len().max(1) as f64;
+        Shape::Beam {
+            axis,
+            length,
+            width,
+            thickness,
+        } => hull_mesh(&beam_points(*axis, *length, *width, *thickness)),
+        Shape::ConvexHull { points } => hull_mesh(points),
+        // A mesh keeps its own (outward) orientation: it need not be convex.
+        Shape::Mesh { mesh, .. } => {
             let mut m = TriMesh::default();
-            for t in tris {
-                m.push(
-                    verts[t[0] as usize],
-                    verts[t[1] as usize],
-                    verts[t[2] as usize],
-                    &centre,
-                );
+            for t in &mesh.triangles {
+                let [a, b, c] = t.map(|i| mesh.vertices[i as usize].coords);
+                let centre = (a + b + c) / 3.0 - (b - a).cross(&(c - a));
+                m.push(a, b, c, &centre);
             }
             m
         }
+        // Loaded by `SceneDesc::build`; a result never holds an unloaded one.
+        Shape::FileMesh { .. } => TriMesh::default(),
     }
+}
+
+/// Points whose convex hull is a [`Shape::Beam`] with each half-disk end drawn as `SEGMENTS / 2`
+/// chords (vertices on the circle).
+fn beam_points(axis: Axis, length: f64, width: f64, thickness: f64) -> Vec<Point3<f64>> {
+    let (k, (kw, kt)) = (axis.index(), axis.beam_directions());
+    let (r, n) = (width / 2.0, SEGMENTS / 2);
+    let mut pts = Vec::with_capacity(4 * (n + 1));
+    for end in [-1.0, 1.0] {
+        for i in 0..=n {
+            let phi = std::f64::consts::PI * (i as f64 / n as f64 - 0.5);
+            for s in [-1.0, 1.0] {
+                let mut p = Point3::origin();
+                p[k] = end * (length / 2.0 + r * phi.cos());
+                p[kw] = r * phi.sin();
+                p[kt] = s * thickness / 2.0;
+                pts.push(p);
+            }
+        }
+    }
+    pts
+}
+
+/// The display mesh of the convex hull of `points`.
+fn hull_mesh(points: &[Point3<f64>]) -> TriMesh {
+    let (verts, tris) = convex_hull(points);
+    let centre = verts.iter().fold(Vector3::zeros(), |s, p| s + p) / verts.len().max(1) as f64;
+    let mut m = TriMesh::default();
+    for t in tris {
+        m.push(
+            verts[t[0] as usize],
+            verts[t[1] as usize],
+            verts[t[2] as usize],
+            &centre,
+        );
+    }
+    m
 }
 
 /// Vertices and triangles of the convex hull of `points` (parry's quickhull); empty when the
@@ -248,6 +290,12 @@ mod tests {
             Shape::Ellipsoid {
                 lengths: Vector3::new(1.0, 2.0, 3.0),
             },
+            Shape::Beam {
+                axis: Axis::Y,
+                length: 1.0,
+                width: 0.5,
+                thickness: 0.2,
+            },
         ];
         for s in shapes {
             let exact = s.unit_mass_properties().unwrap().volume;
@@ -257,6 +305,47 @@ mod tests {
                 "{s:?}: mesh {v}, exact {exact}"
             );
         }
+    }
+
+    /// A non-convex mesh (an L prism) is drawn with its own orientation: turning triangles away
+    /// from a centre, as for the convex shapes, would flip the faces of the inner corner and
+    /// change the divergence-theorem volume.
+    #[test]
+    fn mesh_display_keeps_the_orientation_of_a_non_convex_mesh() {
+        let profile = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 3.0),
+            (0.0, 3.0),
+        ];
+        let mut vertices = vec![];
+        for z in [0.0, 1.0] {
+            vertices.extend(profile.iter().map(|&(x, y)| Point3::new(x, y, z)));
+        }
+        let mut triangles = vec![];
+        for (a, b) in [(4, 5), (5, 0), (0, 1), (1, 2)] {
+            triangles.push([9, a + 6, b + 6]);
+            triangles.push([3, b, a]);
+        }
+        for i in 0..6u32 {
+            let j = (i + 1) % 6;
+            triangles.push([i, j, j + 6]);
+            triangles.push([i, j + 6, i + 6]);
+        }
+        let mesh = crate::geometry::TriangleMesh {
+            vertices,
+            triangles,
+            source: "L".into(),
+        };
+        let exact = crate::geometry::mesh_mass_properties(&mesh).unwrap().volume;
+        assert!((exact - 4.0).abs() < 1e-14); // 2·1·1 + 1·2·1
+        let shape = Shape::Mesh {
+            mesh: std::sync::Arc::new(mesh),
+            collision: crate::geometry::MeshCollision::ConvexHull,
+        };
+        assert!((volume(&shape_mesh(&shape)) - exact).abs() < 1e-6);
     }
 
     #[test]

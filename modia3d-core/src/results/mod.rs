@@ -7,6 +7,7 @@ mod animation;
 #[cfg(feature = "arrow")]
 mod arrow;
 mod contacts;
+mod force_signals;
 mod gltf;
 mod html;
 mod mesh;
@@ -519,7 +520,8 @@ impl SimulationResult {
         }
     }
 
-    /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals).
+    /// Names `"<a>|<b>"` of the candidate collision pairs (owners of the contact signals); a
+    /// part of a mesh collided as a convex decomposition is `<object>#<k>` (`k` from 0).
     pub fn contact_pairs(&self) -> Vec<String> {
         match &self.model.contact {
             Some(cp) => cp
@@ -655,6 +657,7 @@ impl SimulationResult {
                 names.push(format!("{}.{s}", o.name));
             }
         }
+        names.extend(self.force_signal_names());
         for c in &self.model.plan.loops.cuts {
             names.push(format!("{}.f", c.name));
             names.push(format!("{}.t", c.name));
@@ -680,6 +683,10 @@ impl SimulationResult {
     /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
     /// \[N\] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
     /// resolved in obj1's frame (obj1 feels the opposite).
+    /// Per named point-to-point spring-damper: `<name>.length` \[m\], `<name>.length_rate` [m/s], `<name>.tension` \[N\]
+    /// (positive pulls the ends together); per bushing (all resolved in obj1): `<name>.r` \[m\]
+    /// and `<name>.v` [m/s] (obj2's origin relative to obj1's and its rate), `<name>.angles`
+    /// \[rad\], `<name>.rates` [rad/s], `<name>.force` \[N\] and `<name>.torque` [N·m] on obj2.
     /// In a run with structure changes (actions) the signal spans every segment, NaN where its
     /// owner does not exist (see `results/segments.rs`).
     pub fn signal(&self, name: &str) -> Result<Signal, ResultError> {
@@ -705,6 +712,7 @@ impl SimulationResult {
         let full = full
             .or_else(|| self.contact_signal(owner, field))
             .or_else(|| self.loop_signal(owner, field))
+            .or_else(|| self.force_signal(owner, field))
             .ok_or_else(|| {
                 let names = self.signal_names();
                 let hint = crate::scene::did_you_mean(base, names.iter().map(|s| s.as_str()));

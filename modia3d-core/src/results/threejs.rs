@@ -96,7 +96,10 @@ fn geometry(shape: &Shape) -> (Value, Matrix4<f64>) {
                    "capSegments": 8, "radialSegments": 24, "heightSegments": 1}),
             along(*axis, 0.0),
         ),
-        Shape::ConvexHull { .. } => {
+        Shape::ConvexHull { .. }
+        | Shape::Beam { .. }
+        | Shape::Mesh { .. }
+        | Shape::FileMesh { .. } => {
             let m = shape_mesh(shape);
             let flat = |v: &[[f32; 3]]| v.iter().flatten().copied().collect::<Vec<f32>>();
             (

@@ -1,6 +1,7 @@
 //! Scene description: the plain-data builder API that `model!` expands into and that programs
 //! use to build scenes from data. Nothing here is checked; [`SceneDesc::validate`] does that.
 
+use super::force_laws::{Bushing, GravityField, Law, VectorLaw};
 use super::materials::{ContactPairMaterial, MaterialFileError, MaterialPalette, SolidMaterial};
 use crate::geometry::Shape;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
@@ -68,6 +69,9 @@ pub enum ContactProfile {
 pub struct SceneOptions {
     /// Gravity acceleration, resolved in world [m/s²]. Default `(0, 0, -9.81)`.
     pub gravity: Vector3<f64>,
+    /// Another gravity field (none, point gravity) in place of `gravity` (default `None`:
+    /// uniform `gravity`). Setting both is a validation error unless `gravity` keeps its default.
+    pub gravity_field: Option<GravityField>,
     /// Collision handling on (default) or off; off = no collision pairs, no root functions.
     pub contact_detection: bool,
     /// Elastic contact reduction factor `k_red` [-], > 0 (default 1): scales every contact
@@ -126,6 +130,7 @@ impl Default for SceneOptions {
     fn default() -> Self {
         SceneOptions {
             gravity: Vector3::new(0.0, 0.0, -9.81),
+            gravity_field: None,
             contact_detection: true,
             k_red: 1.0,
             d_max: 1000.0,
@@ -145,6 +150,11 @@ impl Default for SceneOptions {
 }
 
 impl SceneOptions {
+    /// The field in effect: `gravity_field`, or uniform `gravity` without one.
+    pub fn field(&self) -> GravityField {
+        self.gravity_field
+            .unwrap_or(GravityField::Uniform(self.gravity))
+    }
     /// The defaults of later Modia3D.jl versions: profile [`ContactProfile::Modia3DLater`],
     /// `d_max = 2000` s/m, hysteresis `1e-13` m; everything else as [`Default`].
     pub fn modia3d_later() -> Self {
@@ -682,6 +692,45 @@ pub enum ForceElement {
         object: String,
         /// The force law.
         law: ForceFn,
+    },
+    /// Spring-damper between the origins of `obj1` and `obj2` with force laws (Modia3D's
+    /// `SpringDamperPtP`): tension `spring(L − L0) + damper(L̇)` \[N\] along the line, pulling
+    /// them together when positive. Signals `<name>.length` \[m\], `<name>.tension` \[N\].
+    SpringDamperPtP {
+        /// Name (signals; unique among objects, joints and force elements).
+        name: String,
+        /// First object.
+        obj1: String,
+        /// Second object.
+        obj2: String,
+        /// Unstretched length \[m\].
+        length0: f64,
+        /// Spring law: tension \[N\] from the elongation `L − L0` \[m\].
+        spring: Law,
+        /// Damper law: tension \[N\] from the rate `L̇` [m/s].
+        damper: Law,
+    },
+    /// A six-axis bushing (see [`Bushing`]; `Bushing::into()` makes the element).
+    Bushing(Box<Bushing>),
+    /// A force \[N\] at `object`'s origin (Modia3D's `WorldForce`), resolved in world or, with
+    /// `resolved_in`, in that object's frame (turning with it).
+    WorldForce {
+        /// The object acted on.
+        object: String,
+        /// The force, resolved in world or `resolved_in` \[N\].
+        force: VectorLaw,
+        /// The object whose axes the force is resolved in; `None`: world.
+        resolved_in: Option<String>,
+    },
+    /// A torque [N·m] on `object` (Modia3D's `WorldTorque`), resolved in world or in
+    /// `resolved_in`'s frame.
+    WorldTorque {
+        /// The object acted on.
+        object: String,
+        /// The torque, resolved in world or `resolved_in` [N·m].
+        torque: VectorLaw,
+        /// The object whose axes the torque is resolved in; `None`: world.
+        resolved_in: Option<String>,
     },
 }
 

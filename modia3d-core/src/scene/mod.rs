@@ -4,6 +4,7 @@
 mod actions;
 mod contact_rules;
 mod desc;
+mod force_laws;
 mod materials;
 mod topology;
 pub(crate) mod validate;
@@ -12,6 +13,7 @@ pub use actions::{Action, ActionKind};
 #[cfg(feature = "solver")]
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
 pub use desc::*;
+pub use force_laws::{Bushing, GravityField, Law, ScalarLaw, VectorLaw, VectorLawFn};
 pub use materials::{
     average_pair, builtin_contact_pair, builtin_material_color, builtin_palette,
     builtin_solid_material, builtin_solid_names, BuiltinPair, BuiltinPalette, BuiltinSolid,

@@ -273,11 +273,12 @@ pub(crate) fn stiffest(
                 (format!("joint spring of `{}`", j.name), m, *stiffness)
             }
             ValidForce::SpringDamper {
-                obj1,
-                obj2,
-                stiffness,
-                ..
+                obj1, obj2, spring, ..
             } => {
+                // A nonlinear law has no single stiffness to report.
+                let Some(stiffness) = spring.coefficient() else {
+                    continue;
+                };
                 let (Some(o1), Some(o2)) = (
                     plan.objects.get(ObjectId(*obj1)),
                     plan.objects.get(ObjectId(*obj2)),
@@ -288,10 +289,10 @@ pub(crate) fn stiffest(
                 (
                     format!("spring-damper `{}`–`{}`", o1.name, o2.name),
                     m,
-                    *stiffness,
+                    stiffness,
                 )
             }
-            ValidForce::ObjectForce { .. } => continue,
+            _ => continue,
         };
         let t = period(m, k);
         if k > 0.0 && t.is_finite() && t < best_t {

@@ -478,9 +478,21 @@ fn delete_objects(desc: &mut SceneDesc, gone: &[String]) {
     desc.joints = kept;
     let joint_gone = |n: &str| removed.iter().any(|j| j.name == n);
     desc.forces.retain(|f| match f {
-        ForceElement::SpringDamper { obj1, obj2, .. } => !hit(obj1) && !hit(obj2),
+        ForceElement::SpringDamper { obj1, obj2, .. }
+        | ForceElement::SpringDamperPtP { obj1, obj2, .. } => !hit(obj1) && !hit(obj2),
+        ForceElement::Bushing(b) => !hit(&b.obj1) && !hit(&b.obj2),
         ForceElement::JointSpringDamper { joint, .. } => !joint_gone(joint),
         ForceElement::ObjectForce { object, .. } => !hit(object),
+        ForceElement::WorldForce {
+            object,
+            resolved_in,
+            ..
+        }
+        | ForceElement::WorldTorque {
+            object,
+            resolved_in,
+            ..
+        } => !hit(object) && !resolved_in.as_deref().is_some_and(hit),
     });
     desc.inputs.retain(|i| match &i.kind {
         InputKind::JointForce { joint, .. } | InputKind::JointAcceleration { joint, .. } => {

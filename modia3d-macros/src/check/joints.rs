@@ -1,10 +1,13 @@
 //! Check stage, components that connect: joints, force elements, inputs, contact pairs.
 
-use super::{lit_bool, lit_int, lit_str, lit_vec3, Checker};
+use super::{compact, lit_bool, lit_int, lit_str, lit_vec3, Checker};
 use crate::ast::Ctor;
 use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
 use crate::names::{did_you_mean, hint};
-use crate::vocab::{general_joint, joint_keys, Kind, PAIR_KEYS};
+use crate::vocab::{
+    general_joint, joint_keys, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, PAIR_KEYS,
+    SPRING_DAMPER_KEYS,
+};
 use proc_macro2::Ident;
 use quote::ToTokens;
 use syn::spanned::Spanned;
@@ -136,22 +139,92 @@ impl Checker {
     pub(super) fn force(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
         let force = match ctor.name().to_string().as_str() {
             "SpringDamper" => {
-                let a = self.args(ctor, &["obj1", "obj2", "stiffness", "damping", "length0"]);
+                let a = self.args(ctor, SPRING_DAMPER_KEYS);
                 let o1 = self
                     .required(&a, "obj1")
                     .and_then(|e| self.reference(e, Kind::Object, "object"));
                 let o2 = self
                     .required(&a, "obj2")
                     .and_then(|e| self.reference(e, Kind::Object, "object"));
-                let stiffness = self.num(&a, "stiffness", true);
-                let damping = self.num(&a, "damping", false);
+                // A law replaces its linear coefficient: one of the two, the coefficient
+                // required without a law.
+                let pair = |c: &mut Self, coef: &'static str, law: &'static str, req: bool| {
+                    if let (Some(_), Some(k)) = (a.get(coef), a.key(law)) {
+                        c.err(
+                            k.span(),
+                            format!("`{law}` replaces `{coef}`: give one of them (hint: `{law} = 100.0` is `{coef} = 100.0`)"),
+                        );
+                    }
+                    let l = a.get(law).map(|e| c.num_of(law, e));
+                    let n = c.num(&a, coef, req && l.is_none());
+                    (n, l)
+                };
+                let (stiffness, spring_law) = pair(self, "stiffness", "spring_law", true);
+                let (damping, damper_law) = pair(self, "damping", "damper_law", false);
                 let length0 = self.num(&a, "length0", false);
+                if stiffness.is_none() && spring_law.is_none() {
+                    return None;
+                }
                 ForceIr::SpringDamper {
                     obj1: o1?,
                     obj2: o2?,
-                    stiffness: stiffness?,
+                    stiffness,
                     damping,
                     length0,
+                    spring_law,
+                    damper_law,
+                }
+            }
+            "Bushing" => {
+                let a = self.args(ctor, BUSHING_KEYS);
+                let o1 = self
+                    .required(&a, "obj1")
+                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let o2 = self
+                    .required(&a, "obj2")
+                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let nominal = ["nominal_force", "nominal_torque"].map(|k| self.num(&a, k, false));
+                let laws = [0, 1, 2, 3].map(|i| {
+                    let key = BUSHING_LAWS[i];
+                    let n = a.get(key).map(|e| self.num_of(key, e));
+                    if let Some(e) = a.get(key).filter(|e| !matches!(e, Expr::Array(_))) {
+                        if matches!(e, Expr::Closure(_) | Expr::Lit(_)) {
+                            self.err_spanned(
+                                e,
+                                format!("`{key}` takes one law per axis: `[x, y, z]`, each a number or a closure (hint: `[{e}, 0.0, 0.0]`)", e = compact(e)),
+                            );
+                            return None;
+                        }
+                    }
+                    n
+                });
+                ForceIr::Bushing {
+                    obj1: o1?,
+                    obj2: o2?,
+                    nominal,
+                    laws,
+                    large_angles: a.get("large_angles").cloned(),
+                }
+            }
+            "WorldForce" | "WorldTorque" => {
+                let cname = ctor.name().to_string();
+                let keys = world_vector_keys(&cname);
+                let a = self.args(ctor, keys);
+                let o = self
+                    .required(&a, "object")
+                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let value = self.required(&a, keys[1]).cloned();
+                let r = a
+                    .get("resolved_in")
+                    .map(|e| self.reference(e, Kind::Object, "object"));
+                ForceIr::WorldVector {
+                    object: o?,
+                    value: value?,
+                    resolved_in: match r {
+                        Some(r) => Some(r?),
+                        None => None,
+                    },
+                    torque: cname == "WorldTorque",
                 }
             }
             "JointSpringDamper" => {

@@ -206,6 +206,13 @@ impl Checker {
     /// `Scene(…)` → the options given; the others come from `SceneOptions::default()`.
     fn scene_options(&mut self, a: &super::Args) -> SceneIr {
         let gravity = a.get("gravity").cloned();
+        let gravity_field = a.get("gravity_field").cloned();
+        if let (Some(_), Some(k)) = (&gravity, a.key("gravity_field")) {
+            self.err(
+                k.span(),
+                "`gravity_field` replaces `gravity`: give one of them (hint: `gravity_field = GravityField::Uniform(…)` is `gravity = …`)",
+            );
+        }
         let contact_detection = a.get("contact_detection").map(|c| (c.clone(), lit_bool(c)));
         let exact_restitution = a.get("exact_restitution").cloned();
         let average_missing_pairs = a
@@ -246,6 +253,7 @@ impl Checker {
         }
         SceneIr {
             gravity,
+            gravity_field,
             contact_detection,
             exact_restitution,
             average_missing_pairs,
@@ -301,6 +309,26 @@ impl Checker {
                     diameter: d?,
                     length: l?,
                     top_diameter: top,
+                })
+            }
+            "FileMesh" => {
+                let a = self.args(&sc, &["path", "scale", "convex_decomposition"]);
+                let scale = self.num(&a, "scale", false);
+                Some(ShapeIr::FileMesh {
+                    path: self.required(&a, "path")?.clone(),
+                    scale,
+                    convex_decomposition: a.get("convex_decomposition").cloned(),
+                })
+            }
+            "Beam" => {
+                let a = self.args(&sc, &["axis", "length", "width", "thickness"]);
+                let axis = self.shape_axis(a.get("axis"));
+                let l = self.num(&a, "length", true);
+                let w = self.num(&a, "width", true);
+                let t = self.num(&a, "thickness", true);
+                Some(ShapeIr::Beam {
+                    axis: axis?,
+                    dims: [l?, w?, t?],
                 })
             }
             _ => {

@@ -9,6 +9,7 @@ use crate::ir::{
 };
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
+use syn::Expr;
 
 /// The statement that adds one component to the scene.
 pub fn item(it: &Item) -> TokenStream {
@@ -345,13 +346,7 @@ fn shape(s: &ShapeIr) -> TokenStream {
             length,
             top_diameter,
         } => {
-            let ax = quote!(::modia3d::core::Axis);
-            let axis = match axis {
-                AxisIr::Index(1) => quote!(#ax::X),
-                AxisIr::Index(2) => quote!(#ax::Y),
-                AxisIr::Index(_) => quote!(#ax::Z),
-                AxisIr::Expr(e) => quote!(#e),
-            };
+            let axis = shape_axis(axis);
             let (d, l) = (&diameter.expr, &length.expr);
             let top = (*ctor == "Cone").then(|| {
                 let t = num_or(top_diameter, quote!(0.0));
@@ -363,7 +358,64 @@ fn shape(s: &ShapeIr) -> TokenStream {
         ShapeIr::Hull(p) => {
             quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) })
         }
+        ShapeIr::FileMesh {
+            path,
+            scale,
+            convex_decomposition,
+        } => {
+            let scale = num_or(scale, quote!([1.0, 1.0, 1.0]));
+            let mc = quote!(::modia3d::core::MeshCollision);
+            let collision = match convex_decomposition {
+                Some(e) => quote!(if #e { #mc::ConvexDecomposition } else { #mc::ConvexHull }),
+                None => quote!(#mc::ConvexHull),
+            };
+            // Spanned on the user's path so a type error points at it.
+            let path = quote_spanned!(syn::spanned::Spanned::span(path)=> ::std::path::PathBuf::from(#path));
+            quote!(#shape::FileMesh {
+                path: #path,
+                scale: #v3(#scale),
+                collision: #collision,
+            })
+        }
+        ShapeIr::Beam { axis, dims } => {
+            let axis = shape_axis(axis);
+            let [l, w, t] = dims.each_ref().map(|n| &n.expr);
+            quote!(#shape::Beam { axis: #axis, length: #l, width: #w, thickness: #t })
+        }
     }
+}
+
+/// A shape's axis as an `Axis` expression.
+fn shape_axis(axis: &AxisIr) -> TokenStream {
+    let ax = quote!(::modia3d::core::Axis);
+    match axis {
+        AxisIr::Index(1) => quote!(#ax::X),
+        AxisIr::Index(2) => quote!(#ax::Y),
+        AxisIr::Index(_) => quote!(#ax::Z),
+        AxisIr::Expr(e) => quote!(#e),
+    }
+}
+
+/// A scalar force law: a closure becomes `Law::new`, anything else `Law::from` (a number, the
+/// linear coefficient, or a `Law`).
+/// A closure is made `move` (it outlives `build()`; the parameters it reads are copied in).
+/// Spanned on the user's value, so rustc reports a wrong type there.
+fn scalar_law(e: &Expr) -> TokenStream {
+    let span = syn::spanned::Spanned::span(e);
+    match e {
+        Expr::Closure(c) => {
+            let c = moved(c);
+            quote_spanned!(span=> ::modia3d::core::Law::new(#c))
+        }
+        _ => quote_spanned!(span=> ::modia3d::core::Law::from(#e)),
+    }
+}
+
+/// The closure with `move` added.
+fn moved(c: &syn::ExprClosure) -> syn::ExprClosure {
+    let mut c = c.clone();
+    c.capture.get_or_insert_with(Default::default);
+    c
 }
 
 /// `Scene(…)` → `Feature::Scene(SceneOptions { …, ..Default::default() })`.
@@ -371,6 +423,10 @@ fn scene_options(s: &SceneIr) -> TokenStream {
     let mut fields = vec![];
     if let Some(g) = &s.gravity {
         fields.push(quote!(gravity: ::modia3d::__private::vector3(#g)));
+    }
+    if let Some(g) = &s.gravity_field {
+        let span = syn::spanned::Spanned::span(g);
+        fields.push(quote_spanned!(span=> gravity_field: ::modia3d::__private::gravity_field(#g)));
     }
     if let Some((c, _)) = &s.contact_detection {
         fields.push(quote!(contact_detection: #c));
@@ -503,20 +559,114 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
             stiffness,
             damping,
             length0,
+            spring_law,
+            damper_law,
         } => {
             let (n, o1, o2) = (scoped(name), scoped(&obj1.path), scoped(&obj2.path));
-            let c = &stiffness.expr;
-            let d = num_or(damping, quote!(0.0));
             let l = num_or(length0, quote!(0.0));
+            if spring_law.is_none() && damper_law.is_none() {
+                let c = num_or(stiffness, quote!(0.0));
+                let d = num_or(damping, quote!(0.0));
+                return quote! {
+                    #fe::SpringDamper {
+                        name: #to_string(#n),
+                        obj1: #to_string(#o1),
+                        obj2: #to_string(#o2),
+                        stiffness: #c,
+                        damping: #d,
+                        length0: #l,
+                    }
+                };
+            }
+            let law_or = |law: &Option<Num>, coef: &Option<Num>| match (law, coef) {
+                (Some(law), _) => scalar_law(&law.expr),
+                (None, Some(c)) => {
+                    let c = &c.expr;
+                    quote!(::modia3d::core::Law::Linear(#c))
+                }
+                (None, None) => quote!(::modia3d::core::Law::Linear(0.0)),
+            };
+            let (c, d) = (law_or(spring_law, stiffness), law_or(damper_law, damping));
             quote! {
-                #fe::SpringDamper {
+                #fe::SpringDamperPtP {
                     name: #to_string(#n),
                     obj1: #to_string(#o1),
                     obj2: #to_string(#o2),
-                    stiffness: #c,
-                    damping: #d,
                     length0: #l,
+                    spring: #c,
+                    damper: #d,
                 }
+            }
+        }
+        ForceIr::Bushing {
+            obj1,
+            obj2,
+            nominal,
+            laws,
+            large_angles,
+        } => {
+            let (n, o1, o2) = (scoped(name), scoped(&obj1.path), scoped(&obj2.path));
+            let [nf, nt] = nominal.each_ref().map(|v| match v {
+                Some(v) => {
+                    let v = &v.expr;
+                    quote!(::modia3d::__private::vector3(#v))
+                }
+                None => quote!(::modia3d::__private::nalgebra::Vector3::zeros()),
+            });
+            let [k, d, rk, rd] = laws.each_ref().map(|l| match l {
+                None => quote!(::core::default::Default::default()),
+                Some(l) => match &l.expr {
+                    Expr::Array(arr) if arr.elems.len() == 3 => {
+                        let els = arr.elems.iter().map(scalar_law);
+                        quote!([#(#els),*])
+                    }
+                    e => quote!(::modia3d::__private::laws(#e)),
+                },
+            });
+            let la = large_angles
+                .as_ref()
+                .map_or_else(|| quote!(false), |e| quote!(#e));
+            quote! {
+                #fe::from(::modia3d::core::Bushing {
+                    name: #to_string(#n),
+                    obj1: #to_string(#o1),
+                    obj2: #to_string(#o2),
+                    nominal_force: #nf,
+                    spring: #k,
+                    damper: #d,
+                    nominal_torque: #nt,
+                    rot_spring: #rk,
+                    rot_damper: #rd,
+                    large_angles: #la,
+                })
+            }
+        }
+        ForceIr::WorldVector {
+            object,
+            value,
+            resolved_in,
+            torque,
+        } => {
+            let o = scoped(&object.path);
+            let r = match resolved_in {
+                Some(r) => {
+                    let r = scoped(&r.path);
+                    quote!(::core::option::Option::Some(#to_string(#r)))
+                }
+                None => quote!(::core::option::Option::None),
+            };
+            let span = syn::spanned::Spanned::span(value);
+            let v = match value {
+                Expr::Closure(c) => {
+                    let c = moved(c);
+                    quote_spanned!(span=> ::modia3d::core::VectorLaw::new(#c))
+                }
+                _ => quote_spanned!(span=> ::modia3d::core::VectorLaw::from(#value)),
+            };
+            if *torque {
+                quote!(#fe::WorldTorque { object: #to_string(#o), torque: #v, resolved_in: #r })
+            } else {
+                quote!(#fe::WorldForce { object: #to_string(#o), force: #v, resolved_in: #r })
             }
         }
         ForceIr::JointSpringDamper {

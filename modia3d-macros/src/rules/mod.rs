@@ -15,6 +15,7 @@ use crate::ir::{
 };
 use crate::names::NameRef;
 use crate::vocab::Kind;
+use modia3d_core::scene::{Bushing, Law, VectorLaw};
 use modia3d_core::scene::{
     Action, ContactPairMaterial, Feature, ForceElement, ForceFn, Input, Joint, JointKind, MassSpec,
     Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial, Wrench,
@@ -293,15 +294,70 @@ impl<'a> Probe<'a> {
                         stiffness,
                         damping,
                         length0,
+                        spring_law,
+                        damper_law,
                     } => {
+                        // A law's literal number is a coefficient; a closure a stand-in.
                         let n = name.to_string();
+                        let mut coef = |a: &'a Option<Num>, b: &'a Option<Num>| {
+                            a.as_ref()
+                                .or(b.as_ref())
+                                .map_or(0.0, |x| self.scalar(&n, x))
+                        };
+                        let (c, d) = (coef(stiffness, spring_law), coef(damping, damper_law));
                         ForceElement::SpringDamper {
                             obj1: obj(obj1).to_string(),
                             obj2: obj(obj2).to_string(),
-                            stiffness: self.scalar(&n, stiffness),
-                            damping: damping.as_ref().map_or(0.0, |d| self.scalar(&n, d)),
+                            stiffness: c,
+                            damping: d,
                             length0: length0.as_ref().map_or(0.0, |l| self.scalar(&n, l)),
                             name: n,
+                        }
+                    }
+                    ForceIr::Bushing {
+                        obj1,
+                        obj2,
+                        nominal,
+                        laws,
+                        ..
+                    } => {
+                        let n = name.to_string();
+                        let mut b = Bushing::new(&n, obj(obj1), obj(obj2));
+                        let mut vec3 = |x: &'a Option<Num>| {
+                            x.as_ref().map_or(Vector3::zeros(), |x| self.vec3(&n, x))
+                        };
+                        b.nominal_force = vec3(&nominal[0]);
+                        b.nominal_torque = vec3(&nominal[1]);
+                        [b.spring, b.damper, b.rot_spring, b.rot_damper] =
+                            laws.each_ref().map(|l| {
+                                let v = vec3(l);
+                                [v.x, v.y, v.z].map(Law::Linear)
+                            });
+                        ForceElement::from(b)
+                    }
+                    ForceIr::WorldVector {
+                        object,
+                        resolved_in,
+                        torque,
+                        ..
+                    } => {
+                        let (object, resolved_in) = (
+                            obj(object).to_string(),
+                            resolved_in.as_ref().map(|r| obj(r).to_string()),
+                        );
+                        let value = VectorLaw::Constant(Vector3::zeros());
+                        if *torque {
+                            ForceElement::WorldTorque {
+                                object,
+                                torque: value,
+                                resolved_in,
+                            }
+                        } else {
+                            ForceElement::WorldForce {
+                                object,
+                                force: value,
+                                resolved_in,
+                            }
                         }
                     }
                     ForceIr::JointSpringDamper {
@@ -446,6 +502,15 @@ impl<'a> Probe<'a> {
                     Shape::Box { lengths }
                 }
             }
+            ShapeIr::Beam { axis, dims } => {
+                let [length, width, thickness] = dims.each_ref().map(|n| self.scalar(owner, n));
+                Shape::Beam {
+                    axis: shape_axis(axis),
+                    length,
+                    width,
+                    thickness,
+                }
+            }
             ShapeIr::Round {
                 ctor,
                 axis,
@@ -453,11 +518,7 @@ impl<'a> Probe<'a> {
                 length,
                 top_diameter,
             } => {
-                let axis = match axis {
-                    AxisIr::Index(1) => Axis::X,
-                    AxisIr::Index(2) => Axis::Y,
-                    _ => Axis::Z,
-                };
+                let axis = shape_axis(axis);
                 let (diameter, length) = (self.scalar(owner, diameter), self.scalar(owner, length));
                 match *ctor {
                     "Cylinder" => Shape::Cylinder {
@@ -478,7 +539,8 @@ impl<'a> Probe<'a> {
                     },
                 }
             }
-            ShapeIr::Hull(_) => Shape::ConvexHull {
+            // The file is read by `build()` at run time; a tetrahedron stands in.
+            ShapeIr::Hull(_) | ShapeIr::FileMesh { .. } => Shape::ConvexHull {
                 points: vec![
                     Point3::origin(),
                     Point3::new(STAND_IN, 0.0, 0.0),
@@ -524,5 +586,14 @@ impl<'a> Probe<'a> {
             solid.smoothing_radius = Some(self.scalar(owner, r));
         }
         solid
+    }
+}
+
+/// A shape's literal axis (an `Axis` expression stands in as z: no rule depends on it).
+fn shape_axis(axis: &AxisIr) -> Axis {
+    match axis {
+        AxisIr::Index(1) => Axis::X,
+        AxisIr::Index(2) => Axis::Y,
+        _ => Axis::Z,
     }
 }

@@ -136,7 +136,7 @@ fn closest_on_core(core: &CoreShape, p: &Point3<f64>) -> (Point3<f64>, f64, Vect
                 (q, -g, axis.unit() * s)
             }
         }
-        CoreShape::Ellipsoid { .. } | CoreShape::Hull { .. } => {
+        CoreShape::Ellipsoid { .. } | CoreShape::Beam { .. } | CoreShape::Hull { .. } => {
             unreachable!("closed forms are dispatched for point, segment, box and cylinder cores")
         }
     }

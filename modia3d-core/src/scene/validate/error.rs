@@ -25,6 +25,25 @@ pub enum SceneError {
         /// What the second one is.
         second: &'static str,
     },
+    /// Two options of a scene that replace each other were both set.
+    #[error("scene `{scene}` sets both `{first}` and `{second}`: `{second}` replaces `{first}`; keep one of them")]
+    ConflictingOptions {
+        /// The scene object.
+        scene: String,
+        /// The option it replaces.
+        first: &'static str,
+        /// The option that replaces it.
+        second: &'static str,
+    },
+    /// A body's centre of mass sits at the centre of a point gravity field at the initial
+    /// state, where the field `−μ r/|r|³` is undefined.
+    #[error("body of object `{object}` has its centre of mass at the centre of the point gravity field ({distance:e} m away): the field is undefined there; move the body or the centre")]
+    AtGravityCentre {
+        /// An object of the body (its first).
+        object: String,
+        /// Its distance from the centre \[m\].
+        distance: f64,
+    },
     /// No object has the `Scene` feature.
     #[error("the scene has no `Scene` object: add exactly one root object with feature `Scene` (the world)")]
     NoScene,
@@ -115,6 +134,15 @@ pub enum SceneError {
         value: f64,
         /// The admissible range in words.
         expected: &'static str,
+    },
+    /// A mesh shape that cannot be used: its file is missing or malformed, or the mesh bounds no
+    /// solid (not closed, no volume).
+    #[error("object `{object}`: {error}")]
+    Mesh {
+        /// The object whose shape it is.
+        object: String,
+        /// What is wrong with the mesh (file, line or facet, edge).
+        error: crate::geometry::GeometryError,
     },
     /// A solid whose mass cannot be determined.
     #[error("solid `{object}` has no mass: {reason}")]

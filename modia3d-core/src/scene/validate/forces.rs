@@ -5,6 +5,7 @@ use super::{
     did_you_mean, Checker, Names, SceneError, ValidForce, ValidInput, ValidInputKind, ValidJoint,
 };
 use crate::scene::desc::{ForceElement, InputKind, SceneDesc};
+use crate::scene::{Law, VectorLaw};
 
 /// Every force element resolved and checked.
 pub(super) fn forces(
@@ -24,19 +25,85 @@ pub(super) fn forces(
                 damping,
                 length0,
             } => {
-                let what = |w: &str| format!("spring-damper `{name}`: {w}");
-                c.non_negative(|| what("stiffness [N/m]"), *stiffness);
-                c.non_negative(|| what("damping [N·s/m]"), *damping);
-                c.non_negative(|| what("unstretched length [m]"), *length0);
-                let a = names.resolve(c, format!("spring-damper `{name}`'s obj1"), obj1);
-                let b = names.resolve(c, format!("spring-damper `{name}`'s obj2"), obj2);
-                if let (Some(obj1), Some(obj2)) = (a, b) {
-                    forces.push(ValidForce::SpringDamper {
+                let (spring, damper) = (Law::Linear(*stiffness), Law::Linear(*damping));
+                if let Some(f) =
+                    point_to_point(c, names, name, obj1, obj2, *length0, &spring, &damper)
+                {
+                    forces.push(f);
+                }
+            }
+            ForceElement::SpringDamperPtP {
+                name,
+                obj1,
+                obj2,
+                length0,
+                spring,
+                damper,
+            } => {
+                if let Some(f) =
+                    point_to_point(c, names, name, obj1, obj2, *length0, spring, damper)
+                {
+                    forces.push(f);
+                }
+            }
+            ForceElement::Bushing(b) => {
+                let what = |w: &str| format!("bushing `{}`: {w}", b.name);
+                c.finite(|| what("nominal force [N]"), b.nominal_force.as_slice());
+                c.finite(|| what("nominal torque [N·m]"), b.nominal_torque.as_slice());
+                let laws = [
+                    ("stiffness [N/m]", &b.spring),
+                    ("damping [N·s/m]", &b.damper),
+                    ("rotational stiffness [N·m/rad]", &b.rot_spring),
+                    ("rotational damping [N·m·s/rad]", &b.rot_damper),
+                ];
+                for (label, laws) in laws {
+                    for (axis, law) in ["x", "y", "z"].iter().zip(laws) {
+                        linear_coefficient(c, || what(&format!("{label} along {axis}")), law);
+                    }
+                }
+                let a = names.resolve(c, format!("bushing `{}`'s obj1", b.name), &b.obj1);
+                let o = names.resolve(c, format!("bushing `{}`'s obj2", b.name), &b.obj2);
+                if let (Some(obj1), Some(obj2)) = (a, o) {
+                    forces.push(ValidForce::Bushing {
                         obj1,
                         obj2,
-                        stiffness: *stiffness,
-                        damping: *damping,
-                        length0: *length0,
+                        spec: b.clone(),
+                    });
+                }
+            }
+            ForceElement::WorldForce {
+                object,
+                force: value,
+                resolved_in,
+            }
+            | ForceElement::WorldTorque {
+                object,
+                torque: value,
+                resolved_in,
+            } => {
+                let torque = matches!(f, ForceElement::WorldTorque { .. });
+                let kind = if torque { "WorldTorque" } else { "WorldForce" };
+                if let VectorLaw::Constant(v) = value {
+                    let unit = if torque { "[N·m]" } else { "[N]" };
+                    c.finite(
+                        || format!("{kind} on `{object}`: value {unit}"),
+                        v.as_slice(),
+                    );
+                }
+                let o = names.resolve(c, format!("{kind} on `{object}`"), object);
+                // `Some(None)`: resolved in world; `None`: an unknown object (reported).
+                let r = match resolved_in {
+                    None => Some(None),
+                    Some(r) => names
+                        .resolve(c, format!("{kind} on `{object}`'s resolved_in"), r)
+                        .map(Some),
+                };
+                if let (Some(object), Some(resolved_in)) = (o, r) {
+                    forces.push(ValidForce::WorldVector {
+                        object,
+                        value: value.clone(),
+                        resolved_in,
+                        torque,
                     });
                 }
             }
@@ -76,6 +143,41 @@ pub(super) fn forces(
     }
 
     forces
+}
+
+/// A point-to-point spring-damper (`SpringDamper`, `SpringDamperPtP`) checked and resolved.
+#[allow(clippy::too_many_arguments)]
+fn point_to_point(
+    c: &mut Checker,
+    names: &Names,
+    name: &str,
+    obj1: &str,
+    obj2: &str,
+    length0: f64,
+    spring: &Law,
+    damper: &Law,
+) -> Option<ValidForce> {
+    let what = |w: &str| format!("spring-damper `{name}`: {w}");
+    linear_coefficient(c, || what("stiffness [N/m]"), spring);
+    linear_coefficient(c, || what("damping [N·s/m]"), damper);
+    c.non_negative(|| what("unstretched length [m]"), length0);
+    let a = names.resolve(c, format!("spring-damper `{name}`'s obj1"), obj1);
+    let b = names.resolve(c, format!("spring-damper `{name}`'s obj2"), obj2);
+    Some(ValidForce::SpringDamper {
+        name: name.to_string(),
+        obj1: a?,
+        obj2: b?,
+        spring: spring.clone(),
+        damper: damper.clone(),
+        length0,
+    })
+}
+
+/// A linear law's coefficient must be finite and ≥ 0 (a closure is the user's).
+fn linear_coefficient(c: &mut Checker, what: impl FnOnce() -> String, law: &Law) {
+    if let Law::Linear(k) = law {
+        c.non_negative(what, *k);
+    }
 }
 
 /// Every input resolved and checked; a joint has at most one prescribed acceleration.

@@ -96,14 +96,16 @@ pub struct ValidJoint {
 pub enum ValidForce {
     /// Spring-damper between two object origins.
     SpringDamper {
+        /// Name (signals).
+        name: String,
         /// Object indices.
         obj1: usize,
         /// Object indices.
         obj2: usize,
-        /// [N/m]
-        stiffness: f64,
-        /// [N·s/m]
-        damping: f64,
+        /// Tension \[N\] from the elongation \[m\].
+        spring: crate::scene::Law,
+        /// Tension \[N\] from the rate of the length [m/s].
+        damper: crate::scene::Law,
         /// \[m\]
         length0: f64,
     },
@@ -128,6 +130,51 @@ pub enum ValidForce {
         /// The law.
         law: crate::scene::desc::ForceFn,
     },
+    /// A bushing: the builder's description with its ends resolved.
+    Bushing {
+        /// Object indices.
+        obj1: usize,
+        /// Object indices.
+        obj2: usize,
+        /// Laws, nominal values and the formulation (its names are the builder's).
+        spec: Box<crate::scene::Bushing>,
+    },
+    /// `WorldForce` (`torque = false`) or `WorldTorque` (`torque = true`).
+    WorldVector {
+        /// Object acted on.
+        object: usize,
+        /// The value, resolved in world or `resolved_in`.
+        value: crate::scene::VectorLaw,
+        /// Object whose axes resolve the value; `None`: world.
+        resolved_in: Option<usize>,
+        /// A torque [N·m] instead of a force \[N\].
+        torque: bool,
+    },
+}
+
+impl ValidForce {
+    /// The two objects whose motions this element's force depends on and acts on, when they
+    /// may differ (spring-dampers, bushings, vectors resolved in another object).
+    pub fn coupled_objects(&self) -> Option<(usize, usize)> {
+        match self {
+            ValidForce::SpringDamper { obj1, obj2, .. }
+            | ValidForce::Bushing { obj1, obj2, .. } => Some((*obj1, *obj2)),
+            ValidForce::WorldVector {
+                object,
+                resolved_in: Some(r),
+                ..
+            } => Some((*object, *r)),
+            _ => None,
+        }
+    }
+    /// The element's name for signals and messages, if it has one.
+    pub fn name(&self) -> Option<&str> {
+        match self {
+            ValidForce::SpringDamper { name, .. } => Some(name),
+            ValidForce::Bushing { spec, .. } => Some(&spec.name),
+            _ => None,
+        }
+    }
 }
 
 /// A checked scene: names resolved, values in range, topology a tree rooted at the world.
@@ -273,7 +320,9 @@ impl<'a> Names<'a> {
         // One namespace: a joint (or spring-damper) named like an object would make its
         // signals `<name>.<quantity>` ambiguous.
         let spring_names = desc.forces.iter().filter_map(|f| match f {
-            ForceElement::SpringDamper { name, .. } => Some(name.as_str()),
+            ForceElement::SpringDamper { name, .. }
+            | ForceElement::SpringDamperPtP { name, .. } => Some(name.as_str()),
+            ForceElement::Bushing(b) => Some(b.name.as_str()),
             _ => None,
         });
         let mut seen: HashMap<&str, &'static str> =

@@ -123,8 +123,29 @@ pub(super) fn objects(
         let mut visual = None;
         match &o.feature {
             Feature::Solid(s) => {
+                // Mesh files are read here, once; the rest of validation sees the mesh.
+                let loaded;
+                let s = match s.shape.as_ref().and_then(|sh| load_shape(c, &o.name, sh)) {
+                    Some(shape) => {
+                        loaded = crate::scene::desc::Solid {
+                            shape: Some(shape),
+                            ..s.clone()
+                        };
+                        &loaded
+                    }
+                    None => s,
+                };
                 if let Some(shape) = &s.shape {
                     check_shape(c, &o.name, shape);
+                    // A solid's mesh must bound a volume (a visual's need not).
+                    if let Shape::Mesh { mesh, .. } = shape {
+                        if let Err(error) = crate::geometry::mesh_mass_properties(mesh) {
+                            c.errors.push(SceneError::Mesh {
+                                object: o.name.clone(),
+                                error,
+                            });
+                        }
+                    }
                 }
                 let (material_name, material) = match &s.material {
                     None => (None, None),
@@ -218,8 +239,9 @@ pub(super) fn objects(
                 });
             }
             Feature::Visual(shape) => {
-                check_shape(c, &o.name, shape);
-                visual = Some(shape.clone());
+                let shape = load_shape(c, &o.name, shape).unwrap_or_else(|| shape.clone());
+                check_shape(c, &o.name, &shape);
+                visual = Some(shape);
             }
             Feature::None | Feature::Scene(_) => {}
         }
@@ -237,6 +259,28 @@ pub(super) fn objects(
 
 fn rotation_is_proper(m: &Matrix3<f64>) -> bool {
     (m.transpose() * m - Matrix3::identity()).norm() < 1e-9 && (m.determinant() - 1.0).abs() < 1e-9
+}
+
+/// A [`Shape::FileMesh`] read into a [`Shape::Mesh`] (`None` for other shapes, and after an
+/// error, which is reported).
+fn load_shape(c: &mut Checker, object: &str, shape: &Shape) -> Option<Shape> {
+    // A bad scale is reported by `check_shape` on the unloaded shape.
+    let Shape::FileMesh { scale, .. } = shape else {
+        return None;
+    };
+    if !scale.iter().all(|s| s.is_finite() && *s > 0.0) {
+        return None;
+    }
+    match shape.load() {
+        Ok(s) => Some(s),
+        Err(error) => {
+            c.errors.push(SceneError::Mesh {
+                object: object.into(),
+                error,
+            });
+            None
+        }
+    }
 }
 
 fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {

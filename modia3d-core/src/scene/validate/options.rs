@@ -1,7 +1,8 @@
 //! Validation of scene options and user contact-pair materials: values in their ranges.
 
-use super::Checker;
+use super::{Checker, SceneError};
 use crate::scene::desc::{SceneDesc, SceneOptions};
+use crate::scene::GravityField;
 
 /// The user's contact-pair materials: `cor` in [0, 1], friction ≥ 0, regularisation > 0.
 pub(super) fn contact_pair_materials(c: &mut Checker, desc: &SceneDesc) {
@@ -54,4 +55,19 @@ pub(super) fn check_options(c: &mut Checker, scene: &str, o: &SceneOptions) {
         "> 0",
     );
     c.non_negative(|| what("smoothing radius [m]"), o.smoothing_radius);
+    match o.gravity_field {
+        Some(_) if o.gravity != SceneOptions::default().gravity => {
+            c.errors.push(SceneError::ConflictingOptions {
+                scene: scene.to_string(),
+                first: "gravity",
+                second: "gravity_field",
+            })
+        }
+        Some(GravityField::Uniform(g)) => c.finite(|| what("gravity field [m/s²]"), g.as_slice()),
+        Some(GravityField::Point { mu, centre }) => {
+            c.positive(|| what("point gravity's mu [m³/s²]"), mu);
+            c.finite(|| what("point gravity's centre [m]"), centre.as_slice());
+        }
+        Some(GravityField::None) | None => {}
+    }
 }
