@@ -51,13 +51,13 @@ pub use results::{
     ContactPhase, Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimWarning,
     SimulationResult, EVENT_MARKER_COLOR,
 };
-pub use scene::{Bushing, GravityField, Law, VectorLaw};
 pub use scene::{
     Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,
     FreeRotation, Input, InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef,
     Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid,
     SolidMaterial, Wrench,
 };
+pub use scene::{Bushing, GravityField, Law, VectorLaw};
 #[cfg(feature = "solver")]
 pub use simulation::{
     ActionError, Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause,

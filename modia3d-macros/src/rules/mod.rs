@@ -15,11 +15,11 @@ use crate::ir::{
 };
 use crate::names::NameRef;
 use crate::vocab::Kind;
-use modia3d_core::scene::{Bushing, Law, VectorLaw};
 use modia3d_core::scene::{
     Action, ContactPairMaterial, Feature, ForceElement, ForceFn, Input, Joint, JointKind, MassSpec,
     Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial, Wrench,
 };
+use modia3d_core::scene::{Bushing, Law, VectorLaw};
 use modia3d_core::{Axis, Shape};
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::collections::{HashMap, HashSet};
