@@ -375,6 +375,7 @@ fn constant_world_force_on_a_free_body() {
             },
         ))
         .add_force(ForceElement::WorldForce {
+            name: "push".into(),
             object: "puck".into(),
             force: VectorLaw::Constant(f),
             resolved_in: None,
@@ -400,16 +401,22 @@ fn world_force_closure_of_time() {
         .add(body("puck", m, Matrix3::identity() * 0.1))
         .add_joint(Joint::new("free", "world", "puck", JointKind::free()))
         .add_force(ForceElement::WorldForce {
+            name: "push".into(),
             object: "puck".into(),
             force: VectorLaw::new(move |t, _| Vector3::new(f0 * (om * t).sin(), 0.0, 0.0)),
             resolved_in: None,
         });
     let res = run(&s, 3.0, 1e-12, 1e-14, 0.05);
     let r = res.signal("puck.r_abs").unwrap();
+    // The element's signal: the force at each output time, resolved in world [N].
+    let push = res.signal("push.force").unwrap();
+    assert_eq!(push.unit, "N");
     let mut worst = 0.0f64;
     for (n, &t) in res.time().iter().enumerate() {
         let exact = f0 / (m * om * om) * (om * t - (om * t).sin());
         worst = worst.max((r.at(n).unwrap()[0] - exact).abs());
+        let f = push.at(n).unwrap();
+        assert!((f[0] - f0 * (om * t).sin()).abs() < 1e-15 && f[1] == 0.0 && f[2] == 0.0);
     }
     // x reaches 1.3 m: 1e-8 absolute (see the module's header).
     assert!(worst < 1e-8, "largest error {worst:e} m");
@@ -439,17 +446,27 @@ fn world_torque_resolved_in_the_body_spins_it_up() {
             },
         ))
         .add_force(ForceElement::WorldTorque {
+            name: "spin".into(),
             object: "top".into(),
             torque: VectorLaw::from([0.0, 0.0, tq]),
             resolved_in: Some("top".into()),
         });
     let res = run(&s, 2.0, 1e-11, 1e-13, 0.1);
     let w = res.signal("top.w_abs").unwrap();
+    // The torque's signal is resolved in world: along the fixed spin axis (the body's z axis
+    // stays there), as accurate as the body's orientation.
+    let spin = res.signal("spin.torque").unwrap();
     let axis = Rotation::Cardan(tilt).to_matrix() * Vector3::z();
     for (n, &t) in res.time().iter().enumerate() {
         let exact = axis * (w0 + tq * t / izz);
         let got = Vector3::from_column_slice(w.at(n).unwrap());
         assert!((got - exact).norm() < 1e-8, "t = {t}: {got} vs {exact}");
+        let torque = Vector3::from_column_slice(spin.at(n).unwrap());
+        assert!(
+            (torque - axis * tq).norm() < 1e-8,
+            "t = {t}: {torque} vs {}",
+            axis * tq
+        );
     }
 }
 
@@ -566,6 +583,7 @@ fn new_elements_are_validated_in_one_round() {
         Bushing::new("mount", "world", "blok").stiffness([1.0, -2.0, 1.0]),
     ))
     .add_force(ForceElement::WorldTorque {
+        name: "twist".into(),
         object: "block".into(),
         torque: VectorLaw::from([0.0, f64::NAN, 0.0]),
         resolved_in: Some("wrld".into()),

@@ -18,7 +18,10 @@ model! {
 fn by_builder(length: f64, mass: f64, phi0: f64) -> SceneDesc {
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(Object3D::new("body").solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(mass)))
+        .add(
+            Object3D::new("body")
+                .solid(Solid::new(Shape::Sphere { diameter: 0.1 }).given_mass(mass)),
+        )
         .add(
             Object3D::new("frame")
                 .parent("body")

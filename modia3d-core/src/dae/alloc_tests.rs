@@ -272,11 +272,13 @@ fn force_elements_and_point_gravity_do_not_allocate() {
             damper: Law::Linear(0.5),
         })
         .add_force(ForceElement::WorldForce {
+            name: "push".into(),
             object: "block".into(),
             force: VectorLaw::new(|t, m| Vector3::new(t.sin(), 0.0, -m.v_abs.z)),
             resolved_in: None,
         })
         .add_force(ForceElement::WorldTorque {
+            name: "twist".into(),
             object: "block".into(),
             torque: VectorLaw::from([0.0, 0.0, 0.5]),
             resolved_in: Some("block".into()),

@@ -332,6 +332,7 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
                 value,
                 resolved_in,
                 torque,
+                ..
             } => match world_vector(plan, ws, t, (*object, *resolved_in), value) {
                 Ok((x, m)) => {
                     let (f, n) = if *torque { (zero, x) } else { (x, zero) };

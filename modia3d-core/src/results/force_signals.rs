@@ -2,7 +2,8 @@
 //! functions the residual uses (`dynamics/forces.rs`): a point-to-point spring-damper's
 //! `length` \[m\], `length_rate` [m/s] and `tension` \[N\]; a bushing's `r` \[m\], `v` [m/s],
 //! `angles` \[rad\], `rates` [rad/s], `force` \[N\] and `torque` [N·m] (on obj2, all resolved
-//! in obj1).
+//! in obj1); a `WorldForce`'s `force` \[N\] and a `WorldTorque`'s `torque` [N·m], resolved in
+//! world.
 
 use super::{Signal, SimulationResult};
 use crate::dynamics::{forces, kinematics, Workspace};
@@ -25,11 +26,17 @@ const BUSHING_FIELDS: &[(&str, usize, &str)] = &[
     ("torque", 3, "N·m"),
 ];
 
+/// Fields of a `WorldForce` and a `WorldTorque`.
+const FORCE_FIELDS: &[(&str, usize, &str)] = &[("force", 3, "N")];
+const TORQUE_FIELDS: &[(&str, usize, &str)] = &[("torque", 3, "N·m")];
+
 /// The signal fields of a force element (none for unnamed elements).
 pub(super) fn fields(f: &ValidForce) -> &'static [(&'static str, usize, &'static str)] {
     match f {
         ValidForce::SpringDamper { .. } => PTP_FIELDS,
         ValidForce::Bushing { .. } => BUSHING_FIELDS,
+        ValidForce::WorldVector { torque: false, .. } => FORCE_FIELDS,
+        ValidForce::WorldVector { torque: true, .. } => TORQUE_FIELDS,
         _ => &[],
     }
 }
@@ -43,7 +50,7 @@ impl SimulationResult {
         let &(_, dim, unit) = fields(f).iter().find(|(n, ..)| *n == field)?;
         let mut ws = Workspace::new(plan);
         let mut data = Vec::with_capacity(dim * self.time.len());
-        for y in self.states_iter() {
+        for (&t, y) in self.time.iter().zip(self.states_iter()) {
             let (q, v) = y.split_at(plan.nq);
             kinematics::position_velocity(plan, &mut ws, q, v);
             match f {
@@ -73,6 +80,16 @@ impl SimulationResult {
                         "force" => s.force,
                         _ => s.torque,
                     });
+                    data.extend_from_slice(x.as_slice());
+                }
+                ValidForce::WorldVector {
+                    object,
+                    value,
+                    resolved_in,
+                    ..
+                } => {
+                    let x = forces::world_vector(plan, &ws, t, (*object, *resolved_in), value)
+                        .map_or(nalgebra::Vector3::repeat(f64::NAN), |(x, _)| x);
                     data.extend_from_slice(x.as_slice());
                 }
                 _ => return None,

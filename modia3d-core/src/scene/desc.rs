@@ -715,6 +715,8 @@ pub enum ForceElement {
     /// A force \[N\] at `object`'s origin (Modia3D's `WorldForce`), resolved in world or, with
     /// `resolved_in`, in that object's frame (turning with it).
     WorldForce {
+        /// Name (signal `<name>.force`: the force resolved in world \[N\]).
+        name: String,
         /// The object acted on.
         object: String,
         /// The force, resolved in world or `resolved_in` \[N\].
@@ -725,6 +727,8 @@ pub enum ForceElement {
     /// A torque [N·m] on `object` (Modia3D's `WorldTorque`), resolved in world or in
     /// `resolved_in`'s frame.
     WorldTorque {
+        /// Name (signal `<name>.torque`: the torque resolved in world [N·m]).
+        name: String,
         /// The object acted on.
         object: String,
         /// The torque, resolved in world or `resolved_in` [N·m].

@@ -647,7 +647,7 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
             resolved_in,
             torque,
         } => {
-            let o = scoped(&object.path);
+            let (n, o) = (scoped(name), scoped(&object.path));
             let r = match resolved_in {
                 Some(r) => {
                     let r = scoped(&r.path);
@@ -664,9 +664,9 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
                 _ => quote_spanned!(span=> ::modia3d::core::VectorLaw::from(#value)),
             };
             if *torque {
-                quote!(#fe::WorldTorque { object: #to_string(#o), torque: #v, resolved_in: #r })
+                quote!(#fe::WorldTorque { name: #to_string(#n), object: #to_string(#o), torque: #v, resolved_in: #r })
             } else {
-                quote!(#fe::WorldForce { object: #to_string(#o), force: #v, resolved_in: #r })
+                quote!(#fe::WorldForce { name: #to_string(#n), object: #to_string(#o), force: #v, resolved_in: #r })
             }
         }
         ForceIr::JointSpringDamper {

@@ -346,14 +346,17 @@ impl<'a> Probe<'a> {
                             resolved_in.as_ref().map(|r| obj(r).to_string()),
                         );
                         let value = VectorLaw::Constant(Vector3::zeros());
+                        let name = name.to_string();
                         if *torque {
                             ForceElement::WorldTorque {
+                                name,
                                 object,
                                 torque: value,
                                 resolved_in,
                             }
                         } else {
                             ForceElement::WorldForce {
+                                name,
                                 object,
                                 force: value,
                                 resolved_in,

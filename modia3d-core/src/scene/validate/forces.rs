@@ -72,11 +72,13 @@ pub(super) fn forces(
                 }
             }
             ForceElement::WorldForce {
+                name,
                 object,
                 force: value,
                 resolved_in,
             }
             | ForceElement::WorldTorque {
+                name,
                 object,
                 torque: value,
                 resolved_in,
@@ -100,6 +102,7 @@ pub(super) fn forces(
                 };
                 if let (Some(object), Some(resolved_in)) = (o, r) {
                     forces.push(ValidForce::WorldVector {
+                        name: name.clone(),
                         object,
                         value: value.clone(),
                         resolved_in,

@@ -141,6 +141,8 @@ pub enum ValidForce {
     },
     /// `WorldForce` (`torque = false`) or `WorldTorque` (`torque = true`).
     WorldVector {
+        /// Name.
+        name: String,
         /// Object acted on.
         object: usize,
         /// The value, resolved in world or `resolved_in`.
@@ -172,6 +174,7 @@ impl ValidForce {
         match self {
             ValidForce::SpringDamper { name, .. } => Some(name),
             ValidForce::Bushing { spec, .. } => Some(&spec.name),
+            ValidForce::WorldVector { name, .. } => Some(name),
             _ => None,
         }
     }
@@ -323,6 +326,9 @@ impl<'a> Names<'a> {
             ForceElement::SpringDamper { name, .. }
             | ForceElement::SpringDamperPtP { name, .. } => Some(name.as_str()),
             ForceElement::Bushing(b) => Some(b.name.as_str()),
+            ForceElement::WorldForce { name, .. } | ForceElement::WorldTorque { name, .. } => {
+                Some(name.as_str())
+            }
             _ => None,
         });
         let mut seen: HashMap<&str, &'static str> =
