@@ -406,7 +406,7 @@ fn sequence(seed: u64, tally: &mut Tally) {
     };
     let span = opts.stop_time - opts.start_time;
     for _ in 0..rng.below(12) + 1 {
-        match rng.below(8) {
+        match rng.below(9) {
             0 | 1 => {
                 let t = match rng.below(10) {
                     0 => sim.time() - span * rng.unit(), // backwards
@@ -454,6 +454,21 @@ fn sequence(seed: u64, tally: &mut Tally) {
             5 => poke_result(&mut rng, sim.result()),
             6 => {
                 let _ = (sim.time(), sim.state().len(), sim.input_names());
+            }
+            7 => {
+                // Structure changes with any names and gaps (also NaN, negative, huge): a typed
+                // error or a new segment, never a panic.
+                let (a, b) = (*rng.pick(&OBJECTS), *rng.pick(&OBJECTS));
+                let gap = *rng.pick(&[f64::NAN, -1.0, 0.0, 1e-3, 10.0, f64::INFINITY]);
+                let r = match rng.below(3) {
+                    0 => sim.attach(a, b, gap),
+                    1 => sim.release(a),
+                    _ => sim.delete(a),
+                };
+                match r {
+                    Ok(()) => tally.ok_calls += 1,
+                    Err(e) => assert!(!e.to_string().is_empty()),
+                }
             }
             _ => {
                 // A second simulation of the same model runs independently.
