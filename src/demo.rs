@@ -454,6 +454,23 @@ model! {
     }
 }
 
+/// The world (options default but `k_red`) and the fixed DryWood table of [`FallingBoxes`]
+/// (2 × 2 × 0.1 m, top face at z = 0), for scenes that put bodies on it.
+pub fn wooden_table(k_red: f64) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions {
+        k_red,
+        ..Default::default()
+    }))
+    .add(fixed_box(
+        "table",
+        [2.0, 2.0, 0.1],
+        [0.0, 0.0, -0.05],
+        "DryWood",
+    ));
+    s
+}
+
 /// [`FallingBoxes`] as a scene description.
 pub fn falling_boxes(k_red: f64) -> SceneDesc {
     FallingBoxes { k_red }.scene()

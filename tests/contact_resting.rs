@@ -9,7 +9,7 @@
 //! hysteresis lies on the separated side, docs/contact-hysteresis.md). The resting height is checked against
 //! `h/2 − m·g/k` to 1 % of the penetration (IDA's position error is atol = 1e-7·… far below it).
 
-use modia3d::demo::{c_res, fixed_box, world};
+use modia3d::demo::{c_res, wooden_table};
 use modia3d::prelude::*;
 
 const G: f64 = 9.81;
@@ -27,17 +27,7 @@ fn dry_wood() -> SolidMaterial {
 /// The table of `demo::falling_boxes` and one free body `body` of `shape` at `r` with Cardan
 /// angles `angles` \[rad\], at rest.
 fn single(shape: Shape, r: [f64; 3], angles: [f64; 3]) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red: K_RED,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [2.0, 2.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "DryWood",
-    ));
+    let mut s = wooden_table(K_RED);
     add_free(&mut s, "body", shape, r, angles, [0.0; 3], [0.0; 3]);
     s
 }
@@ -67,17 +57,7 @@ fn add_free(
 
 /// Copy of `demo::falling_boxes` (same parameters as `examples/falling_boxes.rs`).
 fn falling_boxes(k_red: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [2.0, 2.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "DryWood",
-    ));
+    let mut s = wooden_table(k_red);
     let parts: [(&str, Shape, [f64; 3], [f64; 3]); 4] = [
         (
             "box1",

@@ -3,7 +3,7 @@
 //! a table (the contact forces carry the weight).
 
 use modia3d::core::geometry::{CollisionShape, Shape};
-use modia3d::demo::{fixed_box, world};
+use modia3d::demo::{wooden_table, world};
 use modia3d::prelude::*;
 use nalgebra::{Matrix3, Point3};
 use std::f64::consts::PI;
@@ -205,29 +205,19 @@ fn beam_support_map_matches_parry() {
 
 /// A scene with a table (top face at z = 0) and one free body `body` of `solid` at `r`.
 fn on_table(solid: Solid, r: [f64; 3]) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red: 1e-3,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [2.0, 2.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "DryWood",
-    ))
-    .add(Object3D::new("body").solid(solid.material("DryWood").collision(true)))
-    .add_joint(Joint::new(
-        "body.free",
-        "world",
-        "body",
-        JointKind::FreeMotion {
-            r: Vector3::from(r),
-            rot: FreeRotation::Cardan([0.0; 3]),
-            v: Vector3::zeros(),
-            w: Vector3::zeros(),
-        },
-    ));
+    let mut s = wooden_table(1e-3);
+    s.add(Object3D::new("body").solid(solid.material("DryWood").collision(true)))
+        .add_joint(Joint::new(
+            "body.free",
+            "world",
+            "body",
+            JointKind::FreeMotion {
+                r: Vector3::from(r),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
     s
 }
 

@@ -66,12 +66,10 @@ impl Checker {
     pub(super) fn joint(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
         let kind_name = ctor.name().to_string();
         let a = self.args(ctor, joint_keys(&kind_name));
-        let o1 = self
-            .required(&a, "obj1")
-            .and_then(|e| self.reference(e, Kind::Object, "object"));
-        let o2 = self
-            .required(&a, "obj2")
-            .and_then(|e| self.reference(e, Kind::Object, "object"));
+        let (o1, o2) = (
+            self.required_object(&a, "obj1"),
+            self.required_object(&a, "obj2"),
+        );
         let can_collide = a.get("can_collide").map(|c| (c.clone(), lit_bool(c)));
         let cut = a.get("cut").map(|c| (c.clone(), lit_bool(c)));
         let kind = match kind_name.as_str() {
@@ -140,12 +138,10 @@ impl Checker {
         let force = match ctor.name().to_string().as_str() {
             "SpringDamper" => {
                 let a = self.args(ctor, SPRING_DAMPER_KEYS);
-                let o1 = self
-                    .required(&a, "obj1")
-                    .and_then(|e| self.reference(e, Kind::Object, "object"));
-                let o2 = self
-                    .required(&a, "obj2")
-                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let (o1, o2) = (
+                    self.required_object(&a, "obj1"),
+                    self.required_object(&a, "obj2"),
+                );
                 // A law replaces its linear coefficient: one of the two, the coefficient
                 // required without a law.
                 let pair = |c: &mut Self, coef: &'static str, law: &'static str, req: bool| {
@@ -177,12 +173,10 @@ impl Checker {
             }
             "Bushing" => {
                 let a = self.args(ctor, BUSHING_KEYS);
-                let o1 = self
-                    .required(&a, "obj1")
-                    .and_then(|e| self.reference(e, Kind::Object, "object"));
-                let o2 = self
-                    .required(&a, "obj2")
-                    .and_then(|e| self.reference(e, Kind::Object, "object"));
+                let (o1, o2) = (
+                    self.required_object(&a, "obj1"),
+                    self.required_object(&a, "obj2"),
+                );
                 let nominal = ["nominal_force", "nominal_torque"].map(|k| self.num(&a, k, false));
                 let laws = [0, 1, 2, 3].map(|i| {
                     let key = BUSHING_LAWS[i];

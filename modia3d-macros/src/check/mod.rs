@@ -352,6 +352,12 @@ impl Checker {
         }
     }
 
+    /// A required key whose value names an object (a joint's or an element's ends).
+    fn required_object(&mut self, a: &Args<'_>, key: &str) -> Option<NameRef> {
+        self.required(a, key)
+            .and_then(|e| self.reference(e, Kind::Object, "object"))
+    }
+
     fn required<'a>(&mut self, a: &Args<'a>, key: &str) -> Option<&'a Expr> {
         let v = a.get(key);
         if v.is_none() && !a.suggested.iter().any(|s| s == key) {
