@@ -106,9 +106,10 @@ fn stack_of_ten_steel_boxes_holds() {
 }
 
 /// A steel cylinder on its side and a steel ellipsoid lying flat, at the default options for
-/// 0.05 s: no event after the start (both start touching), and the support force averaged over
-/// the run equals the weight within 2 % (the contact oscillates at a period of ~0.1 ms with
-/// little damping; its mean force balances gravity, else the body would drift).
+/// 1 s: no event after the start (both start touching), the support force averaged over the
+/// run equals the weight within 2 % (the first milliseconds oscillate: they start at zero
+/// penetration), and at the end it equals the weight within 1e-3 (at rest; IDA's force error
+/// at rtol 1e-6 is far below that).
 #[test]
 fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
     let cases = [
@@ -134,7 +135,7 @@ fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
     for (what, shape, h, volume) in cases {
         let res = run(
             demo::stack(shape, h, [0.0; 3], 1, 1.0),
-            SimOptions::new(0.05).interval(1e-5),
+            SimOptions::new(1.0).interval(1e-4),
         );
         let f = res.signal("table|b0.f_n").unwrap().values();
         let mean = f.iter().sum::<f64>() / f.len() as f64;
@@ -147,6 +148,11 @@ fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
         assert!(
             (mean - w).abs() < 0.02 * w,
             "{what}: mean f_n {mean} vs {w}"
+        );
+        let last = f[f.len() - 1];
+        assert!(
+            (last - w).abs() < 1e-3 * w,
+            "{what}: f_n {last} N at 1 s vs {w} N"
         );
     }
 }
