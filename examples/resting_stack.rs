@@ -17,31 +17,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or(d)
     };
     let (n, t_end, k_red) = (arg(1, 10.0) as usize, arg(2, 10.0), arg(3, 1e-3));
-    let (shape, h, volume) = match std::env::args().nth(4).as_deref() {
-        Some("cylinder") => (
-            Shape::Cylinder {
-                axis: Axis::X,
-                diameter: 0.1,
-                length: 0.2,
-            },
-            0.1,
-            std::f64::consts::PI * 0.05 * 0.05 * 0.2,
-        ),
-        Some("ellipsoid") => (
-            Shape::Ellipsoid {
-                lengths: Vector3::new(0.1, 0.06, 0.04),
-            },
-            0.04,
-            std::f64::consts::PI / 6.0 * 0.1 * 0.06 * 0.04,
-        ),
-        _ => (
-            Shape::Box {
-                lengths: Vector3::new(0.1, 0.1, 0.1),
-            },
-            0.1,
-            1e-3,
-        ),
-    };
+    let which = std::env::args().nth(4).unwrap_or_else(|| "cube".into());
+    let (_, shape, h, volume) = demo::lying_shapes()
+        .into_iter()
+        .find(|c| c.0 == which)
+        .ok_or("shape: cube, cylinder or ellipsoid")?;
     let s = demo::stack(shape, h, [0.0; 3], n, k_red);
     let model = s.build()?;
     let opts = SimOptions::new(t_end).contact_results(true);
