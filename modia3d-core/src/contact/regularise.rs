@@ -14,6 +14,29 @@ pub fn reg(v: f64, v_min: f64) -> f64 {
     }
 }
 
+/// Half-width of the band of [`soft_clamp`] [-].
+pub const CLAMP_BAND: f64 = 1e-4;
+
+/// `max(0, x)` made C¹ over `|x| < CLAMP_BAND` by the parabola `(x + b)²/(4b)`: the damping
+/// factor `1 + d·δ̇` of the normal force. Why: a contact whose bodies separate at `1/d` (1 mm/s
+/// at `d = d_max`) sits on the clamp's kink with the huge slope `f_el·d` on one side, and
+/// Newton's method cannot converge across it (measured: a 10 g box 1.2 cm deep against a
+/// spinning 4.5 kg cylinder, found by the scene fuzzer, stalled at 5e-12 s steps; with the band
+/// it takes 931 steps to separate). Outside the band the law is unchanged; inside, the force is
+/// at most `f_el·b/4` larger than the clamp's; the extra impulse is of order `b²` (with
+/// b = 1e-3 an exact-restitution rebound at cor 0.1 came out 0.10001, with 1e-4 exact to 1e-9).
+#[inline]
+pub fn soft_clamp(x: f64) -> f64 {
+    let b = CLAMP_BAND;
+    if x >= b {
+        x
+    } else if x <= -b {
+        0.0
+    } else {
+        (x + b) * (x + b) / (4.0 * b)
+    }
+}
+
 /// Regularised coefficient of restitution [-] for the contact-start penetration velocity
 /// `dd_minus` [m/s]: `Paper2019`: `cor + (cor_min − cor)·exp(ln(0.01)·|δ̇⁻|/v_min)`;
 /// `Modia3DLater`: 0 when `|δ̇⁻| ≤ v_min`, else `cor`.
@@ -66,6 +89,20 @@ mod tests {
         let slope = (reg(vm, vm) - reg(vm - h, vm)) / h;
         assert!((slope - 1.0).abs() < 1e-4, "slope {slope}");
         assert_eq!(reg(-0.5, vm), 0.5);
+    }
+
+    #[test]
+    fn soft_clamp_is_c1_and_the_clamp_outside_its_band() {
+        let b = CLAMP_BAND;
+        assert_eq!(soft_clamp(0.7), 0.7);
+        assert_eq!(soft_clamp(-0.3), 0.0);
+        assert_eq!(soft_clamp(b), b);
+        assert_eq!(soft_clamp(-b), 0.0);
+        assert!((soft_clamp(0.0) - b / 4.0).abs() < 1e-18);
+        // Slopes meet at both ends of the band: 1 at +b, 0 at −b.
+        let h = 1e-9 * b;
+        let slope = |x: f64| (soft_clamp(x + h) - soft_clamp(x - h)) / (2.0 * h);
+        assert!((slope(b - 2.0 * h) - 1.0).abs() < 1e-5 && slope(-b + 2.0 * h).abs() < 1e-5);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! pair's constants, its contact geometry and the two bodies' velocities; no allocation.
 
 use super::preprocess::{ContactPlan, PairPlan};
-use super::regularise::reg;
+use super::regularise::{reg, soft_clamp};
 use crate::geometry::{ContactPatch, SignedDistance};
 use nalgebra::Vector3;
 
@@ -90,7 +90,7 @@ pub fn pair_response(
         delta.powf(pp.n_geo)
     };
     let f_el = cp.k_red * pp.c_res * pp.c_geo * delta_pow;
-    let f_n = (f_el * (1.0 + d * delta_dot)).max(0.0);
+    let f_n = f_el * soft_clamp(1.0 + d * delta_dot);
     let friction_force = if pp.mu_k > 0.0 {
         v_t * (-pp.mu_k * f_n / reg(v_t.norm(), pp.v_min))
     } else {
