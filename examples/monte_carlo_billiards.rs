@@ -5,7 +5,7 @@
 //! thread count). Each run keeps where the cue ball and the rack's apex ball (`ball1`) stopped
 //! after 3 s; the example prints their spread and a histogram of the cue ball's x, writes the
 //! table to `out/monte_carlo_billiards.csv` and a scatter plot of the cue ball's resting
-//! places, coloured by the cue speed, to `out/monte_carlo_billiards.svg`.
+//! places, coloured by the cue speed, to `out/monte_carlo_billiards.{svg,png}`.
 //!
 //!     cargo run --release --example monte_carlo_billiards [-- samples [seed]]
 
@@ -100,18 +100,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("cue ball x after 3 s:");
     for (k, n) in bins.iter().enumerate() {
-        let lo = -1.12 + 0.16 * k as f64;
-        println!("  [{lo:+.2}, {:+.2}) m {}", lo + 0.16, "#".repeat(*n));
+        let lo = (16 * k as i32 - 112) as f64 / 100.0;
+        let hi = (16 * k as i32 - 96) as f64 / 100.0;
+        println!("  [{lo:+.2}, {hi:+.2}) m {}", "#".repeat(*n));
     }
     std::fs::create_dir_all("out")?;
     table.write_csv("out/monte_carlo_billiards.csv")?;
-    table.plot_scatter(
-        "cue.r_abs[0]",
-        "cue.r_abs[1]",
-        Some("speed"),
-        "out/monte_carlo_billiards.svg",
-        Some("Cue ball after 3 s (colour: cue speed)"),
-    )?;
-    println!("wrote out/monte_carlo_billiards.{{csv,svg}}");
+    for ext in ["svg", "png"] {
+        table.plot_scatter(
+            "cue.r_abs[0]",
+            "cue.r_abs[1]",
+            Some("speed"),
+            format!("out/monte_carlo_billiards.{ext}"),
+            Some("Cue ball after 3 s (colour: cue speed)"),
+        )?;
+    }
+    println!("wrote out/monte_carlo_billiards.{{csv,svg,png}}");
     Ok(())
 }

@@ -204,6 +204,12 @@ fn range(v: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     })
 }
 
+/// A tick label; a tick within rounding of zero (an axis of width `span`) is `0`, not
+/// `-1.11e-16`.
+fn tick(v: f64, span: f64) -> String {
+    tick_label(if v.abs() < 1e-9 * span.abs() { 0.0 } else { v })
+}
+
 impl Drawing for SweepFigure {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String> {
         let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
@@ -261,8 +267,8 @@ impl Drawing for SweepFigure {
             .y_desc(self.y.label.as_str())
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
-            .x_label_formatter(&|v| tick_label(*v))
-            .y_label_formatter(&|v| tick_label(*v))
+            .x_label_formatter(&|v| tick(*v, x1 - x0))
+            .y_label_formatter(&|v| tick(*v, y1 - y0))
             .disable_mesh()
             .draw()
             .map_err(err)?;
@@ -330,7 +336,7 @@ impl Drawing for SweepFigure {
                 .y_desc(zs.label.as_str())
                 .label_style(("sans-serif", 13))
                 .axis_desc_style(("sans-serif", 15))
-                .y_label_formatter(&|v| tick_label(*v))
+                .y_label_formatter(&|v| tick(*v, hi - lo))
                 .draw()
                 .map_err(err)?;
             let steps = 100;
