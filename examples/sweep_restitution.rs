@@ -59,6 +59,26 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
+/// CPU time of this process so far \[s\] (user + system, from `/proc/self/stat`; Linux
+/// only, NaN elsewhere), in clock ticks of 10 ms.
+fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which may hold spaces) in parentheses: utime is the
+    // 12th, stime the 13th.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<f64> = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    if f.len() == 2 {
+        (f[0] + f[1]) / 100.0
+    } else {
+        f64::NAN
+    }
+}
+
 fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
     // Longer and tighter runs than the study's (3 s at rtol 1e-9, every bounce until rest), so
     // that a sweep takes seconds and thread start-up is not what is measured.
@@ -73,12 +93,14 @@ fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let reference = sweep.clone().threads(1).run()?;
     let mut times = [vec![], vec![]];
+    let mut cpu = [0.0, 0.0];
     for _ in 0..repeats {
         for (k, threads) in [1, 2].into_iter().enumerate() {
             let s = sweep.clone().threads(threads);
-            let t = Instant::now();
+            let (t, c) = (Instant::now(), cpu_seconds());
             let table = s.run()?;
             times[k].push(t.elapsed().as_secs_f64());
+            cpu[k] += cpu_seconds() - c;
             if table != reference {
                 return Err(
                     format!("the {threads}-thread table differs from the 1-thread one").into(),
@@ -94,18 +116,19 @@ fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
         std::thread::available_parallelism().map_or(0, |n| n.get()),
         load.trim()
     );
-    println!("| threads | wall per sweep, median [s] | min [s] | max [s] | runs/s | speed-up |");
-    println!("|---|---|---|---|---|---|");
+    println!("| threads | wall per sweep, median [s] | min [s] | max [s] | runs/s | speed-up | CPU per sweep, mean [s] |");
+    println!("|---|---|---|---|---|---|---|");
     let base = median(times[0].clone());
     for (k, threads) in [1, 2].into_iter().enumerate() {
         let t = &times[k];
         let med = median(t.clone());
         println!(
-            "| {threads} | {med:.3} | {:.3} | {:.3} | {:.1} | {:.2} |",
+            "| {threads} | {med:.3} | {:.3} | {:.3} | {:.1} | {:.2} | {:.3} |",
             t.iter().copied().fold(f64::INFINITY, f64::min),
             t.iter().copied().fold(0.0, f64::max),
             runs / med,
-            base / med
+            base / med,
+            cpu[k] / repeats as f64
         );
     }
     let ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
