@@ -10,7 +10,9 @@
 //!
 //! `--bench` runs the 64-run sweep (with 3 s runs at rtol 1e-9) on 1 and on 2 threads,
 //! alternately `repeats` times (default 5), checks that every table is the same bit for bit,
-//! and prints the wall times and the throughput ratio (BENCHMARKS.md, "Parameter sweeps").
+//! and prints the wall times, the throughput ratio and, per repeat, how many cores other
+//! processes kept busy meanwhile (from `/proc/stat`), so that a ratio measured on a loaded
+//! machine is seen as such (BENCHMARKS.md, "Parameter sweeps").
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -59,29 +61,66 @@ fn median(mut v: Vec<f64>) -> f64 {
     }
 }
 
-/// CPU time of this process so far \[s\] (user + system, from `/proc/self/stat`; Linux
-/// only, NaN elsewhere), in clock ticks of 10 ms.
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    // Fields after the command name (which may hold spaces) in parentheses: utime is the
-    // 12th, stime the 13th.
-    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<f64> = rest
+/// Busy CPU time \[s\] of this process and of the whole machine so far (user + system
+/// from `/proc/self/stat`; everything but idle and iowait from `/proc/stat`), in clock ticks
+/// of 10 ms; NaN where `/proc` is missing (not Linux).
+fn cpu_seconds() -> (f64, f64) {
+    let read = |path: &str| std::fs::read_to_string(path).unwrap_or_default();
+    let numbers = |s: &str| -> Vec<f64> {
+        s.split_whitespace()
+            .filter_map(|v| v.parse().ok())
+            .collect()
+    };
+    // Fields after the command name (which may hold spaces): utime is the 12th, stime 13th.
+    let stat = read("/proc/self/stat");
+    let own: Vec<&str> = stat
+        .rsplit_once(')')
+        .map_or("", |(_, r)| r)
         .split_whitespace()
-        .skip(11)
-        .take(2)
-        .filter_map(|v| v.parse().ok())
         .collect();
-    if f.len() == 2 {
-        (f[0] + f[1]) / 100.0
+    let own = match (own.get(11), own.get(12)) {
+        (Some(u), Some(s)) => {
+            (u.parse::<f64>().unwrap_or(f64::NAN) + s.parse::<f64>().unwrap_or(f64::NAN)) / 100.0
+        }
+        _ => f64::NAN,
+    };
+    // `cpu  user nice system idle iowait irq softirq steal …`
+    let all = numbers(read("/proc/stat").lines().next().unwrap_or_default());
+    let machine = if all.len() >= 8 {
+        (all.iter().take(8).sum::<f64>() - all[3] - all[4]) / 100.0
     } else {
         f64::NAN
+    };
+    (own, machine)
+}
+
+/// One timed sweep: wall time \[s\], this process's CPU time \[s\], and the cores other
+/// processes kept busy meanwhile (machine busy time minus ours, over the wall time).
+struct Timing {
+    wall: f64,
+    cpu: f64,
+    foreign: f64,
+}
+
+fn timed(sweep: &Sweep, reference: &SweepTable) -> Result<Timing, Box<dyn std::error::Error>> {
+    let ((own0, all0), t) = (cpu_seconds(), Instant::now());
+    let table = sweep.run()?;
+    let wall = t.elapsed().as_secs_f64();
+    let (own1, all1) = cpu_seconds();
+    if table != *reference {
+        return Err("a table differs from the 1-thread reference".into());
     }
+    let cpu = own1 - own0;
+    Ok(Timing {
+        wall,
+        cpu,
+        foreign: ((all1 - all0 - cpu) / wall).max(0.0),
+    })
 }
 
 fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
     // Longer and tighter runs than the study's (3 s at rtol 1e-9, every bounce until rest), so
-    // that a sweep takes seconds and thread start-up is not what is measured.
+    // that a sweep takes about a second and thread start-up is not what is measured.
     let sweep = sweep()?
         .options(
             SimOptions::new(3.0)
@@ -92,54 +131,54 @@ fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
         .progress(false);
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let reference = sweep.clone().threads(1).run()?;
-    let mut times = [vec![], vec![]];
-    let mut cpu = [0.0, 0.0];
+    let (one, two) = (sweep.clone().threads(1), sweep.threads(2));
+    let mut pairs = vec![];
     for _ in 0..repeats {
-        for (k, threads) in [1, 2].into_iter().enumerate() {
-            let s = sweep.clone().threads(threads);
-            let (t, c) = (Instant::now(), cpu_seconds());
-            let table = s.run()?;
-            times[k].push(t.elapsed().as_secs_f64());
-            cpu[k] += cpu_seconds() - c;
-            if table != reference {
-                return Err(
-                    format!("the {threads}-thread table differs from the 1-thread one").into(),
-                );
-            }
-        }
+        pairs.push((timed(&one, &reference)?, timed(&two, &reference)?));
     }
-    let runs = reference.rows.len() as f64;
     println!(
-        "{} runs, {} repeats, {} cores; /proc/loadavg at the start: {}",
+        "{} runs per sweep, {repeats} repeats of (1 thread, 2 threads), {} cores; /proc/loadavg at the start: {}; every table equal to the first bit for bit",
         reference.rows.len(),
-        repeats,
         std::thread::available_parallelism().map_or(0, |n| n.get()),
         load.trim()
     );
-    println!("| threads | wall per sweep, median [s] | min [s] | max [s] | runs/s | speed-up | CPU per sweep, mean [s] |");
-    println!("|---|---|---|---|---|---|---|");
-    let base = median(times[0].clone());
-    for (k, threads) in [1, 2].into_iter().enumerate() {
-        let t = &times[k];
-        let med = median(t.clone());
+    println!("| repeat | 1 thread [s] | 2 threads [s] | ratio | other processes' load during 1 / 2 [cores] | CPU 1 / 2 [s] |");
+    println!("|---|---|---|---|---|---|");
+    for (i, (a, b)) in pairs.iter().enumerate() {
         println!(
-            "| {threads} | {med:.3} | {:.3} | {:.3} | {:.1} | {:.2} | {:.3} |",
-            t.iter().copied().fold(f64::INFINITY, f64::min),
-            t.iter().copied().fold(0.0, f64::max),
-            runs / med,
-            base / med,
-            cpu[k] / repeats as f64
+            "| {i} | {:.3} | {:.3} | {:.2} | {:.2} / {:.2} | {:.3} / {:.3} |",
+            a.wall,
+            b.wall,
+            a.wall / b.wall,
+            a.foreign,
+            b.foreign,
+            a.cpu,
+            b.cpu
         );
     }
-    let ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
-    println!(
-        "per-repeat ratios (1 thread / 2 threads): {}; median {:.2}; tables equal bit for bit: yes",
-        ratios
+    let runs = reference.rows.len() as f64;
+    let summary = |what: &str, sel: Vec<&(Timing, Timing)>| {
+        if sel.is_empty() {
+            println!("{what}: none");
+            return;
+        }
+        let t1 = median(sel.iter().map(|p| p.0.wall).collect());
+        let t2 = median(sel.iter().map(|p| p.1.wall).collect());
+        let r = median(sel.iter().map(|p| p.0.wall / p.1.wall).collect());
+        println!(
+            "{what} ({} repeats): median 1 thread {t1:.3} s ({:.1} runs/s), 2 threads {t2:.3} s ({:.1} runs/s); median per-repeat ratio {r:.2}",
+            sel.len(),
+            runs / t1,
+            runs / t2
+        );
+    };
+    summary("all", pairs.iter().collect());
+    summary(
+        "quiet (other processes < 0.1 cores during both)",
+        pairs
             .iter()
-            .map(|r| format!("{r:.2}"))
-            .collect::<Vec<_>>()
-            .join(", "),
-        median(ratios.clone())
+            .filter(|(a, b)| a.foreign < 0.1 && b.foreign < 0.1)
+            .collect(),
     );
     Ok(())
 }
