@@ -131,6 +131,19 @@ fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
         .progress(false);
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let reference = sweep.clone().threads(1).run()?;
+    // The runs' own wall times (one thread): two threads cannot finish before the longest
+    // run nor before half the sum, whatever the scheduling.
+    let walls = sweep
+        .clone()
+        .threads(1)
+        .metric("wall", "s", |res| Ok(res.stats.wall_time))
+        .run()?
+        .column("wall")
+        .unwrap_or_default();
+    let (sum, longest) = (
+        walls.iter().sum::<f64>(),
+        walls.iter().copied().fold(0.0, f64::max),
+    );
     let (one, two) = (sweep.clone().threads(1), sweep.threads(2));
     let mut pairs = vec![];
     for _ in 0..repeats {
@@ -141,6 +154,11 @@ fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
         reference.rows.len(),
         std::thread::available_parallelism().map_or(0, |n| n.get()),
         load.trim()
+    );
+    println!(
+        "runs' integration wall times: sum {sum:.3} s, longest {longest:.4} s, median {:.4} s: bound on the 2-thread ratio by the longest run {:.2}",
+        median(walls.clone()),
+        sum / (0.5 * sum).max(longest)
     );
     println!("| repeat | 1 thread [s] | 2 threads [s] | ratio | other processes' load during 1 / 2 [cores] | CPU 1 / 2 [s] |");
     println!("|---|---|---|---|---|---|");
