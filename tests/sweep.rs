@@ -279,7 +279,9 @@ fn latin_hypercube_is_stratified_and_seeded() {
 
 const SWEEP_FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/bouncing_sweep.json");
 
-/// `target/<profile>/examples/sweep_shard`, which `cargo test` builds with the examples.
+/// `target/<profile>/examples/sweep_shard`, which `cargo test` builds with the examples
+/// (`cargo test --test sweep` alone does not: `cargo build --example sweep_shard` first, or the
+/// binary may be stale).
 fn shard_binary() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let profile_dir = exe.parent().and_then(Path::parent).unwrap();
@@ -330,11 +332,12 @@ fn run_ok(cmd: &mut Command) -> String {
 fn shard_binary_parts_merge_to_the_in_process_table() {
     let bin = shard_binary();
     let dir = scratch("cli");
-    let part = |i: usize| dir.join(format!("part-{i}.csv"));
+    // The parts' directory does not exist yet: the binary makes it.
+    let part = |i: usize| dir.join(format!("parts/part-{i}.csv"));
     for i in 0..3 {
         let mut cmd = Command::new(&bin);
         cmd.args(["run", SWEEP_FILE, "--of", "3", "--out"])
-            .arg(dir.join("part-{shard}.csv"))
+            .arg(dir.join("parts/part-{shard}.csv"))
             .env_remove("HQ_TASK_ID")
             .env_remove("SLURM_ARRAY_TASK_COUNT");
         if i == 1 {

@@ -364,7 +364,7 @@ pub(crate) fn run_cli(
                 .get("--out")
                 .map_or(default_out, String::as_str)
                 .replace("{shard}", &shard_text);
-            table.write_csv(&out)?;
+            write_table(&table, &out)?;
             if let Some(path) = opts.get("--arrow") {
                 write_arrow(&table, &path.replace("{shard}", &shard_text))?;
             }
@@ -392,7 +392,7 @@ pub(crate) fn run_cli(
                 .collect::<Result<Vec<_>, _>>()?;
             let n = spec.points()?.len();
             let table = SweepTable::merge(parts, Some(n))?;
-            table.write_csv(out)?;
+            write_table(&table, out)?;
             if let Some(path) = opts.get("--arrow") {
                 write_arrow(&table, path)?;
             }
@@ -404,6 +404,21 @@ pub(crate) fn run_cli(
         }
         other => Err(usage(format!("unknown command `{other}`"))),
     }
+}
+
+/// Writes `table` as CSV to `path`, making its directory first (a job array's parts directory
+/// need not exist).
+fn write_table(table: &SweepTable, path: &str) -> Result<(), SweepError> {
+    if let Some(dir) = Path::new(path)
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+    {
+        std::fs::create_dir_all(dir).map_err(|source| SweepError::Io {
+            path: dir.display().to_string(),
+            source,
+        })?;
+    }
+    table.write_csv(path)
 }
 
 #[cfg(feature = "arrow")]

@@ -22,7 +22,9 @@ pub enum RunError {
     /// or a metric closure's error.
     #[error("{0}")]
     Output(String),
-    /// A user closure (constructor, metric, force law) panicked; the panic was caught.
+    /// A user closure (constructor, metric) or the simulation panicked; the panic was caught
+    /// (its message still goes to standard error through the panic hook). A force law's panic
+    /// is a [`Simulation`](RunError::Simulation) error: the solver catches it.
     #[error("{0}")]
     Panic(String),
 }
