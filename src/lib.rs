@@ -215,8 +215,8 @@ pub mod demo;
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
     pub use modia3d_core::{
-        linspace, Distribution, ParamPoints, Params, RunError, Sweep, SweepError, SweepRegistry,
-        SweepSpec, SweepTable,
+        linspace, ColumnInfo, Distribution, ParamPoints, Params, RunError, Sweep, SweepError,
+        SweepRegistry, SweepRow, SweepSpec, SweepTable,
     };
     pub use modia3d_core::{
         Action, ActionError, ActionKind, Axis, BodyInfo, ContactPairInfo, ContactPairMaterial,

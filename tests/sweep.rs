@@ -77,38 +77,22 @@ fn falling_ball(p: &Params) -> Result<Model, BoxError> {
     }
     let t_fail = p.get("t_fail")?;
     let mut s = SceneDesc::new();
-    s.add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(
-            Object3D::new("ball").solid(
-                Solid::new(Shape::Sphere {
-                    diameter: p.get("d")?,
-                })
-                .material("Steel"),
-            ),
-        )
-        .add_joint(Joint::new(
-            "free",
-            "world",
-            "ball",
-            JointKind::FreeMotion {
-                r: Vector3::new(0.0, 0.0, 1.0),
-                rot: FreeRotation::Cardan([0.0; 3]),
-                v: Vector3::zeros(),
-                w: Vector3::zeros(),
-            },
-        ))
-        .add_force(ForceElement::ObjectForce {
-            object: "ball".into(),
-            law: ForceFn::new(move |t, _| Wrench {
-                force: Vector3::new(0.0, 0.0, if t > t_fail { f64::NAN } else { 0.0 }),
-                torque: Vector3::zeros(),
-            }),
-        });
+    s.add(demo::world(SceneOptions::default()));
+    let (r, zero) = ([0.0, 0.0, 1.0], [0.0; 3]);
+    demo::add_free_sphere(&mut s, "ball", p.get("d")?, "Steel", None, r, zero, zero);
+    s.add_force(ForceElement::ObjectForce {
+        object: "ball".into(),
+        law: ForceFn::new(move |t, _| Wrench {
+            force: Vector3::new(0.0, 0.0, if t > t_fail { f64::NAN } else { 0.0 }),
+            torque: Vector3::zeros(),
+        }),
+    });
     Ok(s.build()?)
 }
 
 /// Runs that fail — a negative diameter (scene error), a force turning NaN mid-run, a
-/// constructor that panics — are rows with their typed error; the other rows are right (free fall: z = 1 − g t²/2) and the sweep ends.
+/// constructor that panics — are rows with their typed error; the other rows are right (free
+/// fall: z = 1 − g t²/2) and the sweep ends.
 #[test]
 fn failing_runs_are_rows_and_the_sweep_finishes() {
     let rows = vec![
@@ -128,11 +112,7 @@ fn failing_runs_are_rows_and_the_sweep_finishes() {
         .run()
         .unwrap();
     assert_eq!(table.rows.len(), 5);
-    let status: Vec<&str> = table
-        .rows
-        .iter()
-        .map(|r| r.error.as_ref().map_or("ok", RunError::status))
-        .collect();
+    let status: Vec<&str> = table.rows.iter().map(SweepRow::status).collect();
     assert_eq!(status, ["ok", "build", "simulation", "panic", "ok"]);
     let msg = |i: usize| table.rows[i].error.as_ref().unwrap().to_string();
     assert!(msg(1).contains("ball"), "{}", msg(1));

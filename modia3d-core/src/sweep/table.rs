@@ -65,6 +65,21 @@ pub struct SweepRow {
     pub error: Option<RunError>,
 }
 
+impl SweepRow {
+    /// `ok`, or the [`RunError::status`] word of the failure.
+    pub fn status(&self) -> &'static str {
+        self.error.as_ref().map_or("ok", RunError::status)
+    }
+
+    /// The error message; empty for a successful run.
+    pub fn message(&self) -> String {
+        self.error
+            .as_ref()
+            .map(|e| e.to_string())
+            .unwrap_or_default()
+    }
+}
+
 impl PartialEq for SweepRow {
     /// Equal bit for bit (so NaN equals NaN and 0.0 differs from −0.0).
     fn eq(&self, other: &Self) -> bool {
@@ -137,11 +152,9 @@ impl SweepTable {
         for r in &self.rows {
             let mut fields = vec![r.index.to_string()];
             fields.extend(r.params.iter().map(|v| format!("{v:e}")));
-            fields.push(r.error.as_ref().map_or("ok", RunError::status).into());
+            fields.push(r.status().into());
             fields.extend(r.outputs.iter().map(|v| format!("{v:e}")));
-            fields.push(csv_quote(
-                &r.error.as_ref().map(|e| e.to_string()).unwrap_or_default(),
-            ));
+            fields.push(csv_quote(&r.message()));
             out.push_str(&fields.join(","));
             out.push('\n');
         }
@@ -351,10 +364,7 @@ impl SweepTable {
         }
         cols.push(text(
             "status",
-            self.rows
-                .iter()
-                .map(|r| r.error.as_ref().map_or("ok", RunError::status).to_string())
-                .collect(),
+            self.rows.iter().map(|r| r.status().to_string()).collect(),
         ));
         for (k, c) in self.outputs.iter().enumerate() {
             cols.push(float(
@@ -364,10 +374,7 @@ impl SweepTable {
         }
         cols.push(text(
             "message",
-            self.rows
-                .iter()
-                .map(|r| r.error.as_ref().map(|e| e.to_string()).unwrap_or_default())
-                .collect(),
+            self.rows.iter().map(SweepRow::message).collect(),
         ));
         let (fields, arrays) = cols.into_iter().unzip();
         write_ipc(path, fields, arrays).map_err(|e| match e {
