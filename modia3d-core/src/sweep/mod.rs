@@ -397,8 +397,13 @@ impl Sweep {
         let mut outputs = self.output_columns(points)?;
         let bar = self.progress_bar(indices.len());
         let work = || {
+            // Every run its own stealable job: rayon otherwise hands a thread a block of points
+            // to run in sequence, and a block of slow runs (a grid's costly corner) at the end
+            // keeps one thread busy while the other waits. A job costs microseconds, a run
+            // milliseconds.
             indices
                 .par_iter()
+                .with_max_len(1)
                 .map(|&i| {
                     let row = self.run_one(points, i);
                     if let Some(b) = &bar {
