@@ -160,6 +160,24 @@ fn bench(repeats: usize) -> Result<(), Box<dyn std::error::Error>> {
         median(walls.clone()),
         sum / (0.5 * sum).max(longest)
     );
+    // The scheduling alone, whatever the load: the same run times slept (no CPU) by a
+    // sweep's constructor on 2 threads.
+    let slept = walls.clone();
+    let replay = Sweep::new(move |p| {
+        let t = slept.get(p.index()).copied().unwrap_or(0.0);
+        std::thread::sleep(std::time::Duration::from_secs_f64(t));
+        Err("replay only".into())
+    })
+    .points(one.param_points().ok_or("no points")?.clone())
+    .threads(2)
+    .progress(false);
+    let t = Instant::now();
+    replay.run()?;
+    let makespan = t.elapsed().as_secs_f64();
+    println!(
+        "the same run times slept on 2 threads (scheduling only, no CPU): {makespan:.3} s, ratio {:.2}",
+        sum / makespan
+    );
     println!("| repeat | 1 thread [s] | 2 threads [s] | ratio | other processes' load during 1 / 2 [cores] | CPU 1 / 2 [s] |");
     println!("|---|---|---|---|---|---|");
     for (i, (a, b)) in pairs.iter().enumerate() {
