@@ -1,8 +1,10 @@
 //! A stack of `n` steel cubes (0.1 m) standing on a steel table, each touching the one below,
 //! simulated for `t_end` s at rtol 1e-6: prints events, IDA steps, CPU time and the bottom
-//! support force against the weight. The bench row "resting stack" in BENCHMARKS.md.
+//! support force against the weight. The bench row "resting stack" in BENCHMARKS.md. With
+//! `shape` = `cylinder` (Ø 0.1 m × 0.2 m on its side) or `ellipsoid` (0.1 × 0.06 × 0.04 m
+//! lying flat) the stack is of those instead.
 //!
-//!     cargo run --release --example resting_stack [-- n t_end k_red]
+//!     cargo run --release --example resting_stack [-- n t_end k_red shape]
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -15,10 +17,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .unwrap_or(d)
     };
     let (n, t_end, k_red) = (arg(1, 10.0) as usize, arg(2, 10.0), arg(3, 1e-3));
-    let cube = Shape::Box {
-        lengths: Vector3::new(0.1, 0.1, 0.1),
-    };
-    let s = demo::stack(cube, 0.1, [0.0; 3], n, k_red);
+    let which = std::env::args().nth(4).unwrap_or_else(|| "cube".into());
+    let (_, shape, h, volume) = demo::lying_shapes()
+        .into_iter()
+        .find(|c| c.0 == which)
+        .ok_or("shape: cube, cylinder or ellipsoid")?;
+    let s = demo::stack(shape, h, [0.0; 3], n, k_red);
     let model = s.build()?;
     let opts = SimOptions::new(t_end).contact_results(true);
     let (res, failure) = match model.simulate(&opts) {
@@ -30,7 +34,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .signal("table|b0.f_n")?
         .last()
         .ok_or("no output point")?[0];
-    let weight = n as f64 * 8000.0 * 1e-3 * 9.81;
+    let weight = n as f64 * 8000.0 * volume * 9.81;
     println!(
         "n = {n}, k_red = {k_red}: reached t = {:.4} s; {} events, {} steps, wall {:.2} s; \
          bottom support force {f:.3} N (weight {weight:.3} N)",

@@ -145,6 +145,40 @@ pub fn rebound_ratio(model: &Model, v0: f64) -> Result<Option<f64>, SimError> {
     Ok(vz.last().map(|v| v / v0))
 }
 
+/// Shapes that lie flat on a table, for the resting-contact scenes: `(name, shape, height when
+/// resting [m], volume [m³])` of a 0.1 m cube, a cylinder Ø 0.1 × 0.2 m on its side and an
+/// ellipsoid 0.1 × 0.06 × 0.04 m lying on its smallest axis.
+pub fn lying_shapes() -> [(&'static str, Shape, f64, f64); 3] {
+    [
+        (
+            "cube",
+            Shape::Box {
+                lengths: Vector3::new(0.1, 0.1, 0.1),
+            },
+            0.1,
+            1e-3,
+        ),
+        (
+            "cylinder",
+            Shape::Cylinder {
+                axis: Axis::X,
+                diameter: 0.1,
+                length: 0.2,
+            },
+            0.1,
+            std::f64::consts::PI * 0.05 * 0.05 * 0.2,
+        ),
+        (
+            "ellipsoid",
+            Shape::Ellipsoid {
+                lengths: Vector3::new(0.1, 0.06, 0.04),
+            },
+            0.04,
+            std::f64::consts::PI / 6.0 * 0.1 * 0.06 * 0.04,
+        ),
+    ]
+}
+
 /// A steel table (top at z = 0) and `n` free bodies of `shape` (height `h` \[m\] when resting,
 /// orientation `angles`) stacked, each touching the one below (gap 0), at rest.
 pub fn stack(shape: Shape, h: f64, angles: [f64; 3], n: usize, k_red: f64) -> SceneDesc {

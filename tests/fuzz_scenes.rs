@@ -334,7 +334,8 @@ fn ten_thousand_random_scenes() {
 
 /// Replays one scene (`MODIA3D_FUZZ_SCENE=<scene seed>`, optionally `MODIA3D_FUZZ_WALL=<s>` for
 /// its wall budget): prints the scene, its outcome and a minimised scene with the same outcome
-/// class (a reproducer for `tests/regressions/`).
+/// class (a reproducer for `tests/regressions/`; work-budget outcomes only with
+/// `MODIA3D_FUZZ_MINIMISE=1`).
 #[test]
 fn replay_one_scene() {
     let Some(seed) = std::env::var("MODIA3D_FUZZ_SCENE")
@@ -356,8 +357,9 @@ fn replay_one_scene() {
     println!("outcome: {} after {:.3} s: {}", o.class, o.wall, o.detail);
     let class = o.class.clone();
     // A wall-time outcome depends on the machine's load: minimising on it keeps candidates
-    // that were merely slow at that moment, so such scenes are kept whole.
-    let m = if class == "sim:WorkBudget" {
+    // that were merely slow at that moment, so such scenes are kept whole unless
+    // `MODIA3D_FUZZ_MINIMISE` is set (with a small `MODIA3D_FUZZ_WALL`, to take them apart).
+    let m = if class == "sim:WorkBudget" && std::env::var_os("MODIA3D_FUZZ_MINIMISE").is_none() {
         s.clone()
     } else {
         minimise(&s, &|c| run_scene(c).class == class)

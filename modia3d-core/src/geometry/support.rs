@@ -253,6 +253,32 @@ impl CoreShape {
         }
     }
 
+    /// The flat face of the core whose outward normal lies within ~1.4e-6 rad of the unit
+    /// direction `dir` (shape frame), as that exact normal; `None` if there is none. Boxes have
+    /// six faces, frustums their two caps (of non-zero radius), beams their two flat sides;
+    /// points, segments, ellipsoids and hulls report none.
+    pub fn face_normal_near(&self, dir: &Vector3<f64>) -> Option<Vector3<f64>> {
+        // 1 − cos θ ≤ 1e-12, θ ≤ 1.4e-6 rad.
+        const NEAR: f64 = 1e-12;
+        let along = |k: usize| -> Option<Vector3<f64>> {
+            (1.0 - dir[k].abs() <= NEAR).then(|| {
+                let mut f = Vector3::zeros();
+                f[k] = sgn(dir[k]);
+                f
+            })
+        };
+        match self {
+            CoreShape::Box { .. } => (0..3).find_map(along),
+            CoreShape::Frustum { axis, r0, r1, .. } => {
+                let f = along(axis.index())?;
+                let r = if f[axis.index()] > 0.0 { *r1 } else { *r0 };
+                (r > 0.0).then_some(f)
+            }
+            CoreShape::Beam { axis, .. } => along(axis.beam_directions().1),
+            _ => None,
+        }
+    }
+
     /// Support point in the shape frame: a point of the core maximising `dir·x` \[m\].
     /// `dir` is resolved in the shape frame and need not be unit; for `dir = 0` some point of the
     /// core is returned.

@@ -61,6 +61,9 @@ struct CallbackState<S> {
     jac_residuals: u64,
     /// Saved `(y_j, y'_j, increment)` of the perturbed unknowns (len n once used).
     jac_saved: Vec<(f64, f64, f64)>,
+    /// `atol_j / rtol` [unit of y_j] per unknown: the size below which it counts as zero,
+    /// which sets the difference-quotient increments (`ida/linear.rs`).
+    zero_size: Vec<f64>,
     /// Factors of the block-diagonal iteration matrix (with a colouring only).
     block_lu: BlockLu,
 }
@@ -140,6 +143,7 @@ impl<S: DaeSystem> Ida<S> {
             colouring: None,
             jac_residuals: 0,
             jac_saved: Vec::new(),
+            zero_size: Vec::new(),
             block_lu: BlockLu::default(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());
@@ -204,6 +208,10 @@ impl<S: DaeSystem> Ida<S> {
                 sys::IDAInit(mem, Some(residual_callback::<S>), t0, self.y, self.yp),
                 "IDAInit",
             )?;
+            (*self.state).zero_size = match &opts.atol {
+                Atol::Scalar(a) => vec![a / opts.rtol; self.n],
+                Atol::Vector(v) => v.iter().map(|a| a / opts.rtol).collect(),
+            };
             match &opts.atol {
                 Atol::Scalar(a) => {
                     self.check(sys::IDASStolerances(mem, opts.rtol, *a), "IDASStolerances")?

@@ -158,12 +158,15 @@ pub fn mpr_signed_distance(
         match first {
             Some(c) => {
                 let n = pose_a.rotation * c.normal;
+                let (ca, cb) = (pose_a * c.point_a, pose_a * c.point_b);
+                let (dist, n, ca, cb) =
+                    face_refined(a, pose_a, b, pose_b, c.distance, n, ca, cb, tol);
                 return finite(
                     SignedDistance {
-                        distance: c.distance - a.margin() - b.margin(),
+                        distance: dist - a.margin() - b.margin(),
                         normal: n,
-                        point_a: pose_a * c.point_a + n * a.margin(),
-                        point_b: pose_a * c.point_b - n * b.margin(),
+                        point_a: ca + n * a.margin(),
+                        point_b: cb - n * b.margin(),
                     },
                     limited(Method::MprThenGjk, c.at_limit),
                 );
@@ -194,10 +197,9 @@ pub fn mpr_signed_distance(
         let pos12 = pose_a.inv_mul(pose_b);
         let init = pose_a.rotation.inverse_transform_vector(&n);
         if let Some(c) = gjk_distance(&pos12, a.core(), b.core(), &init, tol, opts.max_iterations) {
-            delta = c.distance;
-            n = pose_a.rotation * c.normal;
-            ca = pose_a * c.point_a;
-            cb = pose_a * c.point_b;
+            let n_gjk = pose_a.rotation * c.normal;
+            let (pa, pb) = (pose_a * c.point_a, pose_a * c.point_b);
+            (delta, n, ca, cb) = face_refined(a, pose_a, b, pose_b, c.distance, n_gjk, pa, pb, tol);
             (ra, rb) = (a.margin(), b.margin());
             method = limited(Method::MprThenGjk, c.at_limit);
         }
@@ -211,6 +213,62 @@ pub fn mpr_signed_distance(
         },
         method,
     )
+}
+
+/// GJK's result for separated cores (core distance `dist` \[m\], unit normal `n` a → b and
+/// witness points, world; GJK stops within `tol` \[m\], `mpr_tolerance · size`), made exact
+/// where the normal lies within ~1.4e-6 rad of a flat face of either core
+/// ([`CoreShape::face_normal_near`]). For separated convex sets the gap of the support planes
+/// along any direction is a lower bound of their distance, GJK's distance an upper bound,
+/// and the true normal attains the bound: a face whose gap reaches GJK's distance within its
+/// tolerance has the true normal up to that tolerance, and where the closest features are a
+/// face and a point, edge or face above its interior (a box lying on a table) it is exactly
+/// the true normal, with the exact distance and witness points. Of two such faces the one with
+/// the larger gap is taken. Why: GJK's normal is up to ~1e-10 rad off, and on a face lying on
+/// a face at nanometre penetration the centre of pressure ([`super::contact_patch`]) moves by
+/// `l²/(12·δ)` ≈ 1e6 m per radian of normal (a 0.1 m steel cube at rest, δ = 7e-10 m): GJK's
+/// normal made the contact point of a resting cube jump by ±0.15 mm from one evaluation to the
+/// next, and IDA failed to converge on every other step.
+#[allow(clippy::too_many_arguments)]
+fn face_refined(
+    a: &CollisionShape,
+    pose_a: &Isometry3<f64>,
+    b: &CollisionShape,
+    pose_b: &Isometry3<f64>,
+    dist: f64,
+    n: Vector3<f64>,
+    ca: Point3<f64>,
+    cb: Point3<f64>,
+    tol: f64,
+) -> (f64, Vector3<f64>, Point3<f64>, Point3<f64>) {
+    let sup = |s: &CollisionShape, pose: &Isometry3<f64>, d: &Vector3<f64>| {
+        pose * s.core().support(&pose.rotation.inverse_transform_vector(d))
+    };
+    let mut best = (dist, n, ca, cb);
+    let mut floor = dist - tol;
+    for (on_a, shape, pose, out) in [(true, a, pose_a, n), (false, b, pose_b, -n)] {
+        let Some(f) = shape
+            .core()
+            .face_normal_near(&pose.rotation.inverse_transform_vector(&out))
+        else {
+            continue;
+        };
+        let f = pose.rotation * f;
+        let nf = if on_a { f } else { -f };
+        let (pa, pb) = (sup(a, pose_a, &nf), sup(b, pose_b, &-nf));
+        let gap = nf.dot(&(pb - pa));
+        if gap >= floor {
+            // Witness points: the other shape's support point and its projection onto the face.
+            let (wa, wb) = if on_a {
+                (pb - nf * gap, pb)
+            } else {
+                (pa, pa + nf * gap)
+            };
+            best = (gap, nf, wa, wb);
+            floor = gap;
+        }
+    }
+    best
 }
 
 /// `m`, or [`Method::IterationLimit`] when the algorithm stopped at its iteration limit.

@@ -8,11 +8,23 @@ use super::*;
 
 /// IDA Jacobian callback for systems with a [`super::BlockStructure`]: the iteration matrix
 /// `∂F/∂y + c_j ∂F/∂y'` by difference quotients, perturbing the unknowns of all blocks of one
-/// colour together (increments exactly as IDA's dense difference quotients), written into the
-/// zeroed diagonal blocks of the `BlockLu` (the SUNMatrix IDA passes is a handle without
+/// colour together, written into the zeroed diagonal blocks of the `BlockLu` (the SUNMatrix IDA passes is a handle without
 /// storage, see `attach_linear_solver`). Entries outside the structure stay zero. Returns 0, 1 for a
 /// recoverable residual failure (or a non-finite quotient), -1 for a fatal one, an invalid
 /// structure or a caught panic.
+///
+/// Increments: `max(√ε · max(|h·y'_j|, atol_j/rtol), 1e3·ε·|y_j|)`: `√ε` of the step's
+/// change of the unknown, or of `atol_j/rtol`, the size below which the tolerances count it
+/// as zero — not of its value, and never below a thousand roundings of it. IDA's own dense
+/// quotients use `max(√ε·max(|y_j|, |h·y'_j|), 1/w_j)` with the error weight
+/// `1/w_j = rtol·|y_j| + atol_j`: a position's increment grows with its distance from the
+/// origin (√ε·0.25 m = 4e-9 m for the top cube of a stack of three) and with rtol (1e-4 m at
+/// rtol 1e-3), while contact forces change on the scale of the penetration (7e-10 m for a
+/// steel cube on steel): the perturbed state lost the contact, the Jacobian held a secant
+/// instead of the contact stiffness, and Newton failed on every other step. Measured
+/// (`cargo run --release --example resting_stack`, BENCHMARKS.md): ten steel cubes stacked at
+/// the default `k_red = 1`, 1 s at rtol 1e-6, 1,189 steps with 2 convergence failures, where
+/// IDA's increments did not finish 1 s in 200 s; billiards16 at rtol 1e-3 0.47 s instead of 1.97 s.
 #[allow(clippy::too_many_arguments)] // the C signature
 pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     t: f64,
@@ -23,27 +35,25 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     _jac: sys::SUNMatrix,
     user_data: *mut c_void,
     tmp1: sys::N_Vector,
-    tmp2: sys::N_Vector,
+    _tmp2: sys::N_Vector,
     _tmp3: sys::N_Vector,
 ) -> c_int {
     let state = user_data.cast::<CallbackState<S>>();
     let outcome = catch_unwind(AssertUnwindSafe(|| {
         // SAFETY: as in residual_callback. yy and yp are IDA's current iterate, which IDA's own
-        // difference quotients also perturb in place and restore; rr, tmp1, tmp2 are distinct
+        // difference quotients also perturb in place and restore; rr and tmp1 are distinct
         // vectors of length n; jac is the n × n dense matrix attached in attach_linear_solver
         // (column-major, leading dimension n); mem is the running IDA memory.
         let st = unsafe { &mut *state };
         let n = st.n;
         let mut hh = 0.0;
-        let (y, ypv, r, rp, ewt) = unsafe {
-            sys::IDAGetErrWeights(st.mem, tmp2);
+        let (y, ypv, r, rp) = unsafe {
             sys::IDAGetCurrentStep(st.mem, &mut hh);
             (
                 slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yy), n),
                 slice::from_raw_parts_mut(sys::N_VGetArrayPointer(yp), n),
                 slice::from_raw_parts(sys::N_VGetArrayPointer(rr), n),
                 slice::from_raw_parts_mut(sys::N_VGetArrayPointer(tmp1), n),
-                slice::from_raw_parts(sys::N_VGetArrayPointer(tmp2), n),
             )
         };
         let Some(col) = st.colouring.as_mut() else {
@@ -64,12 +74,14 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
         let srur = f64::EPSILON.sqrt();
+        let floor = 1e3 * f64::EPSILON;
         for c in 0..col.n_colours() {
             for k in 0..col.width(c) {
                 for &b in col.blocks_of_colour(c) {
                     if let Some(&j) = col.members(b).get(k) {
                         let (yj, ypj) = (y[j], ypv[j]);
-                        let mut inc = (srur * yj.abs().max((hh * ypj).abs())).max(1.0 / ewt[j]);
+                        let mut inc =
+                            (srur * (hh * ypj).abs().max(st.zero_size[j])).max(floor * yj.abs());
                         if hh * ypj < 0.0 {
                             inc = -inc;
                         }

@@ -454,15 +454,23 @@ fn coloured_jacobian_matches_dense_and_costs_less() {
     let (y_col, s_col) = run_chain(Some(true));
     let (_, s_wrong) = run_chain(Some(false));
     println!("dense {s_dense:?}\ncoloured {s_col:?}\nwrong structure {s_wrong:?}");
-    // Both are the same BDF method with Jacobians that agree to difference-quotient round-off
-    // (the problem is linear): the step sequences match and the solutions agree far below the
-    // global error of rtol 1e-9 (≈ 1e-8 of the 0.06 m amplitude).
+    // Both are the same BDF method; the Jacobians agree to difference-quotient error (the
+    // problem is linear, but the coloured path's increments are √ε·atol/rtol where IDA's are
+    // 1/w_j, so the round-off differs): the step sequences stay within 2 % and the solutions
+    // agree within the global error of rtol 1e-9 (≈ 1e-8 of the 0.06 m amplitude; measured
+    // 3.5e-9).
     let diff = y_dense
         .iter()
         .zip(&y_col)
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
-    assert!(diff < 1e-10, "coloured vs dense: max |Δy| = {diff:e}");
+    assert!(diff < 1e-8, "coloured vs dense: max |Δy| = {diff:e}");
+    let close = |a: u64, b: u64| (a as f64 - b as f64).abs() <= 0.02 * b as f64;
+    assert!(
+        close(s_col.steps, s_dense.steps)
+            && close(s_col.nonlinear_iterations, s_dense.nonlinear_iterations),
+        "coloured {s_col:?} vs dense {s_dense:?}"
+    );
     // Cost: the chain of six blocks needs three colours (distance-2 colouring of a path), the
     // four free blocks join them: 3 colours × 2 unknowns = 6 residuals per Jacobian, not 20.
     assert_eq!(
@@ -470,28 +478,13 @@ fn coloured_jacobian_matches_dense_and_costs_less() {
         20 * s_dense.jacobian_evals
     );
     assert_eq!(s_col.residual_evals_for_jacobian, 6 * s_col.jacobian_evals);
-    // On this linear problem the coloured columns are bitwise those of the dense quotients
-    // (each row sees one perturbed unknown), so IDA takes the very same steps.
+    // The colouring follows the reported structure: without the chain couplings all ten blocks
+    // share one colour (2 residuals per Jacobian), and the Jacobian lacks those entries. (Newton
+    // still converges here: measured 5,085 iterations against 5,094 with the right structure;
+    // before the increments followed atol/rtol it needed 10 % more.)
     assert_eq!(
-        (
-            s_col.steps,
-            s_col.nonlinear_iterations,
-            s_col.error_test_failures
-        ),
-        (
-            s_dense.steps,
-            s_dense.nonlinear_iterations,
-            s_dense.error_test_failures
-        )
-    );
-    // The check can fail: a structure that omits the chain couplings leaves those Jacobian
-    // entries zero; the modified Newton iteration then converges more slowly (measured: 10 %
-    // more iterations and steps), so the run differs.
-    assert!(
-        s_wrong.nonlinear_iterations > s_dense.nonlinear_iterations + s_dense.steps / 20,
-        "a wrong structure should cost Newton iterations: {} vs {}",
-        s_wrong.nonlinear_iterations,
-        s_dense.nonlinear_iterations
+        s_wrong.residual_evals_for_jacobian,
+        2 * s_wrong.jacobian_evals
     );
 }
 
