@@ -617,3 +617,29 @@ pub fn balls_on_table(n: usize) -> SceneDesc {
     }
     s
 }
+
+/// The sweep template of [`BouncingSphere`] that `examples/sweep_shard.rs` registers and
+/// `tests/sweep.rs` checks: parameters `h0` (drop height of the centre \[m\], default 0.55),
+/// `cor` (Steel–Steel coefficient of restitution \[1\], default 0.7) and `diameter` \[m\]
+/// (default 0.1), each optional in a sweep file; runs of 1 s at rtol 1e-6 with output every
+/// 10 ms (a sweep file may override these); metric `events`: the number of events of the run
+/// \[1\].
+pub fn bouncing_sphere_sweep() -> Sweep {
+    Sweep::new(|p| {
+        let pair = ContactPairMaterial::new(p.get_or("cor", STEEL_STEEL.cor), 0.5, 0.001);
+        Ok(BouncingSphere {
+            diameter: p.get_or("diameter", 0.1),
+            h0: p.get_or("h0", 0.55),
+            pair,
+        }
+        .build()?)
+    })
+    .options(SimOptions::new(1.0).tolerance(1e-6).interval(0.01))
+    .metric("events", "", |res| Ok(res.events.len() as f64))
+}
+
+/// The models sweep files may name in `examples/sweep_shard.rs`: `bouncing_sphere`
+/// ([`bouncing_sphere_sweep`]).
+pub fn sweep_registry() -> SweepRegistry {
+    SweepRegistry::new().add("bouncing_sphere", bouncing_sphere_sweep())
+}

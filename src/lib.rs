@@ -215,6 +215,10 @@ pub mod demo;
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
     pub use modia3d_core::{
+        linspace, ColumnInfo, Distribution, ParamPoints, Params, RunError, Sweep, SweepError,
+        SweepRegistry, SweepRow, SweepSpec, SweepTable,
+    };
+    pub use modia3d_core::{
         Action, ActionError, ActionKind, Axis, BodyInfo, ContactPairInfo, ContactPairMaterial,
         ContactPhase, ContactProfile, Event, Feature, ForceElement, ForceFn, FreeRotation, Input,
         InputError, InputKind, Joint, JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef,

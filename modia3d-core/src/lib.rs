@@ -28,6 +28,8 @@ mod results;
 pub mod scene;
 #[cfg(feature = "solver")]
 mod simulation;
+#[cfg(feature = "solver")]
+mod sweep;
 // The safe IDA wrapper is complete (vector tolerances, both `IDACalcIC` modes, recoverable
 // residual errors, …) and every part of it is tested in `solver/tests`; the multibody DAE uses
 // a subset, so the rest is unused outside the tests.
@@ -65,3 +67,9 @@ pub use simulation::{
 };
 #[cfg(feature = "solver")]
 pub use solver::IdaError;
+#[cfg(feature = "solver")]
+pub use sweep::{
+    linspace, sweep_main, BoxError, ColumnInfo, Distribution, MetricFn, ModelFn, ParamPoints,
+    Params, RunError, Sweep, SweepError, SweepRegistry, SweepRow, SweepSpec, SweepTable,
+    MAX_POINTS,
+};

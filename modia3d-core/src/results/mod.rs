@@ -5,13 +5,13 @@
 
 mod animation;
 #[cfg(feature = "arrow")]
-mod arrow;
+pub(crate) mod arrow;
 mod contacts;
 mod force_signals;
 mod gltf;
 mod html;
 mod mesh;
-mod plot;
+pub(crate) mod plot;
 mod segments;
 mod threejs;
 mod warnings;

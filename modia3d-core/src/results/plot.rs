@@ -350,36 +350,45 @@ impl SimulationResult {
             panels: &panels,
             events: &events,
             options,
-            segments: false,
+            // Thick polylines in the bitmap rasteriser misplace sharp corners (see `panel`).
+            segments: format == PlotFormat::Png,
         };
-        register_font().map_err(export_error)?;
-        match format {
-            PlotFormat::Svg => {
-                let mut svg = String::new();
-                figure
-                    .draw(SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area())
-                    .map_err(export_error)?;
-                Ok(svg.into_bytes())
-            }
-            PlotFormat::Png => {
-                let mut rgb = vec![0u8; w as usize * h as usize * 3];
-                let figure = Figure {
-                    segments: true,
-                    ..figure
-                };
-                figure
-                    .draw(BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area())
-                    .map_err(export_error)?;
-                let mut out = vec![];
-                let mut enc = png::Encoder::new(&mut out, w, h);
-                enc.set_color(png::ColorType::Rgb);
-                enc.set_depth(png::BitDepth::Eight);
-                let png_error = |e: png::EncodingError| export_error(e.to_string());
-                let mut writer = enc.write_header().map_err(png_error)?;
-                writer.write_image_data(&rgb).map_err(png_error)?;
-                writer.finish().map_err(png_error)?;
-                Ok(out)
-            }
+        render_bytes(&figure, format, (w, h)).map_err(export_error)
+    }
+}
+
+/// A figure that can draw itself on any plotters backend.
+pub(crate) trait Drawing {
+    /// Draws the whole figure on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>;
+}
+
+/// The bytes of `drawing` as an SVG document or a PNG image (RGB, 8 bits) of `w` × `h` px,
+/// with the bundled font registered.
+pub(crate) fn render_bytes(
+    drawing: &impl Drawing,
+    format: PlotFormat,
+    (w, h): (u32, u32),
+) -> Result<Vec<u8>, String> {
+    register_font()?;
+    match format {
+        PlotFormat::Svg => {
+            let mut svg = String::new();
+            drawing.draw(SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area())?;
+            Ok(svg.into_bytes())
+        }
+        PlotFormat::Png => {
+            let mut rgb = vec![0u8; w as usize * h as usize * 3];
+            drawing.draw(BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area())?;
+            let mut out = vec![];
+            let mut enc = png::Encoder::new(&mut out, w, h);
+            enc.set_color(png::ColorType::Rgb);
+            enc.set_depth(png::BitDepth::Eight);
+            let png_error = |e: png::EncodingError| e.to_string();
+            let mut writer = enc.write_header().map_err(png_error)?;
+            writer.write_image_data(&rgb).map_err(png_error)?;
+            writer.finish().map_err(png_error)?;
+            Ok(out)
         }
     }
 }
@@ -416,7 +425,7 @@ struct Figure<'a> {
     segments: bool,
 }
 
-impl Figure<'_> {
+impl Drawing for Figure<'_> {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String> {
         let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
         root.fill(&WHITE).map_err(err)?;
@@ -451,7 +460,9 @@ impl Figure<'_> {
         }
         root.present().map_err(err)
     }
+}
 
+impl Figure<'_> {
     /// Draws one subplot with y coordinate `y` (linear or logarithmic) spanning `lo..hi`;
     /// values for which `keep` is false are left out.
     #[allow(clippy::too_many_arguments)]
@@ -571,7 +582,7 @@ impl Figure<'_> {
 
 /// A tick label: plain decimals from 1e-3 to 1e5, otherwise `1.5e-7`; at most 4 significant
 /// digits, trailing zeros dropped.
-fn tick_label(v: f64) -> String {
+pub(crate) fn tick_label(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".into()
