@@ -182,17 +182,7 @@ pub fn lying_shapes() -> [(&'static str, Shape, f64, f64); 3] {
 /// A steel table (top at z = 0) and `n` free bodies of `shape` (height `h` \[m\] when resting,
 /// orientation `angles`) stacked, each touching the one below (gap 0), at rest.
 pub fn stack(shape: Shape, h: f64, angles: [f64; 3], n: usize, k_red: f64) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(world(SceneOptions {
-        k_red,
-        ..Default::default()
-    }))
-    .add(fixed_box(
-        "table",
-        [1.0, 1.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "Steel",
-    ));
+    let mut s = world_and_table(k_red, [1.0, 1.0, 0.1], "Steel");
     for i in 0..n {
         let name = format!("b{i}");
         s.add(
@@ -491,6 +481,12 @@ model! {
 /// The world (options default but `k_red`) and the fixed DryWood table of [`FallingBoxes`]
 /// (2 × 2 × 0.1 m, top face at z = 0), for scenes that put bodies on it.
 pub fn wooden_table(k_red: f64) -> SceneDesc {
+    world_and_table(k_red, [2.0, 2.0, 0.1], "DryWood")
+}
+
+/// The world (options default but `k_red`) and a fixed table `table` of `lengths` \[m\] and
+/// `material`, its top face at z = 0.
+fn world_and_table(k_red: f64, lengths: [f64; 3], material: &str) -> SceneDesc {
     let mut s = SceneDesc::new();
     s.add(world(SceneOptions {
         k_red,
@@ -498,9 +494,9 @@ pub fn wooden_table(k_red: f64) -> SceneDesc {
     }))
     .add(fixed_box(
         "table",
-        [2.0, 2.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "DryWood",
+        lengths,
+        [0.0, 0.0, -lengths[2] / 2.0],
+        material,
     ));
     s
 }
