@@ -111,8 +111,10 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
     let model = scene.build().unwrap();
     assert!(model.contact.is_some(), "the scene has candidate pairs");
     let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+    dae.set_impact_tightening(100.0);
     let y = model.plan.y0();
     let n = y.len();
+    let mut ewt = vec![1.0; n];
     dae.handle_event(0.0, &y).unwrap();
     let yp = dae.consistent_derivative(0.0, &mut y.clone()).unwrap();
     let mut res = vec![0.0; n];
@@ -125,6 +127,7 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
         let t = k as f64 * 1e-3;
         dae.residual(t, &y, &yp, &mut res).unwrap();
         dae.roots(t, &y, &yp, &mut g);
+        dae.error_weight_factors(&y, &mut ewt);
         dae.handle_event(t, &y).unwrap();
     }
     let after = allocs();

@@ -33,6 +33,11 @@ pub struct MultibodyDae {
     /// evaluations and LU as IDA's dense Jacobian, but the difference-quotient increments of
     /// `solver/ida/linear.rs`, which see contacts at nanometre penetration.
     blocks: Option<TreeBlocks>,
+    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in an impact.
+    ewt_marked: Vec<bool>,
+    /// Factor of the error weights of the bodies in an impact (1 = off; see
+    /// [`crate::SimOptions::impact_tightening`]).
+    impact_tightening: f64,
 }
 
 /// The static part of the Jacobian's block structure (one block per joint tree).
@@ -111,8 +116,16 @@ impl MultibodyDae {
             lw,
             contact,
             root_error: None,
+            ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
+            impact_tightening: 1.0,
             blocks,
         }
+    }
+    /// Tightens the error test of the bodies in a contact that began as an impact by `factor`
+    /// (≥ 1; 1 = off): see [`crate::SimOptions::impact_tightening`]. Takes effect when the
+    /// solver is created.
+    pub fn set_impact_tightening(&mut self, factor: f64) {
+        self.impact_tightening = factor.max(1.0);
     }
     /// The plan.
     pub fn plan(&self) -> &Plan {
@@ -372,6 +385,43 @@ impl DaeSystem for MultibodyDae {
                     }
                 }
             }
+        }
+        true
+    }
+
+    fn has_error_weight_factors(&self) -> bool {
+        self.blocks.is_some() && self.contact.is_some() && self.impact_tightening > 1.0
+    }
+
+    fn error_weight_factors(&mut self, _y: &[f64], f: &mut [f64]) -> bool {
+        let (Some(tb), Some(cs), Some(cp)) = (
+            &self.blocks,
+            self.contact.as_ref(),
+            self.contact_plan.as_deref(),
+        ) else {
+            return false;
+        };
+        let kappa = self.impact_tightening;
+        let marked = &mut self.ewt_marked;
+        marked.clear();
+        marked.resize(tb.fixed.n_blocks, false);
+        let mut any = false;
+        for (_, pp, ps) in cs.active_pairs() {
+            if ps.delta_dot_minus.abs() <= pp.v_min {
+                continue;
+            }
+            for s in [pp.a, pp.b] {
+                if let Some(b) = cp.shapes[s].body {
+                    marked[tb.of_body[b.index()]] = true;
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            return false;
+        }
+        for (fi, &blk) in f.iter_mut().zip(&tb.fixed.block_of) {
+            *fi = if marked[blk] { kappa } else { 1.0 };
         }
         true
     }

@@ -64,6 +64,10 @@ struct CallbackState<S> {
     /// `atol_j / rtol` [unit of y_j] per unknown: the size below which it counts as zero,
     /// which sets the difference-quotient increments (`ida/linear.rs`).
     zero_size: Vec<f64>,
+    /// Relative tolerance (for the error weights of [`DaeSystem::error_weight_factors`]).
+    rtol: f64,
+    /// Scratch for the factors of the error weights (len n once used).
+    ewt_factor: Vec<f64>,
     /// Factors of the block-diagonal iteration matrix (with a colouring only).
     block_lu: BlockLu,
 }
@@ -144,6 +148,8 @@ impl<S: DaeSystem> Ida<S> {
             jac_residuals: 0,
             jac_saved: Vec::new(),
             zero_size: Vec::new(),
+            rtol: 0.0,
+            ewt_factor: Vec::new(),
             block_lu: BlockLu::default(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());
@@ -228,6 +234,14 @@ impl<S: DaeSystem> Ida<S> {
                 sys::IDASetUserData(mem, self.state.cast()),
                 "IDASetUserData",
             )?;
+            (*self.state).rtol = opts.rtol;
+            if (*self.state).system.has_error_weight_factors() {
+                (*self.state).ewt_factor = vec![1.0; self.n];
+                self.check(
+                    sys::IDAWFtolerances(mem, Some(ewt_callback::<S>)),
+                    "IDAWFtolerances",
+                )?;
+            }
             self.check(sys::IDASetId(mem, self.id), "IDASetId")?;
             if opts.suppress_algebraic_error {
                 self.check(sys::IDASetSuppressAlg(mem, 1), "IDASetSuppressAlg")?;

@@ -87,6 +87,21 @@ pub trait DaeSystem {
     fn jacobian_structure(&mut self, _s: &mut BlockStructure) -> bool {
         false
     }
+
+    /// Whether the system tightens its error weights with [`DaeSystem::error_weight_factors`]
+    /// (asked once when the solver is created). Default `false`: IDA's own weights
+    /// `1/(rtol·|y_i| + atol_i)`.
+    fn has_error_weight_factors(&self) -> bool {
+        false
+    }
+
+    /// Factors `f_i ≥ 1` by which the error weights `1/(rtol·|y_i| + atol_i)` are multiplied
+    /// at the current point (called by IDA once per step, before the step, with `y` the
+    /// accepted solution); returns `false` (and may leave `f` as it is) when every factor is 1.
+    /// Must not allocate.
+    fn error_weight_factors(&mut self, _y: &[f64], _f: &mut [f64]) -> bool {
+        false
+    }
 }
 
 /// The sparsity of a DAE's iteration matrix as blocks of unknowns: the residual rows of a block

@@ -198,3 +198,44 @@ pub(super) unsafe extern "C" fn root_callback<S: DaeSystem>(
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome.map(|()| 0), "in roots(): ") }
 }
+
+/// IDA error-weight callback (`IDAWFtolerances`), installed when the system has
+/// [`DaeSystem::error_weight_factors`]: IDA's own weights `1/(rtol·|y_i| + atol_i)` times the
+/// system's factors. Returns 0, or -1 for a non-positive or non-finite weight or a caught panic
+/// (IDA then stops with IDA_ILL_INPUT, or shrinks the step if this happens after a step).
+pub(super) unsafe extern "C" fn ewt_callback<S: DaeSystem>(
+    yy: sys::N_Vector,
+    ewt: sys::N_Vector,
+    user_data: *mut c_void,
+) -> c_int {
+    let state = user_data.cast::<CallbackState<S>>();
+    let outcome = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: user_data is the CallbackState set with IDASetUserData; yy and ewt are
+        // distinct IDA vectors of length n; no other Rust reference to the state is live while
+        // IDA runs its own code.
+        let st = unsafe { &mut *state };
+        let n = st.n;
+        let (y, w) = unsafe {
+            (
+                slice::from_raw_parts(sys::N_VGetArrayPointer(yy), n),
+                slice::from_raw_parts_mut(sys::N_VGetArrayPointer(ewt), n),
+            )
+        };
+        let rtol = st.rtol;
+        let tighten = st.system.error_weight_factors(y, &mut st.ewt_factor);
+        for i in 0..n {
+            let tol = rtol * y[i].abs() + rtol * st.zero_size[i];
+            let mut wi = 1.0 / tol;
+            if tighten {
+                wi *= st.ewt_factor[i];
+            }
+            if !(wi.is_finite() && wi > 0.0) {
+                return -1;
+            }
+            w[i] = wi;
+        }
+        0
+    }));
+    // SAFETY: the closure's borrow of the state has ended.
+    unsafe { settle(state, f64::NAN, outcome, "in the error weights: ") }
+}
