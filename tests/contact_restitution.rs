@@ -67,3 +67,74 @@ fn the_rebound_ratio_is_the_cor_asked_for() {
         }
     }
 }
+
+/// The bouncing ball of the Rapier comparison (docs/rapier-comparison.md, scene 2): a steel
+/// ball Ø 0.1 m dropped from h = 0.5 m onto a steel plate with cor 0.9 and exact restitution,
+/// at rtol 1e-6. Reference: the rigid bounce, apex n at h·0.9^(2n). The apex is read where the
+/// upward speed at contact end has decayed (`t_e + v/g`), from IDA's own polynomial. Bound
+/// 1e-3 on |apex_n/h − 0.9^(2n)| for n = 1…5 (issue 16's acceptance): the compliant contact
+/// under gravity rebounds short of the cor by ≈ 0.21·g·t_c/v (t_c = 0.3 ms, gravity acts
+/// during the contact; exact restitution is exact for a free impact only), which compounds to
+/// 3.2e-4 at the fifth apex (seen). The paper's damping (cor 0.9 acting as ≈ 0.894) misses by
+/// more than 1e-2, which the bound rejects.
+#[test]
+fn bounce_apexes_follow_the_cor() {
+    let (d, h, g, cor) = (0.1, 0.5, 9.81, 0.9);
+    let apex_errors = |exact: bool| -> Vec<f64> {
+        let mut s = SceneDesc::new();
+        s.add(demo::world(SceneOptions {
+            exact_restitution: exact,
+            ..Default::default()
+        }))
+        .add(demo::fixed_box(
+            "plate",
+            [1.0, 1.0, 0.1],
+            [0.0, 0.0, -0.05],
+            "Steel",
+        ));
+        demo::add_free_sphere(
+            &mut s,
+            "ball",
+            d,
+            "Steel",
+            None,
+            [0.0, 0.0, d / 2.0 + h],
+            [0.0; 3],
+            [0.0; 3],
+        );
+        s.add_contact_pair("Steel", "Steel", ContactPairMaterial::new(cor, 0.0, 0.0));
+        let res = s
+            .build()
+            .unwrap()
+            .simulate(
+                &SimOptions::new(2.6)
+                    .tolerance(1e-6)
+                    .interval(0.026)
+                    .dense_output(true)
+                    .progress(false),
+            )
+            .unwrap();
+        let ends: Vec<f64> = res
+            .events
+            .iter()
+            .filter(|e| !e.ended.is_empty())
+            .map(|e| e.t)
+            .collect();
+        assert!(ends.len() >= 5, "five bounces by 2.6 s: {ends:?}");
+        ends[..5]
+            .iter()
+            .enumerate()
+            .map(|(k, &te)| {
+                let v = res.signal_at("ball.v_abs", te).unwrap()[2];
+                let apex = res.signal_at("ball.r_abs", te + v / g).unwrap()[2] - d / 2.0;
+                (apex / h - cor.powi(2 * (k as i32 + 1))).abs()
+            })
+            .collect()
+    };
+    let exact = apex_errors(true);
+    println!("apex errors, exact restitution: {exact:?}");
+    assert!(exact.iter().all(|e| *e < 1e-3), "{exact:?}");
+    let paper = apex_errors(false);
+    println!("apex errors, paper's law: {paper:?}");
+    assert!(paper.iter().any(|e| *e > 1e-2), "{paper:?}");
+}
