@@ -63,7 +63,7 @@ pub use scene::{Bushing, GravityField, Law, VectorLaw};
 #[cfg(feature = "solver")]
 pub use simulation::{
     ActionError, Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause,
-    WorkDiagnosis, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_IMPACT_TIGHTENING, DEFAULT_MAX_STEPS,
+    WorkDiagnosis, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_CONTACT_TIGHTENING, DEFAULT_MAX_STEPS,
     MAX_OUTPUT_POINTS,
 };
 #[cfg(feature = "solver")]

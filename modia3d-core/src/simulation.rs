@@ -21,7 +21,7 @@ mod segments;
 mod warnings;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
 pub use options::{
-    SimOptions, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_IMPACT_TIGHTENING, DEFAULT_MAX_STEPS,
+    SimOptions, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_CONTACT_TIGHTENING, DEFAULT_MAX_STEPS,
     MAX_OUTPUT_POINTS,
 };
 pub use segments::ActionError;
@@ -373,7 +373,7 @@ impl Simulation {
         }
         let t0 = opts.start_time;
         let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
-        dae.set_impact_tightening(opts.effective_impact_tightening());
+        dae.set_contact_tightening(opts.effective_contact_tightening());
         let mut y0 = plan.y0();
         // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
         y0.resize(crate::solver::DaeSystem::len(&dae), 0.0);

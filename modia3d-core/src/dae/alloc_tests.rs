@@ -111,7 +111,7 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
     let model = scene.build().unwrap();
     assert!(model.contact.is_some(), "the scene has candidate pairs");
     let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
-    dae.set_impact_tightening(100.0);
+    dae.set_contact_tightening(100.0);
     let y = model.plan.y0();
     let n = y.len();
     let mut ewt = vec![1.0; n];

@@ -33,11 +33,11 @@ pub struct MultibodyDae {
     /// evaluations and LU as IDA's dense Jacobian, but the difference-quotient increments of
     /// `solver/ida/linear.rs`, which see contacts at nanometre penetration.
     blocks: Option<TreeBlocks>,
-    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in an impact.
+    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in contact.
     ewt_marked: Vec<bool>,
-    /// Factor of the error weights of the bodies in an impact (1 = off; see
-    /// [`crate::SimOptions::impact_tightening`]).
-    impact_tightening: f64,
+    /// Factor of the error weights of the bodies in contact (1 = off; see
+    /// [`crate::SimOptions::contact_tightening`]).
+    contact_tightening: f64,
 }
 
 /// The static part of the Jacobian's block structure (one block per joint tree).
@@ -117,15 +117,15 @@ impl MultibodyDae {
             contact,
             root_error: None,
             ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
-            impact_tightening: 1.0,
+            contact_tightening: 1.0,
             blocks,
         }
     }
-    /// Tightens the error test of the bodies in a contact that began as an impact by `factor`
-    /// (≥ 1; 1 = off): see [`crate::SimOptions::impact_tightening`]. Takes effect when the
+    /// Tightens the error test of the bodies in contact (in the contact set) by `factor`
+    /// (≥ 1; 1 = off): see [`crate::SimOptions::contact_tightening`]. Takes effect when the
     /// solver is created.
-    pub fn set_impact_tightening(&mut self, factor: f64) {
-        self.impact_tightening = factor.max(1.0);
+    pub fn set_contact_tightening(&mut self, factor: f64) {
+        self.contact_tightening = factor.max(1.0);
     }
     /// The plan.
     pub fn plan(&self) -> &Plan {
@@ -390,7 +390,7 @@ impl DaeSystem for MultibodyDae {
     }
 
     fn has_error_weight_factors(&self) -> bool {
-        self.blocks.is_some() && self.contact.is_some() && self.impact_tightening > 1.0
+        self.blocks.is_some() && self.contact.is_some() && self.contact_tightening > 1.0
     }
 
     fn error_weight_factors(&mut self, _y: &[f64], f: &mut [f64]) -> bool {
@@ -401,15 +401,12 @@ impl DaeSystem for MultibodyDae {
         ) else {
             return false;
         };
-        let kappa = self.impact_tightening;
+        let kappa = self.contact_tightening;
         let marked = &mut self.ewt_marked;
         marked.clear();
         marked.resize(tb.fixed.n_blocks, false);
         let mut any = false;
-        for (_, pp, ps) in cs.active_pairs() {
-            if ps.delta_dot_minus.abs() <= pp.v_min {
-                continue;
-            }
+        for (_, pp, _) in cs.active_pairs() {
             for s in [pp.a, pp.b] {
                 if let Some(b) = cp.shapes[s].body {
                     marked[tb.of_body[b.index()]] = true;

@@ -57,20 +57,22 @@ pub struct SimOptions {
     /// few thousand steps and at every output point and event.
     pub max_wall_time: Option<f64>,
     /// How many times tighter than `rtol`/`atol` the error test is, at rtol 1e-6, for the
-    /// bodies of a contact that began as an impact (impact speed above the pair's `v_min`),
-    /// for as long as that contact lasts (default [`DEFAULT_IMPACT_TIGHTENING`] = 100; 1 =
-    /// IDA's own weights throughout). The factor used is `impact_tightening·(1e-6/rtol)^(1/6)`,
-    /// capped so that `rtol/factor ≥ 1e-14`. IDA bounds the error of each step and a contact
-    /// phase takes 30–300 steps (more at tighter rtol, as `rtol^(−1/6)`), so without it a
-    /// rebound speed carries the error of all of them: contact times of a steel ball were off
-    /// by 6–276 × rtol over rtol 1e-4…1e-10; with it, within 1·rtol (docs/contact-model.md §5,
-    /// `tests/contact_times.rs`). Range `[1, 1e6]`.
-    pub impact_tightening: f64,
+    /// unknowns of the joint trees of bodies in contact (pairs in the contact set), for as long
+    /// as the contact lasts (default [`DEFAULT_CONTACT_TIGHTENING`] = 100; 1 = IDA's own
+    /// weights throughout). The factor used is `contact_tightening·(1e-6/rtol)^(1/6)`, capped
+    /// so that `rtol/factor ≥ 1e-14`. Why: IDA bounds the error of each step, and an impact
+    /// takes 30–300 steps (more at tighter rtol, as `rtol^(−1/6)`), so a rebound speed carried
+    /// the error of all of them (contact times of a steel ball off by 6–276 × rtol over rtol
+    /// 1e-4…1e-10; now within 1.2·rtol); and a resting or rolling contact's force depends on a
+    /// penetration of ~1e-6 m that IDA's position tolerance `rtol·|r|` did not resolve at loose
+    /// rtol (balls hopped on the table at 1e-3). See docs/contact-model.md §5 and
+    /// `tests/contact_times.rs`. Range `[1, 1e6]`.
+    pub contact_tightening: f64,
 }
 
-/// Default of [`SimOptions::impact_tightening`]: a contact phase of ~100 steps then ends with
-/// the error of about one step at `rtol`.
-pub const DEFAULT_IMPACT_TIGHTENING: f64 = 100.0;
+/// Default of [`SimOptions::contact_tightening`]: an impact of ~100 steps then ends with the
+/// error of about one step at `rtol`.
+pub const DEFAULT_CONTACT_TIGHTENING: f64 = 100.0;
 
 impl SimOptions {
     /// Options for a run from 0 to `stop_time` \[s\] with defaults otherwise.
@@ -89,7 +91,7 @@ impl SimOptions {
             structured_jacobian: true,
             max_steps: Some(DEFAULT_MAX_STEPS),
             max_wall_time: None,
-            impact_tightening: DEFAULT_IMPACT_TIGHTENING,
+            contact_tightening: DEFAULT_CONTACT_TIGHTENING,
         }
     }
     /// Sets the step budget of the run (`None` = unlimited; see [`SimOptions::max_steps`]).
@@ -102,19 +104,19 @@ impl SimOptions {
         self.max_wall_time = Some(seconds);
         self
     }
-    /// Sets the tightening of the error test in impacts (see
-    /// [`SimOptions::impact_tightening`]; 1 turns it off).
-    pub fn impact_tightening(mut self, factor: f64) -> Self {
-        self.impact_tightening = factor;
+    /// Sets the tightening of the error test of bodies in contact (see
+    /// [`SimOptions::contact_tightening`]; 1 turns it off).
+    pub fn contact_tightening(mut self, factor: f64) -> Self {
+        self.contact_tightening = factor;
         self
     }
-    /// The tightening factor a run uses: [`SimOptions::impact_tightening`], capped so that
+    /// The tightening factor a run uses: [`SimOptions::contact_tightening`], capped so that
     /// `rtol / factor ≥ 1e-14` (the rounding of f64 positions).
-    pub(crate) fn effective_impact_tightening(&self) -> f64 {
-        if self.impact_tightening <= 1.0 {
+    pub(crate) fn effective_contact_tightening(&self) -> f64 {
+        if self.contact_tightening <= 1.0 {
             return 1.0;
         }
-        let scaled = self.impact_tightening * (1e-6 / self.rtol).powf(1.0 / 6.0);
+        let scaled = self.contact_tightening * (1e-6 / self.rtol).powf(1.0 / 6.0);
         scaled.min(self.rtol / 1e-14).max(1.0)
     }
     /// Uses (true, the default) or not the coloured Jacobian (see
@@ -189,7 +191,7 @@ impl SimOptions {
     /// - `max_steps ≥ 1`; `max_step > 0` and, with a step budget, `≥ (stop − start)/max_steps`
     ///   (else the run could not end within it);
     /// - `max_wall_time > 0`, finite;
-    /// - `impact_tightening ∈ [1, 1e6]`.
+    /// - `contact_tightening ∈ [1, 1e6]`.
     pub(crate) fn check(&self) -> Result<(), String> {
         let finite = |x: f64| x.is_finite();
         let (t0, t1) = (self.start_time, self.stop_time);
@@ -251,10 +253,10 @@ impl SimOptions {
                 return Err(format!("max wall time {w} s must be finite and > 0"));
             }
         }
-        if !(1.0..=1e6).contains(&self.impact_tightening) {
+        if !(1.0..=1e6).contains(&self.contact_tightening) {
             return Err(format!(
-                "impact_tightening {:?} must be in [1, 1e6] (1 = no tightening of the error test in impacts)",
-                self.impact_tightening
+                "contact_tightening {:?} must be in [1, 1e6] (1 = no tightening of the error test of bodies in contact)",
+                self.contact_tightening
             ));
         }
         Ok(())
