@@ -66,6 +66,15 @@ impl BlockLu {
         self.lu[self.off[k] + self.local[j] * m + self.local[i]] = value;
     }
 
+    /// Adds `value` to entry (`i`, `j`) (same rule as [`Self::set`]).
+    #[inline]
+    pub fn add(&mut self, i: usize, j: usize, value: f64) {
+        let k = self.comp[j];
+        debug_assert_eq!(self.comp[i], k, "entry ({i}, {j}) couples two components");
+        let m = self.start[k + 1] - self.start[k];
+        self.lu[self.off[k] + self.local[j] * m + self.local[i]] += value;
+    }
+
     /// Factors every block in place. Returns the global index of the first zero pivot if a
     /// block is singular.
     pub fn factor(&mut self) -> Result<(), usize> {
@@ -184,6 +193,7 @@ mod tests {
             block_of: block_of.clone(),
             n_blocks: nb,
             couplings: couplings.clone(),
+            ..Default::default()
         });
         col.update(n).unwrap();
         let coupled = |a: usize, b: usize| {
