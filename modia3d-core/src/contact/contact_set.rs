@@ -523,6 +523,17 @@ impl ContactState {
         (cp.shapes[pp.a].body, cp.shapes[pp.b].body)
     }
 
+    /// Whether the geometry of the `k`-th pair in the contact set is independent of the
+    /// rotation of body `b`: its shapes on `b` are spheres centred at the body origin (placed
+    /// by position only, see [`shape_pose`]).
+    pub fn rotation_free(&self, cp: &ContactPlan, k: usize, b: crate::dynamics::BodyId) -> bool {
+        let (sa, sb) = self.shapes_of(self.active[k] as usize);
+        [sa, sb].into_iter().all(|s| {
+            let sp = &cp.shapes[s];
+            sp.body != Some(b) || (sp.round && sp.in_body.pos == Vector3::zeros())
+        })
+    }
+
     /// Narrow phase and contact patch of the `k`-th pair in the contact set at the workspace
     /// poses, as continuous mode computes them, but touching no pair state, pose or counter:
     /// for pair-local difference quotients of the Jacobian (`dae/jacobian.rs`).
