@@ -131,7 +131,8 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
             yp: &yp,
             zero_size: &zero_size,
         };
-        dae.jacobian(&args, &mut |_, _, _| entries += 1).unwrap();
+        dae.jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
+            .unwrap();
     };
     // Warm up.
     dae.residual(0.0, &y, &yp, &mut res).unwrap();

@@ -29,7 +29,7 @@ use crate::dynamics::spatial::{quat_to_matrix, Force, Inertia, Motion};
 use crate::dynamics::{kinematics, BodyId, InputTarget, Plan, Workspace};
 use crate::joints::JointCoord;
 use crate::scene::ValidForce;
-use crate::solver::{JacobianArgs, ResidualError};
+use crate::solver::{JacobianArgs, JacobianSink, ResidualError};
 use nalgebra::{Matrix3, Matrix4, SMatrix, Vector3, Vector4};
 
 /// A joint tree that is one body on a FreeMotion joint to the world (or to an object fixed to
@@ -176,18 +176,23 @@ fn force_component(f: &Force, k: usize) -> f64 {
 }
 
 /// The 13 × 13 block of free body `fb` without its contacts, exact (see the module header),
-/// passed entry by entry to `add`.
+/// passed to `out` column by column (rows `fb.q..fb.q + 7`, then `fb.v..fb.v + 6`).
 pub(super) fn own_block(
     plan: &Plan,
     fb: &FreeBody,
     args: &JacobianArgs<'_>,
-    add: &mut dyn FnMut(usize, usize, f64),
+    out: &mut dyn JacobianSink,
 ) {
+    // Local order of rows and columns: r 0..3, quaternion 3..7, ω 7..10, v 10..13.
+    const QQ: usize = 3;
+    const VW: usize = 7;
+    const VV: usize = 10;
+    let mut a = SMatrix::<f64, 13, 13>::zeros();
     let (y, c_j) = (args.y, args.c_j);
     let body = &plan.bodies[fb.body];
     let joint = &plan.joints[body.joint];
     let inertia = &body.inertia;
-    let (qr, qq, vw, vv) = (fb.q, fb.q + 3, fb.v, fb.v + 3);
+    let (qq, vw, vv) = (fb.q + 3, fb.v, fb.v + 3);
     let quat = Vector4::new(y[qq], y[qq + 1], y[qq + 2], y[qq + 3]);
     let n2 = quat.norm_squared();
     let norm = n2.sqrt();
@@ -201,12 +206,12 @@ pub(super) fn own_block(
     // Kinematic rows of r: ṙ − R(q̂) v.
     let d_rv = rotate_derivative(&u, &vel, false) * p;
     for i in 0..3 {
-        add(qr + i, qr + i, c_j);
+        a[(i, i)] += c_j;
         for k in 0..3 {
-            add(qr + i, vv + k, -rot[(i, k)]);
+            a[(i, VV + k)] = -rot[(i, k)];
         }
         for k in 0..4 {
-            add(qr + i, qq + k, -d_rv[(i, k)]);
+            a[(i, QQ + k)] = -d_rv[(i, k)];
         }
     }
     // Quaternion rows: q̇ − ½ Ω(ω) q + k_n (|q|² − 1) q.
@@ -227,12 +232,12 @@ pub(super) fn own_block(
         -yy, x, w,
     ) * -0.5;
     for i in 0..4 {
-        add(qq + i, qq + i, c_j);
         for k in 0..4 {
-            add(qq + i, qq + k, dq[(i, k)]);
+            a[(QQ + i, QQ + k)] = dq[(i, k)];
         }
+        a[(QQ + i, QQ + i)] += c_j;
         for k in 0..3 {
-            add(qq + i, vw + k, dw[(i, k)]);
+            a[(QQ + i, VW + k)] = dw[(i, k)];
         }
     }
     // Dynamic rows: I (v̇ + (0, R(q̂)ᵀ g_J)) + bias(v) (contacts are added by the caller).
@@ -241,14 +246,8 @@ pub(super) fn own_block(
         let e = unit_motion(k);
         let mass = inertia.mul_motion(&e);
         let bias = bias_force_derivative(inertia, &m, &e);
-        let col = if k < 3 { vw + k } else { vv + k - 3 };
         for i in 0..6 {
-            let row = if i < 3 { vw + i } else { vv + i - 3 };
-            add(
-                row,
-                col,
-                c_j * force_component(&mass, i) + force_component(&bias, i),
-            );
+            a[(VW + i, VW + k)] = c_j * force_component(&mass, i) + force_component(&bias, i);
         }
     }
     let g_joint = -joint.tree.rot.tr_mul(&plan.gravity);
@@ -260,9 +259,15 @@ pub(super) fn own_block(
         };
         let df = inertia.mul_motion(&dm);
         for i in 0..6 {
-            let row = if i < 3 { vw + i } else { vv + i - 3 };
-            add(row, qq + k, force_component(&df, i));
+            a[(VW + i, QQ + k)] = force_component(&df, i);
         }
+    }
+    let cols = a.as_slice();
+    for c in 0..13 {
+        let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
+        let col = &cols[13 * c..13 * c + 13];
+        out.add(fb.q, j, &col[..7]);
+        out.add(fb.v, j, &col[7..]);
     }
 }
 
@@ -303,7 +308,7 @@ impl ContactColumns<'_> {
         &self,
         ws: &mut Workspace,
         args: &JacobianArgs<'_>,
-        add: &mut dyn FnMut(usize, usize, f64),
+        out: &mut dyn JacobianSink,
     ) -> Result<(), ResidualError> {
         let (plan, cp, cs) = (self.plan, self.cp, self.cs);
         let fatal = |e: crate::contact::ContactError| ResidualError::Fatal(e.to_string());
@@ -367,10 +372,11 @@ impl ContactColumns<'_> {
                             continue;
                         };
                         // The residual has − f_ext.
-                        for i in 0..6 {
-                            let d = (force_component(&f, i) - force_component(&f0, i)) * inv;
-                            add(rb.v + i, j, -d);
+                        let mut d = [0.0; 6];
+                        for (i, di) in d.iter_mut().enumerate() {
+                            *di = (force_component(&f0, i) - force_component(&f, i)) * inv;
                         }
+                        out.add(rb.v, j, &d);
                     }
                 }
             }
@@ -384,7 +390,7 @@ impl MultibodyDae {
     pub(super) fn analytic_jacobian(
         &mut self,
         args: &JacobianArgs<'_>,
-        add: &mut dyn FnMut(usize, usize, f64),
+        out: &mut dyn JacobianSink,
     ) -> Result<(), ResidualError> {
         let Some(tb) = &self.blocks else {
             return Ok(());
@@ -393,7 +399,7 @@ impl MultibodyDae {
         let (nq, nv) = (plan.nq, plan.nv);
         for (t, fb) in tb.free.iter().enumerate() {
             if let (Some(fb), true) = (fb, self.analytic.get(t).copied().unwrap_or(false)) {
-                own_block(plan, fb, args, add);
+                own_block(plan, fb, args, out);
             }
         }
         let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) else {
@@ -411,7 +417,7 @@ impl MultibodyDae {
             free: &tb.free,
             analytic: &self.analytic,
         }
-        .add(&mut self.ws, args, add)
+        .add(&mut self.ws, args, out)
     }
 }
 
@@ -592,7 +598,7 @@ mod tests {
             zero_size: &zero_size,
         };
         let mut a = vec![vec![0.0; n]; n];
-        dae.jacobian(&args, &mut |i, j, d| {
+        dae.jacobian(&args, &mut |i: usize, j: usize, d: f64| {
             assert!(cols[j], "entry ({i}, {j}) in a column that is not analytic");
             a[i][j] += d;
         })

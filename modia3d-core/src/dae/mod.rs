@@ -412,8 +412,8 @@ impl DaeSystem for MultibodyDae {
     fn jacobian(
         &mut self,
         args: &crate::solver::JacobianArgs<'_>,
-        add: &mut dyn FnMut(usize, usize, f64),
+        out: &mut dyn crate::solver::JacobianSink,
     ) -> Result<(), ResidualError> {
-        self.analytic_jacobian(args, add)
+        self.analytic_jacobian(args, out)
     }
 }

@@ -33,8 +33,8 @@ use super::block_lu::BlockLu;
 use super::colouring::Colouring;
 use super::error::flag_hint;
 use super::{
-    dq_increment, Atol, DaeSystem, IdaError, IdaOptions, IdaStats, JacobianArgs, ResidualError,
-    SolveStatus,
+    dq_increment, Atol, DaeSystem, IdaError, IdaOptions, IdaStats, JacobianArgs, JacobianSink,
+    ResidualError, SolveStatus,
 };
 
 mod callbacks;

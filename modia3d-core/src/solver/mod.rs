@@ -91,15 +91,32 @@ pub trait DaeSystem {
     /// The columns of the iteration matrix `∂F/∂y + c_j ∂F/∂y'` that belong to the blocks
     /// marked in [`BlockStructure::analytic`], computed by the system itself: every non-zero
     /// entry `(i, j)` of those columns (rows of the block and of the blocks coupled with it) is
-    /// passed to `add` (entries may be passed in parts; they are summed). Called before the
-    /// difference quotients of the other blocks, at the point of `args`. The default marks no
-    /// block analytic and adds nothing. `Err` as for [`DaeSystem::residual`].
+    /// passed to `out` (entries may be passed in parts; they are summed). Called before the
+    /// difference quotients of the other blocks, at the point of `args`. The default adds
+    /// nothing. `Err` as for [`DaeSystem::residual`].
     fn jacobian(
         &mut self,
         _args: &JacobianArgs<'_>,
-        _add: &mut dyn FnMut(usize, usize, f64),
+        _out: &mut dyn JacobianSink,
     ) -> Result<(), ResidualError> {
         Ok(())
+    }
+}
+
+/// Receives the columns of [`DaeSystem::jacobian`] in runs of consecutive rows.
+pub trait JacobianSink {
+    /// Adds `values[k]` to entry (`i0 + k`, `j`) of the iteration matrix; the rows
+    /// `i0..i0 + values.len()` must be unknowns of one block (a block's unknowns need not be
+    /// consecutive, but each run must be).
+    fn add(&mut self, i0: usize, j: usize, values: &[f64]);
+}
+
+/// Any `FnMut(i, j, value)` receives the entries one by one.
+impl<F: FnMut(usize, usize, f64)> JacobianSink for F {
+    fn add(&mut self, i0: usize, j: usize, values: &[f64]) {
+        for (k, &v) in values.iter().enumerate() {
+            self(i0 + k, j, v);
+        }
     }
 }
 

@@ -83,16 +83,12 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 yp: ypv,
                 zero_size: &st.zero_size,
             };
-            let lu = &mut st.block_lu;
-            let mut bad = None;
-            let outcome = st.system.jacobian(&args, &mut |i, j, d| {
-                if d.is_finite() {
-                    lu.add(i, j, d);
-                } else {
-                    bad.get_or_insert((i, d));
-                }
-            });
-            if let Some((i, d)) = bad {
+            let mut sink = LuSink {
+                lu: &mut st.block_lu,
+                bad: None,
+            };
+            let outcome = st.system.jacobian(&args, &mut sink);
+            if let Some((i, d)) = sink.bad {
                 record_non_finite(&mut st.non_finite, i, t, d);
                 return 1;
             }
@@ -155,6 +151,23 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     }));
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// Writes the system's own Jacobian columns into the diagonal blocks, remembering the first
+/// non-finite value instead.
+struct LuSink<'a> {
+    lu: &'a mut BlockLu,
+    bad: Option<(usize, f64)>,
+}
+
+impl JacobianSink for LuSink<'_> {
+    fn add(&mut self, i0: usize, j: usize, values: &[f64]) {
+        if let Some(t) = values.iter().position(|v| !v.is_finite()) {
+            self.bad.get_or_insert((i0 + t, values[t]));
+        } else {
+            self.lu.add_run(i0, j, values);
+        }
+    }
 }
 
 /// Matrix id of the storage-less handle: a custom one.
