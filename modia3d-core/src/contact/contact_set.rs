@@ -523,6 +523,13 @@ impl ContactState {
         (cp.shapes[pp.a].body, cp.shapes[pp.b].body)
     }
 
+    /// Whether the narrow phase of shapes `a`, `b` has stopped at its iteration limit in this
+    /// run (the pair was warned about): its geometry is rough at the scale of a difference
+    /// quotient's increment.
+    pub fn hit_iteration_limit(&self, a: usize, b: usize) -> bool {
+        !self.limit_warned.is_empty() && self.limit_warned.contains(&key(a, b))
+    }
+
     /// Whether the geometry of the `k`-th pair in the contact set is independent of the
     /// rotation of body `b`: its shapes on `b` are spheres centred at the body origin (placed
     /// by position only, see [`shape_pose`]).
