@@ -20,7 +20,9 @@
 //!   solver's increment rule (`solver::dq_increment`; central where `h·y'_j = 0`).
 //!
 //! A block is computed here only if every body it touches through a contact is such a body
-//! too (its column's rows are then all single-body rows); otherwise it keeps the quotients.
+//! too (its column's rows are then all single-body rows) and none of its pairs' narrow phases
+//! has stopped at its iteration limit (a rough geometry); otherwise it keeps the quotients
+//! (`MultibodyDae::jacobian_structure`).
 //! Allocation-free.
 
 use super::MultibodyDae;
