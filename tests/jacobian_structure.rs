@@ -63,12 +63,29 @@ fn compare(
         "structured error {err_s:e} vs dense {err_d:e}"
     );
     assert_eq!(s.stats.events, d.stats.events, "same contact events");
-    // The Jacobians agree to rounding (rows of a tree see only its own and its contact
-    // partners' perturbations), so Newton converges alike and the step counts match; a
-    // missing coupling would show as extra iterations and steps (the solver unit tests, modia3d-core/src/solver/tests/).
-    let ratio = s.stats.solver.steps as f64 / d.stats.solver.steps as f64;
+    // A missing coupling would leave the structured Jacobian wrong where contacts couple
+    // trees: Newton would need more iterations per step and fail to converge more often (the
+    // solver unit tests, modia3d-core/src/solver/tests/). The two Jacobians differ only by
+    // their difference-quotient increments, so the iterations per step agree to a few per
+    // cent; the step counts may differ more (up to 7 % seen, with the contact tightening of
+    // the error test, docs/contact-model.md §5: the error estimates of the Newton iterates
+    // differ), and are bounded at 15 %.
+    let (ss, ds) = (s.stats.solver, d.stats.solver);
+    let it_ratio = (ss.nonlinear_iterations as f64 / ss.steps as f64)
+        / (ds.nonlinear_iterations as f64 / ds.steps as f64);
     assert!(
-        (ratio - 1.0).abs() < 0.05,
+        (it_ratio - 1.0).abs() < 0.05,
+        "Newton iterations per step structured/dense = {it_ratio}"
+    );
+    assert!(
+        ss.nonlinear_convergence_failures <= ds.nonlinear_convergence_failures + ds.steps / 100,
+        "convergence failures structured {} vs dense {}",
+        ss.nonlinear_convergence_failures,
+        ds.nonlinear_convergence_failures
+    );
+    let ratio = ss.steps as f64 / ds.steps as f64;
+    assert!(
+        (ratio - 1.0).abs() < 0.15,
         "steps structured/dense = {ratio}"
     );
     (s.stats, d.stats)

@@ -12,8 +12,9 @@
 use super::preprocess::{ContactPlan, PairPlan};
 use super::regularise::{cor_reg, damping_factor, damping_factor_exact};
 use super::response::{pair_response, PairResponse};
-use crate::dynamics::forces::add_world_wrench;
+use crate::dynamics::forces::{add_world_wrench, world_wrench_in_body};
 use crate::dynamics::kinematics::point_velocity;
+use crate::dynamics::spatial::Force;
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::{Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
@@ -500,6 +501,104 @@ impl ContactState {
             }
         }
         (z1, z2)
+    }
+
+    /// Number of pairs in the contact set (the `k` of [`Self::active_bodies`],
+    /// [`Self::pair_geometry`], [`Self::pair_wrenches`]).
+    pub fn n_in_contact(&self) -> usize {
+        self.active.len()
+    }
+
+    /// Bodies (`None` = fixed to the world) of shape a and shape b of the `k`-th pair in the
+    /// contact set.
+    pub fn active_bodies(
+        &self,
+        cp: &ContactPlan,
+        k: usize,
+    ) -> (
+        Option<crate::dynamics::BodyId>,
+        Option<crate::dynamics::BodyId>,
+    ) {
+        let pp = &self.slots[self.active[k] as usize].plan;
+        (cp.shapes[pp.a].body, cp.shapes[pp.b].body)
+    }
+
+    /// Whether the narrow phase of shapes `a`, `b` has stopped at its iteration limit in this
+    /// run (the pair was warned about): its geometry is rough at the scale of a difference
+    /// quotient's increment.
+    pub fn hit_iteration_limit(&self, a: usize, b: usize) -> bool {
+        !self.limit_warned.is_empty() && self.limit_warned.contains(&key(a, b))
+    }
+
+    /// Whether the geometry of the `k`-th pair in the contact set is independent of the
+    /// rotation of body `b`: its shapes on `b` are spheres centred at the body origin (placed
+    /// by position only, see [`shape_pose`]).
+    pub fn rotation_free(&self, cp: &ContactPlan, k: usize, b: crate::dynamics::BodyId) -> bool {
+        let (sa, sb) = self.shapes_of(self.active[k] as usize);
+        [sa, sb].into_iter().all(|s| {
+            let sp = &cp.shapes[s];
+            sp.body != Some(b) || (sp.round && sp.in_body.pos == Vector3::zeros())
+        })
+    }
+
+    /// Narrow phase and contact patch of the `k`-th pair in the contact set at the workspace
+    /// poses, as continuous mode computes them, but touching no pair state, pose or counter:
+    /// for pair-local difference quotients of the Jacobian (`dae/jacobian.rs`).
+    pub fn pair_geometry(
+        &self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        ws: &Workspace,
+        k: usize,
+        t: f64,
+    ) -> Result<(SignedDistance, ContactPatch), ContactError> {
+        let p = self.active[k] as usize;
+        let (a, b) = self.shapes_of(p);
+        let pose = |s: usize| {
+            if cp.shapes[s].body.is_some() {
+                shape_pose(cp, ws, s)
+            } else {
+                self.poses[s]
+            }
+        };
+        let (pa, pb) = (pose(a), pose(b));
+        let (sa, sb) = (&cp.shapes[a].shape, &cp.shapes[b].shape);
+        let sd = match signed_distance_method(sa, &pa, sb, &pb, &cp.narrow) {
+            Ok((sd, _)) => sd,
+            Err(source) => {
+                return Err(ContactError {
+                    pair: cp.pair_name(&plan.scene, &self.slots[p].plan),
+                    t,
+                    source,
+                })
+            }
+        };
+        Ok((sd, contact_patch(sa, &pa, sb, &pb, &sd)))
+    }
+
+    /// The wrenches (about the body origins, resolved in the body frames) of the `k`-th pair
+    /// in the contact set on its bodies a and b (`None` for a fixed shape), for the geometry
+    /// `geo` of [`Self::pair_geometry`] and the workspace velocities: what continuous mode adds
+    /// to `ws.f_ext`, without touching the pair's state.
+    pub fn pair_wrenches(
+        &self,
+        cp: &ContactPlan,
+        ws: &Workspace,
+        k: usize,
+        geo: &(SignedDistance, ContactPatch),
+    ) -> (Option<Force>, Option<Force>) {
+        let sl = &self.slots[self.active[k] as usize];
+        let (ba, bb) = (cp.shapes[sl.plan.a].body, cp.shapes[sl.plan.b].body);
+        let (sd, patch) = geo;
+        let point = &patch.point.coords;
+        let (v1, w1) = point_velocity(ws, ba, point);
+        let (v2, w2) = point_velocity(ws, bb, point);
+        let r = pair_response(cp, &sl.plan, sl.state.d, sd, patch, &v1, &w1, &v2, &w2);
+        let f = r.normal_force + r.friction_force;
+        (
+            ba.map(|b| world_wrench_in_body(ws, b, &r.point, &-f, &-r.rolling_torque)),
+            bb.map(|b| world_wrench_in_body(ws, b, &r.point, &f, &r.rolling_torque)),
+        )
     }
 
     /// Number of pairs in the contact set.

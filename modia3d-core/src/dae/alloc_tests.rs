@@ -104,9 +104,10 @@ fn beam_and_decomposed_mesh_do_not_allocate() {
     assert!(g[0] < 0.0, "in contact: {g:?}");
 }
 
-/// Runs residual, roots and event handling 100 times on the built `scene` at its initial state
-/// after a warm-up, asserts that nothing was allocated and that the consistent derivative
-/// solves the residual; returns the root values.
+/// Runs residual, roots, event handling and the DAE's Jacobian columns (structure, own blocks
+/// and pair-local quotients, `dae/jacobian.rs`) 100 times on the built `scene` at its initial
+/// state after a warm-up, asserts that nothing was allocated and that the consistent
+/// derivative solves the residual; returns the root values.
 fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
     let model = scene.build().unwrap();
     assert!(model.contact.is_some(), "the scene has candidate pairs");
@@ -119,9 +120,26 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
     let yp = dae.consistent_derivative(0.0, &mut y.clone()).unwrap();
     let mut res = vec![0.0; n];
     let mut g = vec![0.0; 2];
+    let mut s = crate::solver::BlockStructure::default();
+    let zero_size = vec![1e-2; n];
+    let mut entries = 0usize;
+    let mut jacobian = |dae: &mut MultibodyDae, s: &mut crate::solver::BlockStructure| {
+        assert!(dae.jacobian_structure(s));
+        let args = crate::solver::JacobianArgs {
+            t: 0.0,
+            c_j: 1e3,
+            h: 1e-4,
+            y: &y,
+            yp: &yp,
+            zero_size: &zero_size,
+        };
+        dae.jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
+            .unwrap();
+    };
     // Warm up.
     dae.residual(0.0, &y, &yp, &mut res).unwrap();
     dae.roots(0.0, &y, &yp, &mut g);
+    jacobian(&mut dae, &mut s);
     let before = allocs();
     for k in 0..100 {
         let t = k as f64 * 1e-3;
@@ -129,8 +147,14 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
         dae.roots(t, &y, &yp, &mut g);
         dae.error_weight_factors(&y, &mut ewt);
         dae.handle_event(t, &y).unwrap();
+        jacobian(&mut dae, &mut s);
     }
     let after = allocs();
+    assert!(
+        s.analytic.iter().all(|&a| a),
+        "free bodies on a fixed table: every block analytic"
+    );
+    assert!(entries > 0);
     assert_eq!(after - before, 0, "allocations on the contact hot path");
     // The consistent derivative solves the residual to round-off of the forces (m g ≈ 8.7 N
     // per ball, 10 to 40 N for the beam and block; 1e-6 is far above round-off and far below

@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 #[cfg(test)]
 pub(crate) mod alloc_tests;
+mod jacobian;
 
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
@@ -38,6 +39,13 @@ pub struct MultibodyDae {
     /// Factor of the error weights of the bodies in contact (1 = off; see
     /// [`crate::SimOptions::contact_tightening`]).
     contact_tightening: f64,
+    /// Trees whose Jacobian columns the DAE computes itself (`dae/jacobian.rs`), as last
+    /// reported by `jacobian_structure`.
+    analytic: Vec<bool>,
+    /// Free bodies get analytic columns (off with the environment variable
+    /// `MODIA3D_DQ_JACOBIAN=1`, read when the DAE is built: every block by difference
+    /// quotients, as before `dae/jacobian.rs`, for comparisons).
+    analytic_enabled: bool,
 }
 
 /// The static part of the Jacobian's block structure (one block per joint tree).
@@ -47,6 +55,9 @@ struct TreeBlocks {
     of_body: Vec<usize>,
     /// Block of each unknown of `y = [q; v]` and the couplings by force elements.
     fixed: BlockStructure,
+    /// The trees that are one free body (`dae/jacobian.rs`): their columns can be computed
+    /// analytically.
+    free: Vec<Option<jacobian::FreeBody>>,
 }
 
 impl TreeBlocks {
@@ -89,13 +100,16 @@ impl TreeBlocks {
                 }
             }
         }
+        let free = jacobian::free_bodies(plan, &of_body, n_blocks);
         Some(TreeBlocks {
             of_body,
             fixed: BlockStructure {
                 block_of,
                 n_blocks,
                 couplings,
+                analytic: vec![],
             },
+            free,
         })
     }
 }
@@ -119,6 +133,8 @@ impl MultibodyDae {
             ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
             contact_tightening: 1.0,
             blocks,
+            analytic: vec![],
+            analytic_enabled: std::env::var_os("MODIA3D_DQ_JACOBIAN").is_none_or(|v| v != "1"),
         }
     }
     /// Tightens the error test of the bodies in contact (in the contact set) by `factor`
@@ -376,16 +392,42 @@ impl DaeSystem for MultibodyDae {
         s.block_of.clone_from(&tb.fixed.block_of);
         s.n_blocks = tb.fixed.n_blocks;
         s.couplings.clone_from(&tb.fixed.couplings);
+        // A free body's columns are analytic unless a contact ties it to a tree that is not a
+        // free body (whose rows the pair-local quotients cannot fill).
+        s.analytic.clear();
+        s.analytic.extend(tb.free.iter().map(Option::is_some));
         if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) {
             for (_, pp, _) in cs.active_pairs() {
-                if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {
-                    let (ba, bb) = (tb.of_body[a.index()], tb.of_body[b.index()]);
+                let (a, b) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
+                let tree = |x: Option<crate::dynamics::BodyId>| x.map(|x| tb.of_body[x.index()]);
+                let (ta, tb_) = (tree(a), tree(b));
+                for (this, other) in [(ta, tb_), (tb_, ta)] {
+                    if let (Some(this), Some(other)) = (this, other) {
+                        if tb.free[other].is_none() {
+                            s.analytic[this] = false;
+                        }
+                    }
+                }
+                // A pair whose narrow phase stopped at its iteration limit is rough at the
+                // increment's scale: its bodies keep the quotients of the full residual (as
+                // before dae/jacobian.rs, where a run with a one-iteration MPR ends at its work
+                // budget; with pair-local quotients it failed to converge, tests/mpr_limits.rs).
+                if cs.hit_iteration_limit(pp.a, pp.b) {
+                    for t in [ta, tb_].into_iter().flatten() {
+                        s.analytic[t] = false;
+                    }
+                }
+                if let (Some(ba), Some(bb)) = (ta, tb_) {
                     if ba != bb {
                         s.couplings.push((ba, bb));
                     }
                 }
             }
         }
+        if !self.analytic_enabled {
+            s.analytic.fill(false);
+        }
+        self.analytic.clone_from(&s.analytic);
         true
     }
 
@@ -421,5 +463,13 @@ impl DaeSystem for MultibodyDae {
             *fi = if marked[blk] { kappa } else { 1.0 };
         }
         true
+    }
+
+    fn jacobian(
+        &mut self,
+        args: &crate::solver::JacobianArgs<'_>,
+        out: &mut dyn crate::solver::JacobianSink,
+    ) -> Result<(), ResidualError> {
+        self.analytic_jacobian(args, out)
     }
 }

@@ -76,13 +76,27 @@ pub fn add_world_wrench(
     torque: &Vector3<f64>,
 ) {
     if let Some(b) = b {
-        let x = &ws.world[b];
-        let n_world = torque + (point - x.pos).cross(force);
-        let f = Force {
-            n: x.rot.tr_mul(&n_world),
-            f: x.rot.tr_mul(force),
-        };
+        let f = world_wrench_in_body(ws, b, point, force, torque);
         ws.f_ext[b] = ws.f_ext[b] + f;
+    }
+}
+
+/// The wrench of `force` \[N\] acting at `point` and `torque` \[N·m\] (all resolved in world) as
+/// a spatial force on body `b` about its origin, resolved in the body frame (what
+/// [`add_world_wrench`] adds to `ws.f_ext`).
+#[inline]
+pub fn world_wrench_in_body(
+    ws: &Workspace,
+    b: BodyId,
+    point: &Vector3<f64>,
+    force: &Vector3<f64>,
+    torque: &Vector3<f64>,
+) -> Force {
+    let x = &ws.world[b];
+    let n_world = torque + (point - x.pos).cross(force);
+    Force {
+        n: x.rot.tr_mul(&n_world),
+        f: x.rot.tr_mul(force),
     }
 }
 

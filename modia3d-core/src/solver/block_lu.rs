@@ -66,6 +66,30 @@ impl BlockLu {
         self.lu[self.off[k] + self.local[j] * m + self.local[i]] = value;
     }
 
+    /// Adds `values[t]` to entry (`i0 + t`, `j`): the rows must be in `j`'s component and
+    /// consecutive in it (as a run of one block's unknowns is), so the run is one slice of
+    /// the block's column.
+    #[inline]
+    pub fn add_run(&mut self, i0: usize, j: usize, values: &[f64]) {
+        let k = self.comp[j];
+        let m = self.start[k + 1] - self.start[k];
+        let base = self.off[k] + self.local[j] * m + self.local[i0];
+        for (t, &v) in values.iter().enumerate() {
+            debug_assert_eq!(
+                self.comp[i0 + t],
+                k,
+                "entry ({}, {j}) couples two components",
+                i0 + t
+            );
+            debug_assert_eq!(
+                self.local[i0 + t],
+                self.local[i0] + t,
+                "rows not consecutive"
+            );
+            self.lu[base + t] += v;
+        }
+    }
+
     /// Factors every block in place. Returns the global index of the first zero pivot if a
     /// block is singular.
     pub fn factor(&mut self) -> Result<(), usize> {
@@ -184,6 +208,7 @@ mod tests {
             block_of: block_of.clone(),
             n_blocks: nb,
             couplings: couplings.clone(),
+            ..Default::default()
         });
         col.update(n).unwrap();
         let coupled = |a: usize, b: usize| {

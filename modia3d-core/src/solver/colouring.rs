@@ -9,8 +9,13 @@ use super::BlockStructure;
 /// neighbours are shared (distance-2 colouring).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Colouring {
-    /// What the system reported.
+    /// What the system reported (the structure the colouring was built for).
     pub structure: BlockStructure,
+    /// What the system reports now: [`Self::refresh`] rebuilds the colouring only when it
+    /// differs from `structure` (the contact set changes at events, not at every Jacobian).
+    pub next: BlockStructure,
+    /// `update` has succeeded for `structure`.
+    ready: bool,
     /// Unknowns of block `b`: `members[member_start[b]..member_start[b + 1]]`, ascending.
     members: Vec<usize>,
     member_start: Vec<usize>,
@@ -72,9 +77,22 @@ impl Colouring {
         }
     }
 
+    /// Takes `self.next` as the structure and rebuilds the colouring if it differs from the
+    /// current one (or none was built yet). Returns whether it rebuilt. Allocation-free once
+    /// the buffers have grown.
+    pub fn refresh(&mut self, n: usize) -> Result<bool, String> {
+        if self.ready && self.next == self.structure {
+            return Ok(false);
+        }
+        std::mem::swap(&mut self.structure, &mut self.next);
+        self.update(n)?;
+        Ok(true)
+    }
+
     /// Rebuilds the compressed blocks, the adjacency and the colouring from `self.structure`
     /// for a system of `n` unknowns. Errors name what is inconsistent.
     pub fn update(&mut self, n: usize) -> Result<(), String> {
+        self.ready = false;
         let s = &self.structure;
         let nb = s.n_blocks;
         if s.block_of.len() != n {
@@ -92,6 +110,12 @@ impl Colouring {
         if let Some(&(a, b)) = s.couplings.iter().find(|&&(a, b)| a >= nb || b >= nb) {
             return Err(format!(
                 "jacobian_structure: coupling ({a}, {b}) names a block >= n_blocks = {nb}"
+            ));
+        }
+        if !s.analytic.is_empty() && s.analytic.len() != nb {
+            return Err(format!(
+                "jacobian_structure: analytic has length {} but n_blocks = {nb}",
+                s.analytic.len()
             ));
         }
         bucket(
@@ -115,7 +139,15 @@ impl Colouring {
         let mut order = std::mem::take(&mut self.order);
         order.clear();
         order.extend(0..nb);
-        let size = |b: usize| self.member_start[b + 1] - self.member_start[b];
+        // Analytic blocks are not perturbed: size 0 here, so they get no colour.
+        let analytic = &self.structure.analytic;
+        let size = |b: usize| {
+            if analytic.get(b).copied().unwrap_or(false) {
+                0
+            } else {
+                self.member_start[b + 1] - self.member_start[b]
+            }
+        };
         order.sort_unstable_by_key(|&b| (std::cmp::Reverse(size(b)), b));
         let mut n_colours = 0;
         for &b in &order {
@@ -153,6 +185,7 @@ impl Colouring {
             self.colour_width.push(w.unwrap_or(0));
         }
         self.components();
+        self.ready = true;
         Ok(())
     }
 
@@ -206,6 +239,14 @@ impl Colouring {
     pub fn width(&self, c: usize) -> usize {
         self.colour_width[c]
     }
+    /// Block `b` is filled by the system ([`BlockStructure::analytic`]).
+    pub fn is_analytic(&self, b: usize) -> bool {
+        self.structure.analytic.get(b).copied().unwrap_or(false)
+    }
+    /// Some block is filled by the system.
+    pub fn any_analytic(&self) -> bool {
+        self.structure.analytic.iter().any(|&a| a)
+    }
     /// Residual evaluations per Jacobian.
     #[cfg(test)]
     pub fn cost(&self) -> usize {
@@ -239,6 +280,7 @@ mod tests {
             block_of,
             n_blocks,
             couplings,
+            ..Default::default()
         });
         c.update(n).unwrap();
         c
@@ -321,6 +363,33 @@ mod tests {
     }
 
     #[test]
+    fn analytic_blocks_are_not_coloured_but_separate_their_neighbours() {
+        // 0 - 1 - 2 with block 1 analytic: blocks 0 and 2 both write rows of block 1, so
+        // they need two colours; block 1 gets none and costs nothing.
+        let block_of: Vec<usize> = (0..9).map(|i| i / 3).collect();
+        let mut c = Colouring::with_structure(BlockStructure {
+            block_of,
+            n_blocks: 3,
+            couplings: vec![(0, 1), (1, 2)],
+            analytic: vec![false, true, false],
+        });
+        c.update(9).unwrap();
+        assert_eq!(c.n_colours(), 2);
+        assert_eq!(c.cost(), 6);
+        assert!(c.is_analytic(1) && !c.is_analytic(0));
+        for col in 0..c.n_colours() {
+            assert!(!c.blocks_of_colour(col).contains(&1));
+        }
+        assert_eq!(c.n_components(), 1);
+        // refresh rebuilds only on a change.
+        c.next = c.structure.clone();
+        assert!(!c.refresh(9).unwrap());
+        c.next.analytic = vec![false, false, false];
+        assert!(c.refresh(9).unwrap());
+        assert_eq!(c.cost(), 9);
+    }
+
+    #[test]
     fn components_partition_the_unknowns() {
         // Blocks 0-1-2 chained, 3 alone, 4-5 coupled; block 3 interleaved in the numbering.
         let block_of = vec![0, 3, 1, 2, 3, 4, 5, 0];
@@ -338,6 +407,7 @@ mod tests {
             block_of: vec![0, 1, 2],
             n_blocks: 2,
             couplings: vec![],
+            ..Default::default()
         });
         assert!(c.update(3).unwrap_err().contains("unknown 2 is in block 2"));
         c.structure.n_blocks = 3;

@@ -32,7 +32,10 @@ use super::args::{bad, check_finite, check_state, validate};
 use super::block_lu::BlockLu;
 use super::colouring::Colouring;
 use super::error::flag_hint;
-use super::{Atol, DaeSystem, IdaError, IdaOptions, IdaStats, ResidualError, SolveStatus};
+use super::{
+    dq_increment, Atol, DaeSystem, IdaError, IdaOptions, IdaStats, JacobianArgs, JacobianSink,
+    ResidualError, SolveStatus,
+};
 
 mod callbacks;
 mod linear;

@@ -102,6 +102,79 @@ pub trait DaeSystem {
     fn error_weight_factors(&mut self, _y: &[f64], _f: &mut [f64]) -> bool {
         false
     }
+
+    /// The columns of the iteration matrix `∂F/∂y + c_j ∂F/∂y'` that belong to the blocks
+    /// marked in [`BlockStructure::analytic`], computed by the system itself: every non-zero
+    /// entry `(i, j)` of those columns (rows of the block and of the blocks coupled with it) is
+    /// passed to `out` (entries may be passed in parts; they are summed). Called before the
+    /// difference quotients of the other blocks, at the point of `args`. The default adds
+    /// nothing. `Err` as for [`DaeSystem::residual`].
+    fn jacobian(
+        &mut self,
+        _args: &JacobianArgs<'_>,
+        _out: &mut dyn JacobianSink,
+    ) -> Result<(), ResidualError> {
+        Ok(())
+    }
+}
+
+/// Receives the columns of [`DaeSystem::jacobian`] in runs of consecutive rows.
+pub trait JacobianSink {
+    /// Adds `values[k]` to entry (`i0 + k`, `j`) of the iteration matrix; the rows
+    /// `i0..i0 + values.len()` must be unknowns of one block (a block's unknowns need not be
+    /// consecutive, but each run must be).
+    fn add(&mut self, i0: usize, j: usize, values: &[f64]);
+}
+
+/// Any `FnMut(i, j, value)` receives the entries one by one.
+impl<F: FnMut(usize, usize, f64)> JacobianSink for F {
+    fn add(&mut self, i0: usize, j: usize, values: &[f64]) {
+        for (k, &v) in values.iter().enumerate() {
+            self(i0 + k, j, v);
+        }
+    }
+}
+
+/// The point at which [`DaeSystem::jacobian`] is asked for its columns.
+#[derive(Clone, Copy, Debug)]
+pub struct JacobianArgs<'a> {
+    /// Time \[s\].
+    pub t: f64,
+    /// IDA's coefficient `c_j` \[1/s\] of `∂F/∂y'` in the iteration matrix.
+    pub c_j: f64,
+    /// Current step size `h` \[s\].
+    pub h: f64,
+    /// The current iterate `y` (len n).
+    pub y: &'a [f64],
+    /// Its derivative `y'` (len n).
+    pub yp: &'a [f64],
+    /// `atol_j / rtol` per unknown (len n): the size below which an unknown counts as zero.
+    pub zero_size: &'a [f64],
+}
+
+impl JacobianArgs<'_> {
+    /// The difference-quotient increment of unknown `j` (the rule of the solver's own
+    /// quotients, see [`dq_increment`]).
+    #[inline]
+    pub fn increment(&self, j: usize) -> f64 {
+        dq_increment(self.y[j], self.yp[j], self.h, self.zero_size[j])
+    }
+}
+
+/// The difference-quotient increment of an unknown `y_j` with derivative `y'_j` at step `h`
+/// \[s\] whose tolerances count values below `zero_size` (`atol_j / rtol`) as zero:
+/// `max(√ε · max(|h·y'_j|, zero_size), 1e3·ε·|y_j|)` with the sign of `h·y'_j`, rounded so that
+/// `y_j + inc` is exact. Why this rule and not IDA's: `solver/ida/linear.rs`
+/// (`jacobian_callback`).
+#[inline]
+pub fn dq_increment(yj: f64, ypj: f64, h: f64, zero_size: f64) -> f64 {
+    let srur = f64::EPSILON.sqrt();
+    let floor = 1e3 * f64::EPSILON;
+    let mut inc = (srur * (h * ypj).abs().max(zero_size)).max(floor * yj.abs());
+    if h * ypj < 0.0 {
+        inc = -inc;
+    }
+    (yj + inc) - yj
 }
 
 /// The sparsity of a DAE's iteration matrix as blocks of unknowns: the residual rows of a block
@@ -122,6 +195,10 @@ pub struct BlockStructure {
     /// Coupled block pairs `(a, b)`, `a != b`, each listed at least once in either order;
     /// duplicates are allowed.
     pub couplings: Vec<(usize, usize)>,
+    /// Blocks whose columns the system computes itself ([`DaeSystem::jacobian`]), by block
+    /// (len `n_blocks`, or empty: none). They are not perturbed, but still count as
+    /// neighbours in the colouring (two perturbed blocks that share one are coloured apart).
+    pub analytic: Vec<bool>,
 }
 
 /// How a [`DaeSystem::residual`] evaluation failed.

@@ -59,33 +59,56 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         let Some(col) = st.colouring.as_mut() else {
             return -1;
         };
-        if !st.system.jacobian_structure(&mut col.structure) {
+        if !st.system.jacobian_structure(&mut col.next) {
             // The structure is gone for now: one block, i.e. plain dense difference quotients.
-            col.structure.block_of.clear();
-            col.structure.block_of.resize(n, 0);
-            col.structure.n_blocks = 1;
-            col.structure.couplings.clear();
+            col.next.block_of.clear();
+            col.next.block_of.resize(n, 0);
+            col.next.n_blocks = 1;
+            col.next.couplings.clear();
+            col.next.analytic.clear();
         }
-        if let Err(msg) = col.update(n) {
+        // The colouring is rebuilt only when the structure changed (at events).
+        if let Err(msg) = col.refresh(n) {
             st.fatal.get_or_insert((msg, t));
             return -1;
         }
         st.block_lu.layout(col, n);
+        if col.any_analytic() {
+            // The system's own columns first (the quotients below set other columns only).
+            let args = JacobianArgs {
+                t,
+                c_j,
+                h: hh,
+                y,
+                yp: ypv,
+                zero_size: &st.zero_size,
+            };
+            let mut sink = LuSink {
+                lu: &mut st.block_lu,
+                bad: None,
+            };
+            let outcome = st.system.jacobian(&args, &mut sink);
+            if let Some((i, d)) = sink.bad {
+                record_non_finite(&mut st.non_finite, i, t, d);
+                return 1;
+            }
+            match outcome {
+                Ok(()) => {}
+                Err(ResidualError::Recoverable) => return 1,
+                Err(ResidualError::Fatal(msg)) => {
+                    st.fatal.get_or_insert((msg, t));
+                    return -1;
+                }
+            }
+        }
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
-        let srur = f64::EPSILON.sqrt();
-        let floor = 1e3 * f64::EPSILON;
         for c in 0..col.n_colours() {
             for k in 0..col.width(c) {
                 for &b in col.blocks_of_colour(c) {
                     if let Some(&j) = col.members(b).get(k) {
                         let (yj, ypj) = (y[j], ypv[j]);
-                        let mut inc =
-                            (srur * (hh * ypj).abs().max(st.zero_size[j])).max(floor * yj.abs());
-                        if hh * ypj < 0.0 {
-                            inc = -inc;
-                        }
-                        inc = (yj + inc) - yj;
+                        let inc = dq_increment(yj, ypj, hh, st.zero_size[j]);
                         saved[j] = (yj, ypj, inc);
                         y[j] += inc;
                         ypv[j] += c_j * inc;
@@ -128,6 +151,23 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     }));
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// Writes the system's own Jacobian columns into the diagonal blocks, remembering the first
+/// non-finite value instead.
+struct LuSink<'a> {
+    lu: &'a mut BlockLu,
+    bad: Option<(usize, f64)>,
+}
+
+impl JacobianSink for LuSink<'_> {
+    fn add(&mut self, i0: usize, j: usize, values: &[f64]) {
+        if let Some(t) = values.iter().position(|v| !v.is_finite()) {
+            self.bad.get_or_insert((i0 + t, values[t]));
+        } else {
+            self.lu.add_run(i0, j, values);
+        }
+    }
 }
 
 /// Matrix id of the storage-less handle: a custom one.

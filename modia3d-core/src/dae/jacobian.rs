@@ -1,0 +1,735 @@
+//! DAE stage: the columns of the iteration matrix `∂F/∂y + c_j ∂F/∂y'` that the DAE computes
+//! itself ([`crate::solver::DaeSystem::jacobian`]) instead of the solver's coloured difference
+//! quotients: those of every joint tree that is one body on a FreeMotion joint to the world
+//! (or to an object fixed to it) with nothing but uniform gravity and contacts acting on it
+//! ([`FreeBody`]). Such a block costs 13 full residual evaluations by quotients; here
+//!
+//! - its own 13 × 13 block is exact: the kinematic residual of `joints/free.rs`
+//!   (`ṙ − R(q̂) v`, the quaternion rate with its norm-restoring term; `q̂ = q/|q|` because
+//!   `quat_to_matrix` normalises) and the Newton–Euler residual of one rigid body about its
+//!   frame origin as `dynamics/rnea.rs` forms it for a root body, `I (a + (0, R(q̂)ᵀ g_J)) +
+//!   v ×* I v − f_ext` with `g_J = −R_treeᵀ g` (the world's base acceleration `−g` resolved in
+//!   the joint frame) and `a = (ω̇, v̇)` (the free joint's `S` is the identity, its `c_J` and
+//!   `v × v_J` vanish);
+//! - each pair of the contact set adds the derivative of its wrenches on its (≤ 2) bodies with
+//!   respect to those bodies' states, by pair-local difference quotients: one state perturbed,
+//!   that body's placement and velocity recomputed, the pair's narrow phase (position columns
+//!   only: the geometry does not depend on velocities, nor a centred sphere's on its
+//!   quaternion) and force law evaluated again
+//!   (`ContactState::pair_geometry`, `pair_wrenches`, which touch no pair state), with the
+//!   solver's increment rule (`solver::dq_increment`; central where `h·y'_j = 0`).
+//!
+//! A block is computed here only if every body it touches through a contact is such a body
+//! too (its column's rows are then all single-body rows) and none of its pairs' narrow phases
+//! has stopped at its iteration limit (a rough geometry); otherwise it keeps the quotients
+//! (`MultibodyDae::jacobian_structure`).
+//! Allocation-free.
+
+use super::MultibodyDae;
+use crate::contact::{ContactPlan, ContactState};
+use crate::dynamics::spatial::{quat_to_matrix, Force, Inertia, Motion};
+use crate::dynamics::{kinematics, BodyId, InputTarget, Plan, Workspace};
+use crate::joints::JointCoord;
+use crate::scene::ValidForce;
+use crate::solver::{JacobianArgs, JacobianSink, ResidualError};
+use nalgebra::{Matrix3, Matrix4, SMatrix, Vector3, Vector4};
+
+/// A joint tree that is one body on a FreeMotion joint to the world (or to an object fixed to
+/// it), with no force element, input, loop, prescribed motion or point gravity acting on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct FreeBody {
+    /// The body.
+    pub body: BodyId,
+    /// Index in `y` of its first position (`r`, then the quaternion at +3).
+    pub q: usize,
+    /// Index in `y` of its first velocity (`ω`, then `v` at +3).
+    pub v: usize,
+}
+
+/// For each joint tree (`of_body`: tree of each body, `n_trees` trees), the [`FreeBody`] it is,
+/// if it is one.
+pub(super) fn free_bodies(plan: &Plan, of_body: &[usize], n_trees: usize) -> Vec<Option<FreeBody>> {
+    let nb = plan.bodies.len();
+    let mut touched = vec![plan.point_gravity.is_some(); nb];
+    let touch = |touched: &mut Vec<bool>, o: usize| {
+        let body = plan.objects.get(crate::dynamics::ObjectId(o));
+        if let Some(b) = body.and_then(|op| op.body) {
+            touched[b.index()] = true;
+        }
+    };
+    for f in &plan.scene.forces {
+        match f {
+            ValidForce::SpringDamper { obj1, obj2, .. }
+            | ValidForce::Bushing { obj1, obj2, .. } => {
+                touch(&mut touched, *obj1);
+                touch(&mut touched, *obj2);
+            }
+            ValidForce::ObjectForce { object, .. } => touch(&mut touched, *object),
+            ValidForce::WorldVector {
+                object,
+                resolved_in,
+                ..
+            } => {
+                touch(&mut touched, *object);
+                if let Some(r) = resolved_in {
+                    touch(&mut touched, *r);
+                }
+            }
+            ValidForce::JointSpringDamper { joint, .. } => {
+                if let Some(Some(tj)) = plan.tree_joint_of.get(*joint) {
+                    touched[plan.joints[*tj].body.index()] = true;
+                }
+            }
+        }
+    }
+    for inp in &plan.inputs {
+        match inp.target {
+            InputTarget::JointForce { joint, .. }
+            | InputTarget::JointAcceleration { joint, .. } => {
+                touched[plan.joints[joint].body.index()] = true;
+            }
+            InputTarget::ObjectWrench { object } => {
+                if let Some(b) = plan.objects[object].body {
+                    touched[b.index()] = true;
+                }
+            }
+        }
+    }
+    for cut in &plan.loops.cuts {
+        for b in [cut.body1, cut.body2].into_iter().flatten() {
+            touched[b.index()] = true;
+        }
+    }
+    let mut count = vec![0usize; n_trees];
+    for &t in of_body {
+        count[t] += 1;
+    }
+    let mut out = vec![None; n_trees];
+    for (i, body) in plan.bodies.iter().enumerate() {
+        let j = &plan.joints[body.joint];
+        let prescribed = plan.prescribed[j.v_offset..j.v_offset + j.coord.nv()]
+            .iter()
+            .any(Option::is_some);
+        if count[of_body[i]] == 1
+            && body.parent.is_none()
+            && matches!(j.coord, JointCoord::Free)
+            && !touched[i]
+            && !prescribed
+        {
+            out[of_body[i]] = Some(FreeBody {
+                body: BodyId(i),
+                q: j.q_offset,
+                v: plan.nq + j.v_offset,
+            });
+        }
+    }
+    out
+}
+
+/// `∂(R(u) a)/∂u` (3 × 4) of the rotation matrix formula of `quat_to_matrix` taken at `u`
+/// without normalising, `R(u) a = a + 2w (v × a) + 2 (v (v·a) − a |v|²)` for `u = (w, v)`;
+/// with `transpose`, of `R(u)ᵀ a` (the same with `−v × a`).
+fn rotate_derivative(u: &Vector4<f64>, a: &Vector3<f64>, transpose: bool) -> SMatrix<f64, 3, 4> {
+    let (w, v) = (u[0], Vector3::new(u[1], u[2], u[3]));
+    let s = if transpose { -1.0 } else { 1.0 };
+    let mut m = SMatrix::<f64, 3, 4>::zeros();
+    m.set_column(0, &(v.cross(a) * (2.0 * s)));
+    // ∂(v × a)/∂v = −[a]×; ∂(v (v·a))/∂v = (v·a) I + v aᵀ; ∂(a |v|²)/∂v = 2 a vᵀ.
+    let dv = -a.cross_matrix() * (2.0 * w * s)
+        + (Matrix3::identity() * v.dot(a) + v * a.transpose() - a * v.transpose() * 2.0) * 2.0;
+    m.fixed_view_mut::<3, 3>(0, 1).copy_from(&dv);
+    m
+}
+
+/// Directional derivative of [`Inertia::bias_force`] at `m` along `dm` (the bias force is
+/// quadratic in the velocity, so this is exact).
+fn bias_force_derivative(i: &Inertia, m: &Motion, dm: &Motion) -> Force {
+    let c = &i.com;
+    let wc = m.w.cross(c);
+    let lin = (m.v + wc) * i.mass;
+    let n_h = i.inertia_com * m.w + c.cross(&lin);
+    let dwc = dm.w.cross(c);
+    let dlin = (dm.v + dwc) * i.mass;
+    let dn_h = i.inertia_com * dm.w + c.cross(&dlin);
+    Force {
+        n: dm.w.cross(&n_h) + m.w.cross(&dn_h) + (dm.v.cross(&wc) + m.v.cross(&dwc)) * i.mass,
+        f: dm.w.cross(&lin) + m.w.cross(&dlin),
+    }
+}
+
+/// Unit motion along coordinate `k` of `(ω, v)`.
+fn unit_motion(k: usize) -> Motion {
+    let mut m = Motion::zero();
+    if k < 3 {
+        m.w[k] = 1.0;
+    } else {
+        m.v[k - 3] = 1.0;
+    }
+    m
+}
+
+/// The `(n, f)` component `k` of a spatial force.
+fn force_component(f: &Force, k: usize) -> f64 {
+    if k < 3 {
+        f.n[k]
+    } else {
+        f.f[k - 3]
+    }
+}
+
+/// The 13 × 13 block of free body `fb` without its contacts, exact (see the module header),
+/// passed to `out` column by column (rows `fb.q..fb.q + 7`, then `fb.v..fb.v + 6`).
+pub(super) fn own_block(
+    plan: &Plan,
+    fb: &FreeBody,
+    args: &JacobianArgs<'_>,
+    out: &mut dyn JacobianSink,
+) {
+    // Local order of rows and columns: r 0..3, quaternion 3..7, ω 7..10, v 10..13.
+    const QQ: usize = 3;
+    const VW: usize = 7;
+    const VV: usize = 10;
+    let mut a = SMatrix::<f64, 13, 13>::zeros();
+    let (y, c_j) = (args.y, args.c_j);
+    let body = &plan.bodies[fb.body];
+    let joint = &plan.joints[body.joint];
+    let inertia = &body.inertia;
+    let (qq, vw, vv) = (fb.q + 3, fb.v, fb.v + 3);
+    let quat = Vector4::new(y[qq], y[qq + 1], y[qq + 2], y[qq + 3]);
+    let n2 = quat.norm_squared();
+    let norm = n2.sqrt();
+    let u = quat / norm;
+    // d(q/|q|)/dq.
+    let p = (Matrix4::identity() - u * u.transpose()) / norm;
+    let rot = quat_to_matrix(quat.as_slice());
+    let omega = Vector3::new(y[vw], y[vw + 1], y[vw + 2]);
+    let vel = Vector3::new(y[vv], y[vv + 1], y[vv + 2]);
+
+    // Kinematic rows of r: ṙ − R(q̂) v.
+    let d_rv = rotate_derivative(&u, &vel, false) * p;
+    for i in 0..3 {
+        a[(i, i)] += c_j;
+        for k in 0..3 {
+            a[(i, VV + k)] = -rot[(i, k)];
+        }
+        for k in 0..4 {
+            a[(i, QQ + k)] = -d_rv[(i, k)];
+        }
+    }
+    // Quaternion rows: q̇ − ½ Ω(ω) q + k_n (|q|² − 1) q.
+    let (w, x, yy, z) = (quat[0], quat[1], quat[2], quat[3]);
+    let omega_m = Matrix4::new(
+        0.0, -omega.x, -omega.y, -omega.z, //
+        omega.x, 0.0, omega.z, -omega.y, //
+        omega.y, -omega.z, 0.0, omega.x, //
+        omega.z, omega.y, -omega.x, 0.0,
+    );
+    let k_n = crate::joints::free::QUATERNION_NORM_RATE;
+    let dq =
+        -omega_m * 0.5 + (quat * quat.transpose() * 2.0 + Matrix4::identity() * (n2 - 1.0)) * k_n;
+    let dw = SMatrix::<f64, 4, 3>::new(
+        -x, -yy, -z, //
+        w, -z, yy, //
+        z, w, -x, //
+        -yy, x, w,
+    ) * -0.5;
+    for i in 0..4 {
+        for k in 0..4 {
+            a[(QQ + i, QQ + k)] = dq[(i, k)];
+        }
+        a[(QQ + i, QQ + i)] += c_j;
+        for k in 0..3 {
+            a[(QQ + i, VW + k)] = dw[(i, k)];
+        }
+    }
+    // Dynamic rows: I (v̇ + (0, R(q̂)ᵀ g_J)) + bias(v) (contacts are added by the caller).
+    let m = Motion { w: omega, v: vel };
+    for k in 0..6 {
+        let e = unit_motion(k);
+        let mass = inertia.mul_motion(&e);
+        let bias = bias_force_derivative(inertia, &m, &e);
+        for i in 0..6 {
+            a[(VW + i, VW + k)] = c_j * force_component(&mass, i) + force_component(&bias, i);
+        }
+    }
+    let g_joint = -joint.tree.rot.tr_mul(&plan.gravity);
+    let d_grav = rotate_derivative(&u, &g_joint, true) * p;
+    for k in 0..4 {
+        let dm = Motion {
+            w: Vector3::zeros(),
+            v: d_grav.column(k).into_owned(),
+        };
+        let df = inertia.mul_motion(&dm);
+        for i in 0..6 {
+            a[(VW + i, QQ + k)] = force_component(&df, i);
+        }
+    }
+    let cols = a.as_slice();
+    for c in 0..13 {
+        let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
+        let col = &cols[13 * c..13 * c + 13];
+        out.add(fb.q, j, &col[..7]);
+        out.add(fb.v, j, &col[7..]);
+    }
+}
+
+/// Sets body `b` (a root body on its joint) to positions `q` and velocities `v` of that
+/// joint in the workspace: its placement and velocity, as `kinematics::position_velocity`.
+fn place_root_body(plan: &Plan, ws: &mut Workspace, b: BodyId, q: &[f64], v: &[f64]) {
+    let j = &plan.joints[plan.bodies[b].joint];
+    let x = j.tree.then(&j.coord.transform(q));
+    ws.x[b] = x;
+    ws.world[b] = x;
+    ws.vel[b] = j.coord.motion(q, v);
+}
+
+/// What the contact columns need of the DAE.
+pub(super) struct ContactColumns<'a> {
+    pub plan: &'a Plan,
+    pub cp: &'a ContactPlan,
+    pub cs: &'a ContactState,
+    /// Tree of each body.
+    pub of_body: &'a [usize],
+    /// [`FreeBody`] of each tree, if it is one.
+    pub free: &'a [Option<FreeBody>],
+    /// Trees whose columns are computed here.
+    pub analytic: &'a [bool],
+}
+
+impl ContactColumns<'_> {
+    fn free_of(&self, b: Option<BodyId>) -> Option<FreeBody> {
+        b.and_then(|b| self.free[self.of_body[b.index()]])
+    }
+    fn is_analytic(&self, b: Option<BodyId>) -> bool {
+        b.is_some_and(|b| self.analytic[self.of_body[b.index()]])
+    }
+
+    /// Adds the pair-local quotients of every pair in the contact set that touches an
+    /// analytic block; `ws` holds the placements and velocities at `args.y` and is left so.
+    pub fn add(
+        &self,
+        ws: &mut Workspace,
+        args: &JacobianArgs<'_>,
+        out: &mut dyn JacobianSink,
+    ) -> Result<(), ResidualError> {
+        let (plan, cp, cs) = (self.plan, self.cp, self.cs);
+        let fatal = |e: crate::contact::ContactError| ResidualError::Fatal(e.to_string());
+        for k in 0..cs.n_in_contact() {
+            let (ba, bb) = cs.active_bodies(cp, k);
+            if !self.is_analytic(ba) && !self.is_analytic(bb) {
+                continue;
+            }
+            let geo0 = cs.pair_geometry(plan, cp, ws, k, args.t).map_err(fatal)?;
+            let base = cs.pair_wrenches(cp, ws, k, &geo0);
+            for col_body in [ba, bb] {
+                if !self.is_analytic(col_body) {
+                    continue;
+                }
+                let Some(fb) = self.free_of(col_body) else {
+                    continue;
+                };
+                let b = fb.body;
+                let saved = (ws.x[b], ws.world[b], ws.vel[b]);
+                // A centred sphere's geometry does not turn with its body: the quaternion
+                // columns then reuse the unperturbed narrow phase, like the velocity columns.
+                let round = cs.rotation_free(cp, k, b);
+                let mut q = [0.0; 7];
+                let mut v = [0.0; 6];
+                for c in 0..13 {
+                    let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
+                    let inc = args.increment(j);
+                    let mut eval = |step: f64| {
+                        q.copy_from_slice(&args.y[fb.q..fb.q + 7]);
+                        v.copy_from_slice(&args.y[fb.v..fb.v + 6]);
+                        if c < 7 {
+                            q[c] += step;
+                        } else {
+                            v[c - 7] += step;
+                        }
+                        place_root_body(plan, ws, b, &q, &v);
+                        let pert = if c < 3 || (c < 7 && !round) {
+                            cs.pair_geometry(plan, cp, ws, k, args.t)
+                                .map(|g| cs.pair_wrenches(cp, ws, k, &g))
+                        } else {
+                            Ok(cs.pair_wrenches(cp, ws, k, &geo0))
+                        };
+                        (ws.x[b], ws.world[b], ws.vel[b]) = saved;
+                        pert.map_err(fatal)
+                    };
+                    let plus = eval(inc)?;
+                    // Where h·y'_j = 0 the one-sided increment's sign is arbitrary (+), so two
+                    // mirror-image states would get a forward and a backward quotient: there
+                    // the quotient is central (e.g. the rack's resting balls at the start).
+                    // Measured: billiards16 (tests/contact_billiards.rs) ends 9.0e-5 m from
+                    // mirror-symmetric at 5 s with this, 1.4e-4 m without (main: 6.9e-5 m).
+                    let (minus, inv) = if args.h * args.yp[j] == 0.0 {
+                        let y0 = args.y[j];
+                        let back = (y0 - inc) - y0;
+                        (eval(back)?, 1.0 / (inc - back))
+                    } else {
+                        (base, 1.0 / inc)
+                    };
+                    for (row_body, f, f0) in [(ba, plus.0, minus.0), (bb, plus.1, minus.1)] {
+                        let (Some(rb), Some(f), Some(f0)) = (self.free_of(row_body), f, f0) else {
+                            continue;
+                        };
+                        // The residual has − f_ext.
+                        let mut d = [0.0; 6];
+                        for (i, di) in d.iter_mut().enumerate() {
+                            *di = (force_component(&f0, i) - force_component(&f, i)) * inv;
+                        }
+                        out.add(rb.v, j, &d);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl MultibodyDae {
+    /// The analytic columns ([`crate::solver::DaeSystem::jacobian`]): see the module header.
+    pub(super) fn analytic_jacobian(
+        &mut self,
+        args: &JacobianArgs<'_>,
+        out: &mut dyn JacobianSink,
+    ) -> Result<(), ResidualError> {
+        let Some(tb) = &self.blocks else {
+            return Ok(());
+        };
+        let plan = &*self.plan;
+        let (nq, nv) = (plan.nq, plan.nv);
+        for (t, fb) in tb.free.iter().enumerate() {
+            if let (Some(fb), true) = (fb, self.analytic.get(t).copied().unwrap_or(false)) {
+                own_block(plan, fb, args, out);
+            }
+        }
+        let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) else {
+            return Ok(());
+        };
+        if cs.n_in_contact() == 0 {
+            return Ok(());
+        }
+        kinematics::position_velocity(plan, &mut self.ws, &args.y[..nq], &args.y[nq..nq + nv]);
+        ContactColumns {
+            plan,
+            cp,
+            cs,
+            of_body: &tb.of_body,
+            free: &tb.free,
+            analytic: &self.analytic,
+        }
+        .add(&mut self.ws, args, out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::MultibodyDae;
+    use crate::solver::{BlockStructure, DaeSystem, JacobianArgs};
+    use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
+    use nalgebra::{UnitQuaternion, Vector3};
+
+    const D: f64 = 0.06;
+
+    fn free(name: &str, r: [f64; 3]) -> Joint {
+        Joint::new(
+            &format!("{name}.free"),
+            "world",
+            name,
+            JointKind::FreeMotion {
+                r: Vector3::from(r),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        )
+    }
+
+    /// Steel on steel (friction μ_k 0.5, rolling resistance 0.001): a table (top at z = 0),
+    /// a capsule cushion along y whose axis is at x = 0.5 m, z = 0.03 m, four balls (Ø 0.06 m)
+    /// and a 0.05 m cube. The state is set by [`state`].
+    fn scene() -> SceneDesc {
+        let mut s = SceneDesc::new();
+        s.add(Object3D::new("world").scene(SceneOptions::default()))
+            .add(
+                Object3D::new("table")
+                    .parent("world")
+                    .translation([0.0, 0.0, -0.05])
+                    .solid(
+                        Solid::new(Shape::Box {
+                            lengths: Vector3::new(2.0, 2.0, 0.1),
+                        })
+                        .material("Steel")
+                        .collision(true),
+                    ),
+            )
+            .add(
+                Object3D::new("cushion")
+                    .parent("world")
+                    .translation([0.5, 0.0, 0.03])
+                    .solid(
+                        Solid::new(Shape::Capsule {
+                            axis: crate::geometry::Axis::Y,
+                            diameter: 0.02,
+                            length: 1.0,
+                        })
+                        .material("Steel")
+                        .collision(true),
+                    ),
+            );
+        for i in 0..4 {
+            let name = format!("b{i}");
+            s.add(
+                Object3D::new(&name).solid(
+                    Solid::new(Shape::Sphere { diameter: D })
+                        .material("Steel")
+                        .collision(true),
+                ),
+            )
+            .add_joint(free(&name, [-0.5 + 0.2 * i as f64, 0.0, 0.5]));
+        }
+        s.add(
+            Object3D::new("cube").solid(
+                Solid::new(Shape::Box {
+                    lengths: Vector3::new(0.05, 0.05, 0.05),
+                })
+                .material("Steel")
+                .collision(true),
+            ),
+        )
+        .add_joint(free("cube", [-0.5, 0.5, 0.5]));
+        s
+    }
+
+    /// Deterministic pseudo-random numbers in [−1, 1) (xorshift).
+    fn rng(seed: u64) -> impl FnMut() -> f64 {
+        let mut x = seed;
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    /// A state of [`scene`]: `b0` in flight; `b1` and `b2` on the table and pressed into each
+    /// other; `b3` on the table against the cushion; the cube on the table, tilted by ~1e-4 rad
+    /// (one corner lower). Penetrations 1e-6 m; velocities and spins random
+    /// (sliding), or with `rolling` the balls on the table roll (v = ω × r at the contact).
+    /// Quaternions random with a norm off 1 by up to 1e-3 (the norm-restoring term).
+    fn state(dae: &MultibodyDae, seed: u64, rolling: bool) -> Vec<f64> {
+        state_with(dae, seed, rolling, false)
+    }
+
+    /// [`state`], with `b0_at_cube` b0 on the table pressed against the cube's side instead
+    /// of in flight.
+    fn state_with(dae: &MultibodyDae, seed: u64, rolling: bool, b0_at_cube: bool) -> Vec<f64> {
+        let plan = dae.plan();
+        let mut rnd = rng(seed);
+        let mut y = plan.y0();
+        let r = 0.5 * D;
+        let pen = 1e-6;
+        let cushion_x = 0.5 - 0.01 - r + pen;
+        let b0 = if b0_at_cube {
+            [-0.5 + 0.025 + r - pen, 0.5, r - pen]
+        } else {
+            [0.0, 0.3, 0.4]
+        };
+        let pos = [
+            b0,
+            [0.0, 0.0, r - pen],
+            [2.0 * r - pen, 0.0, r - pen],
+            [cushion_x, 0.2, r - pen],
+            [-0.5, 0.5, 0.025 - pen],
+        ];
+        let names = ["b0.free", "b1.free", "b2.free", "b3.free", "cube.free"];
+        for j in plan.joints.iter() {
+            let k = names.iter().position(|n| *n == j.name).unwrap();
+            let (q, v) = (j.q_offset, plan.nq + j.v_offset);
+            y[q..q + 3].copy_from_slice(&pos[k]);
+            let quat = if k == 4 {
+                // The cube: tilted by ~1e-4 rad about a generic axis, so its bottom face meets
+                // the table at a slant. (About x alone, the state would sit on the model's
+                // kink of a symmetric box: rotating about y lowers one corner or the other,
+                // and the one-sided slopes differ; central differences average them.)
+                UnitQuaternion::from_euler_angles(1e-4, 0.6e-4, 0.4)
+            } else {
+                UnitQuaternion::from_euler_angles(3.0 * rnd(), 1.5 * rnd(), 3.0 * rnd())
+            };
+            let scale = 1.0 + 1e-3 * rnd();
+            y[q + 3] = quat.w * scale;
+            y[q + 4] = quat.i * scale;
+            y[q + 5] = quat.j * scale;
+            y[q + 6] = quat.k * scale;
+            let w = Vector3::new(rnd(), rnd(), rnd()) * 20.0;
+            let mut vel = Vector3::new(rnd(), rnd(), rnd() * 0.1);
+            if rolling && (1..4).contains(&k) {
+                // v_contact = v + ω × (−r e_z) = 0, in world: v = r ω × e_z... resolved in the
+                // body frame through the rotation.
+                let w_world = quat * w;
+                vel = quat.inverse() * w_world.cross(&Vector3::new(0.0, 0.0, r));
+            } else {
+                vel = quat.inverse() * vel;
+            }
+            y[v..v + 3].copy_from_slice(w.as_slice());
+            y[v + 3..v + 6].copy_from_slice(vel.as_slice());
+        }
+        y
+    }
+
+    /// The analytic columns of `dae` at (`y`, `yp`) as a dense matrix, and which columns
+    /// they are.
+    fn analytic_columns(
+        dae: &mut MultibodyDae,
+        y: &[f64],
+        yp: &[f64],
+        c_j: f64,
+    ) -> (Vec<Vec<f64>>, Vec<bool>) {
+        let n = y.len();
+        let mut s = BlockStructure::default();
+        assert!(dae.jacobian_structure(&mut s));
+        let cols: Vec<bool> = (0..n).map(|j| s.analytic[s.block_of[j]]).collect();
+        let zero_size = vec![1e-2; n];
+        let args = JacobianArgs {
+            t: 0.0,
+            c_j,
+            h: 1e-4,
+            y,
+            yp,
+            zero_size: &zero_size,
+        };
+        let mut a = vec![vec![0.0; n]; n];
+        dae.jacobian(&args, &mut |i: usize, j: usize, d: f64| {
+            assert!(cols[j], "entry ({i}, {j}) in a column that is not analytic");
+            a[i][j] += d;
+        })
+        .unwrap();
+        (a, cols)
+    }
+
+    /// `∂F/∂y + c_j ∂F/∂y'` by central differences of the full residual, increment `eta`.
+    fn central(dae: &mut MultibodyDae, y: &[f64], yp: &[f64], c_j: f64, j: usize) -> Vec<f64> {
+        let n = y.len();
+        let eta = 1e-9 * y[j].abs().max(1.0);
+        let (mut yy, mut ypp) = (y.to_vec(), yp.to_vec());
+        let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
+        yy[j] = y[j] + eta;
+        ypp[j] = yp[j] + c_j * eta;
+        dae.residual(0.0, &yy, &ypp, &mut rp).unwrap();
+        yy[j] = y[j] - eta;
+        ypp[j] = yp[j] - c_j * eta;
+        dae.residual(0.0, &yy, &ypp, &mut rm).unwrap();
+        (0..n).map(|i| (rp[i] - rm[i]) / (2.0 * eta)).collect()
+    }
+
+    /// The analytic columns against central differences of the full residual at random states
+    /// of [`scene`] (a ball in flight, two balls pressed together on the table, one against
+    /// the cushion, a tilted cube; sliding and rolling), entry by entry.
+    ///
+    /// Tolerance per row `i`: `1e-3 · max_j |R_ij|` (R the central differences). The own
+    /// blocks are exact, so what differs is the pair-local one-sided quotient's truncation,
+    /// `η/2·|∂²f/∂y²|`: for the Hertz force `f ∝ δ^1.5` relative `η/(4δ)` = 4e-5 at the
+    /// increment η = √ε·1e-2 = 1.5e-10 m and depth δ = 1e-6 m, and the central reference's
+    /// `(1e-9)²/δ²` = 1e-6; 1e-3 leaves room for the friction's regularisation and the cube's
+    /// patch, and is still far below any missing or wrong term (those are O(1) of the row).
+    /// The ball in flight (b0, no contact) is checked at 1e-6: the quotient's rounding only.
+    #[test]
+    fn analytic_columns_match_central_differences() {
+        let model = scene().build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let c_j = 2.5e3;
+        for (seed, rolling) in [(1, false), (2, true), (3, false), (4, true)] {
+            let y = state(&dae, seed, rolling);
+            dae.handle_event(0.0, &y).unwrap();
+            let cs = dae.contact().unwrap();
+            // b1–table, b2–table, b1–b2, b3–table, b3–cushion, cube–table.
+            assert_eq!(cs.n_in_contact(), 6, "seed {seed}");
+            let mut rnd = rng(seed + 100);
+            let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
+            let (a, cols) = analytic_columns(&mut dae, &y, &yp, c_j);
+            assert!(cols.iter().all(|&c| c), "every block is a free body");
+            let r: Vec<Vec<f64>> = (0..n).map(|j| central(&mut dae, &y, &yp, c_j, j)).collect();
+            let b0 = dae
+                .plan()
+                .joints
+                .iter()
+                .find(|j| j.name == "b0.free")
+                .unwrap();
+            let in_flight = |i: usize| {
+                (b0.q_offset..b0.q_offset + 7).contains(&i)
+                    || (dae.plan().nq + b0.v_offset..dae.plan().nq + b0.v_offset + 6).contains(&i)
+            };
+            let mut worst = 0.0f64;
+            for i in 0..n {
+                let scale = (0..n).map(|j| r[j][i].abs()).fold(0.0, f64::max);
+                let rel = if in_flight(i) { 1e-6 } else { 1e-3 };
+                for j in 0..n {
+                    let err = (a[i][j] - r[j][i]).abs();
+                    worst = worst.max(err / scale.max(1e-300));
+                    assert!(
+                        err <= rel * scale + 1e-9,
+                        "seed {seed}, rolling {rolling}: entry ({i}, {j}): analytic {:e}, central {:e}, row scale {scale:e}",
+                        a[i][j],
+                        r[j][i]
+                    );
+                }
+            }
+            eprintln!("seed {seed}: worst relative error {worst:e}");
+        }
+    }
+
+    /// A mixed scene: the cube hangs on a spring-damper (a force element: its block keeps the
+    /// difference quotients) and b0 presses against it, so b0's columns, whose contact rows
+    /// include the cube's, are quotients too; b1, b2, b3 stay analytic and match central
+    /// differences as in [`analytic_columns_match_central_differences`].
+    #[test]
+    fn a_contact_with_a_quotient_block_keeps_quotients() {
+        let mut desc = scene();
+        desc.add_force(crate::ForceElement::SpringDamper {
+            name: "hang".into(),
+            obj1: "world".into(),
+            obj2: "cube".into(),
+            stiffness: 10.0,
+            damping: 1.0,
+            length0: 0.5,
+        });
+        let model = desc.build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let y = state_with(&dae, 7, false, true);
+        dae.handle_event(0.0, &y).unwrap();
+        // b0–table, b0–cube, b1–table, b2–table, b1–b2, b3–table, b3–cushion, cube–table.
+        assert_eq!(dae.contact().unwrap().n_in_contact(), 8);
+        let mut rnd = rng(77);
+        let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
+        let (a, cols) = analytic_columns(&mut dae, &y, &yp, 1e3);
+        let plan = dae.plan();
+        for j in plan.joints.iter() {
+            let analytic = cols[j.q_offset];
+            let expected = !matches!(j.name.as_str(), "b0.free" | "cube.free");
+            assert_eq!(analytic, expected, "{}", j.name);
+        }
+        let r: Vec<Vec<f64>> = (0..n)
+            .map(|j| {
+                if cols[j] {
+                    central(&mut dae, &y, &yp, 1e3, j)
+                } else {
+                    vec![0.0; n]
+                }
+            })
+            .collect();
+        for i in 0..n {
+            let scale = (0..n).map(|k| r[k][i].abs()).fold(0.0, f64::max);
+            for j in (0..n).filter(|&j| cols[j]) {
+                assert!(
+                    (a[i][j] - r[j][i]).abs() <= 1e-3 * scale + 1e-9,
+                    "entry ({i}, {j}): analytic {:e}, central {:e}",
+                    a[i][j],
+                    r[j][i]
+                );
+            }
+        }
+    }
+}
