@@ -77,7 +77,7 @@ fn contact_times_follow_the_tolerance() {
 /// leaves it; at rtol 1e-3 it used to hop (26 contact events: the height's tolerance
 /// `rtol·|z|` = 5e-5 m was 50× its static penetration). Now no event, and the speed after
 /// rolling sets in (t = 0.7 s > 2v0/(7μg) = 0.233 s) is the rigid solution 5/7·v0 to
-/// 10·rtol (a Hertz contact is not rigid, but the difference is ~1e-6 here; seen 1.4e-3).
+/// 10·rtol (a Hertz contact is not rigid, but the difference is ~1e-6 here; seen 1.7e-3).
 /// (At rtol 1e-2 the tightening, 22×, still leaves 2e-5 m and the ball hops: 10 events.)
 #[test]
 fn a_rolling_ball_does_not_hop_at_loose_tolerances() {
