@@ -626,7 +626,9 @@ impl Simulation {
 
     /// The diagnosis of a run that reached `budget` after `steps` steps (see
     /// [`WorkDiagnosis`]): a chattering pair if one had an event at least every 10 mean
-    /// steps among the last 200 events, else the stiffest element; and the limiting state.
+    /// steps among the last 200 events, else a fast body that the tunnelling guard follows,
+    /// else the stiffest element if it explains the steps, else a fast-spinning body that
+    /// does; and the limiting state.
     fn diagnose(&mut self, budget: Budget, steps: u64) -> SimErrorKind {
         let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
         let t = self.time();
@@ -642,6 +644,7 @@ impl Simulation {
                 }
             }
             _ => {
+                let h_last = self.ida.stats().last_step;
                 let dae = self.ida.system();
                 let stiffest = diagnosis::stiffest(
                     &self.model.plan,
@@ -649,7 +652,12 @@ impl Simulation {
                     dae.contact(),
                     h_budget,
                 );
-                diagnosis::limiting(stiffest, self.ida.stats().last_step, h_budget)
+                let cause = diagnosis::limiting(stiffest, h_last, h_budget);
+                let speeds: Vec<(f64, f64)> = dae.body_speeds().collect();
+                let guard = dae
+                    .max_safe_step()
+                    .and_then(|g| dae.guard_body(g).map(|b| (g, b)));
+                diagnosis::with_fast_body(cause, &self.model.plan, &speeds, guard, h_last)
             }
         };
         let limiting_state = self

@@ -8,6 +8,9 @@
 //!   the shortest natural period `T = 2π·sqrt(m/k)` (`k` the contact's tangent stiffness at its
 //!   current penetration, `m` the reduced mass of the two bodies), with a suggested `k_red`
 //!   for contacts (below);
+//! - **a fast body**: the body the tunnelling guard follows when the guard held the last step,
+//!   or the fastest-spinning body when it turns within [`COLLAPSE_RATIO`] steps and no stiff
+//!   element explains the steps, with its speed and angular speed;
 //! - **the limiting state**: the component of `y` with the largest weighted local error at the
 //!   last step (IDA's own error test), named by its joint and body.
 //!
@@ -68,9 +71,32 @@ pub enum SlowCause {
         /// The stiffest element's natural period \[s\] (`NaN` without one).
         stiffest_period: f64,
     },
+    /// A body moves or spins so fast that its motion limits the steps: the tunnelling guard
+    /// (`contact/step_guard.rs`: no collision shape may pass through another between two step
+    /// ends) holds the steps (the last step is at least [`GUARD_LIMITED`] of the guard's), or,
+    /// when no stiff element explains the steps, the fastest-spinning body turns once in
+    /// fewer than [`COLLAPSE_RATIO`] last steps (IDA's error test follows the rotation).
+    /// Typically a small body under a large force or torque (found in random scenes: a 3 mm
+    /// ellipsoid under 0.1 N·m spinning at 1e7 rad/s, a 1 g body pushed to km/s).
+    FastBody {
+        /// The body's first object.
+        object: String,
+        /// Speed of its frame origin [m/s].
+        speed: f64,
+        /// Its angular speed [rad/s].
+        spin: f64,
+        /// The tunnelling guard's largest step \[s\] when the guard limited the steps, else
+        /// `None` (the rotation did).
+        guard_step: Option<f64>,
+    },
     /// None of the above was found.
     Unknown,
 }
+
+/// The tunnelling guard limits the steps when the last step is at least this fraction of the
+/// guard's step (IDA grows a step by at most 2x, so a step held by a cap sits between ½ and
+/// 1 of it).
+pub const GUARD_LIMITED: f64 = 0.5;
 
 /// A stiff element explains the steps only when its period is within this many of them (a
 /// resolved oscillation takes some tens of steps per period).
@@ -153,6 +179,34 @@ impl std::fmt::Display for WorkDiagnosis {
                  initial overlaps and grazing contacts, keep mpr_tolerance at its default, \
                  make user forces continuous — or loosen the tolerance"
             )?,
+            SlowCause::FastBody {
+                object,
+                speed,
+                spin,
+                guard_step,
+            } => {
+                write!(
+                    f,
+                    "object `{object}` moves at {speed:.3e} m/s and spins at {spin:.3e} rad/s"
+                )?;
+                if *spin > 0.0 {
+                    let turn = 2.0 * std::f64::consts::PI / spin;
+                    write!(f, " (a turn in {turn:.3e} s)")?;
+                }
+                match guard_step {
+                    Some(g) => write!(
+                        f,
+                        "; the tunnelling guard (no shape may pass through another unseen) \
+                         limits the steps to {g:.3e} s"
+                    )?,
+                    None => write!(f, "; its rotation limits the steps")?,
+                }
+                write!(
+                    f,
+                    ": check the forces and torques on it against its mass and inertia, or \
+                     raise max_steps"
+                )?
+            }
             SlowCause::Unknown => write!(
                 f,
                 "no chattering contact or stiff element found; raise max_steps or loosen the \
@@ -163,6 +217,63 @@ impl std::fmt::Display for WorkDiagnosis {
             write!(f, "; the step is limited by {s}")?;
         }
         Ok(())
+    }
+}
+
+/// The name of body `b`: its first object's.
+fn body_name(plan: &Plan, b: BodyId) -> String {
+    plan.bodies
+        .get(b)
+        .and_then(|b| b.objects.first())
+        .and_then(|&o| plan.objects.get(o))
+        .map(|o| o.name.clone())
+        .unwrap_or_default()
+}
+
+/// `cause` (from [`limiting`]) unless a fast body explains the steps better: the tunnelling
+/// guard limited the last step `h_last` \[s\] (`guard`: its step \[s\] and the body that sets
+/// it), or `cause` names no stiff element and the fastest-spinning body (`speeds`: per body
+/// the speed of its origin [m/s] and its angular speed [rad/s], in body order) turns once
+/// within [`COLLAPSE_RATIO`] last steps. See [`SlowCause::FastBody`].
+pub(crate) fn with_fast_body(
+    cause: SlowCause,
+    plan: &Plan,
+    speeds: &[(f64, f64)],
+    guard: Option<(f64, BodyId)>,
+    h_last: f64,
+) -> SlowCause {
+    let fast = |b: BodyId, guard_step: Option<f64>| {
+        let (speed, spin) = speeds.get(b.0).copied().unwrap_or((f64::NAN, f64::NAN));
+        SlowCause::FastBody {
+            object: body_name(plan, b),
+            speed,
+            spin,
+            guard_step,
+        }
+    };
+    if let Some((g, b)) = guard {
+        if h_last > 0.0 && h_last >= GUARD_LIMITED * g {
+            return fast(b, Some(g));
+        }
+    }
+    if matches!(
+        cause,
+        SlowCause::StiffContact { .. } | SlowCause::StiffSpring { .. }
+    ) {
+        return cause;
+    }
+    let spinning = speeds
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, w))| w.is_finite() && *w > 0.0)
+        .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+    match spinning {
+        Some((b, &(_, w)))
+            if h_last > 0.0 && 2.0 * std::f64::consts::PI / w <= COLLAPSE_RATIO * h_last =>
+        {
+            fast(BodyId(b), None)
+        }
+        _ => cause,
     }
 }
 
