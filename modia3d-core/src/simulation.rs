@@ -626,7 +626,8 @@ impl Simulation {
 
     /// The diagnosis of a run that reached `budget` after `steps` steps (see
     /// [`WorkDiagnosis`]): a chattering pair if one had an event at least every 10 mean
-    /// steps among the last 200 events, else a fast body that the tunnelling guard follows,
+    /// steps among the last 200 events, else an ill-conditioned mass matrix when Newton failed
+    /// more often than the error test, else a fast body that the tunnelling guard follows,
     /// else the stiffest element if it explains the steps, else a fast-spinning body that
     /// does; and the limiting state.
     fn diagnose(&mut self, budget: Budget, steps: u64) -> SimErrorKind {
@@ -657,9 +658,22 @@ impl Simulation {
                 let guard = dae
                     .max_safe_step()
                     .and_then(|g| dae.guard_body(g).map(|b| (g, b)));
-                diagnosis::with_fast_body(cause, &self.model.plan, &speeds, guard, h_last)
+                let run = self.segments.solver_base + self.ida.stats();
+                let plan = &self.model.plan;
+                let ill = (run.nonlinear_convergence_failures > run.error_test_failures)
+                    .then(|| self.ida.y().get(..plan.nq))
+                    .flatten()
+                    .and_then(|q| diagnosis::worst_conditioned(plan, q))
+                    .filter(|&(_, ratio)| ratio >= diagnosis::ILL_CONDITIONED)
+                    .map(|(i, ratio)| SlowCause::IllConditioned {
+                        coordinate: diagnosis::state_name(plan, plan.nq + i)
+                            .unwrap_or_else(|| format!("velocity {i}")),
+                        ratio,
+                    });
+                diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last)
             }
         };
+        let run = self.segments.solver_base + self.ida.stats();
         let limiting_state = self
             .ida
             .limiting_component()
@@ -670,6 +684,8 @@ impl Simulation {
             steps,
             events: events.len(),
             last_step: self.ida.stats().last_step,
+            error_test_failures: run.error_test_failures,
+            newton_failures: run.nonlinear_convergence_failures,
             cause,
             limiting_state,
         }))

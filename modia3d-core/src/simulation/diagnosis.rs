@@ -9,8 +9,10 @@
 //!   current penetration, `m` the reduced mass of the two bodies), with a suggested `k_red`
 //!   for contacts (below);
 //! - **a fast body**: the body the tunnelling guard follows when the guard held the last step,
-//!   or the fastest-spinning body when it turns within [`COLLAPSE_RATIO`] steps and no stiff
+//!   or the fastest-spinning body when it turns within [`SPIN_RATIO`] steps and no stiff
 //!   element explains the steps, with its speed and angular speed;
+//! - **an ill-conditioned mass matrix**: when Newton failed more often than the error test, the
+//!   coordinate with the largest `M_ii·(M⁻¹)_ii` if that exceeds [`ILL_CONDITIONED`];
 //! - **the limiting state**: the component of `y` with the largest weighted local error at the
 //!   last step (IDA's own error test), named by its joint and body.
 //!
@@ -20,7 +22,8 @@
 //! Only read at the end of a failed run: allocates freely.
 
 use crate::contact::{ContactPlan, ContactState};
-use crate::dynamics::{BodyId, ObjectId, Plan};
+use crate::dynamics::mass_matrix::tree_mass_matrices;
+use crate::dynamics::{BodyId, ObjectId, Plan, Workspace};
 use crate::joints::Source;
 use crate::results::Event;
 use crate::scene::ValidForce;
@@ -75,7 +78,7 @@ pub enum SlowCause {
     /// (`contact/step_guard.rs`: no collision shape may pass through another between two step
     /// ends) holds the steps (the last step is at least [`GUARD_LIMITED`] of the guard's), or,
     /// when no stiff element explains the steps, the fastest-spinning body turns once in
-    /// fewer than [`COLLAPSE_RATIO`] last steps (IDA's error test follows the rotation).
+    /// fewer than [`SPIN_RATIO`] last steps (IDA's error test follows the rotation).
     /// Typically a small body under a large force or torque (found in random scenes: a 3 mm
     /// ellipsoid under 0.1 N·m spinning at 1e7 rad/s, a 1 g body pushed to km/s).
     FastBody {
@@ -89,9 +92,33 @@ pub enum SlowCause {
         /// `None` (the rotation did).
         guard_step: Option<f64>,
     },
+    /// The mass matrix is ill-conditioned and Newton's method failed more often than the error
+    /// test: coordinate `coordinate`'s effective inertia (with every other coordinate free)
+    /// is `1/ratio` of its own diagonal inertia (`ratio = M_ii·(M⁻¹)_ii` ≥ [`ILL_CONDITIONED`]),
+    /// typically a light body carrying a heavy one through a joint (found in random scenes: a
+    /// 2 mm, 4 µg sphere on a revolute joint carrying 78 kg by a free joint). Newton's
+    /// direction for that coordinate is the small difference of large terms, and the
+    /// difference-quotient Jacobian (relative error ~1e-8) cannot resolve it.
+    IllConditioned {
+        /// The coordinate, e.g. ``"velocity `j0.w` of joint `j0` (object `b0`)"``.
+        coordinate: String,
+        /// `M_ii·(M⁻¹)_ii` [-] (1 for a coordinate that moves its inertia alone).
+        ratio: f64,
+    },
     /// None of the above was found.
     Unknown,
 }
+
+/// `M_ii·(M⁻¹)_ii` above which the mass matrix counts as ill-conditioned for
+/// [`SlowCause::IllConditioned`]: the difference-quotient Jacobian's relative error (~1e-8,
+/// √ε) times this is 1 % of the coordinate's effective inertia.
+pub const ILL_CONDITIONED: f64 = 1e6;
+
+/// A spin explains the steps when the body turns once within this many of them: IDA's error
+/// test on a rotation at order 5 allows a turn per step of about `rtol^(1/6)` rad, so some 30
+/// steps per turn at rtol 1e-4 and 200 at 1e-9 (in random scenes a 1.3e3 rad/s body at 1,000
+/// steps per turn was held by Newton failures, not by its rotation).
+pub const SPIN_RATIO: f64 = 300.0;
 
 /// The tunnelling guard limits the steps when the last step is at least this fraction of the
 /// guard's step (IDA grows a step by at most 2x, so a step held by a cap sits between ½ and
@@ -134,6 +161,10 @@ pub struct WorkDiagnosis {
     pub events: usize,
     /// Size of the last step \[s\].
     pub last_step: f64,
+    /// IDA's error-test failures over the run.
+    pub error_test_failures: u64,
+    /// IDA's Newton (nonlinear) convergence failures over the run.
+    pub newton_failures: u64,
     /// What limited the steps.
     pub cause: SlowCause,
     /// The state with the largest weighted local error at the last step, e.g.
@@ -149,8 +180,14 @@ impl std::fmt::Display for WorkDiagnosis {
         }
         write!(
             f,
-            " at t = {} s ({} steps, {} events, last step {:.3e} s): ",
-            self.t, self.steps, self.events, self.last_step
+            " at t = {} s ({} steps, {} events, last step {:.3e} s, {} error-test and {} Newton \
+             failures): ",
+            self.t,
+            self.steps,
+            self.events,
+            self.last_step,
+            self.error_test_failures,
+            self.newton_failures
         )?;
         match &self.cause {
             SlowCause::Chattering { pair, events, span } => write!(
@@ -207,6 +244,13 @@ impl std::fmt::Display for WorkDiagnosis {
                      raise max_steps"
                 )?
             }
+            SlowCause::IllConditioned { coordinate, ratio } => write!(
+                f,
+                "the mass matrix is ill-conditioned: the {coordinate} moves an effective inertia \
+                 {:.1e} of its own (a light body carrying a heavy one?), and Newton's method \
+                 fails on it — make the carrying body heavier or attach the heavy one elsewhere",
+                1.0 / ratio
+            )?,
             SlowCause::Unknown => write!(
                 f,
                 "no chattering contact or stiff element found; raise max_steps or loosen the \
@@ -230,16 +274,49 @@ fn body_name(plan: &Plan, b: BodyId) -> String {
         .unwrap_or_default()
 }
 
+/// The free coordinate (velocity index) of `M(q)` with the largest `M_ii·(M⁻¹)_ii`, and that
+/// ratio; `None` without free coordinates or when a tree's block is singular.
+pub(crate) fn worst_conditioned(plan: &Plan, q: &[f64]) -> Option<(usize, f64)> {
+    let mut ws = Workspace::new(plan);
+    let mut best: Option<(usize, f64)> = None;
+    for (group, m) in tree_mass_matrices(plan, &mut ws, q) {
+        // Velocity indices of the free (not prescribed) coordinates of this tree, and their
+        // rows in the block.
+        let free: Vec<(usize, usize)> = group
+            .iter()
+            .enumerate()
+            .filter(|(_, &i)| plan.prescribed.get(i).is_some_and(|p| p.is_none()))
+            .map(|(r, &i)| (r, i))
+            .collect();
+        let rows: Vec<usize> = free.iter().map(|&(r, _)| r).collect();
+        let mf = m.select_rows(&rows).select_columns(&rows);
+        let inv = nalgebra::Cholesky::new(mf.clone())?.inverse();
+        for (k, &(_, i)) in free.iter().enumerate() {
+            let (Some(a), Some(b)) = (mf.get((k, k)), inv.get((k, k))) else {
+                continue;
+            };
+            let ratio = a * b;
+            if ratio.is_finite() && best.is_none_or(|(_, x)| ratio > x) {
+                best = Some((i, ratio));
+            }
+        }
+    }
+    best
+}
+
 /// `cause` (from [`limiting`]) unless a fast body explains the steps better: the tunnelling
 /// guard limited the last step `h_last` \[s\] (`guard`: its step \[s\] and the body that sets
 /// it), or `cause` names no stiff element and the fastest-spinning body (`speeds`: per body
 /// the speed of its origin [m/s] and its angular speed [rad/s], in body order) turns once
-/// within [`COLLAPSE_RATIO`] last steps. See [`SlowCause::FastBody`].
+/// within [`SPIN_RATIO`] last steps. See [`SlowCause::FastBody`]. An ill-conditioned mass
+/// matrix (`ill`, [`SlowCause::IllConditioned`], given when Newton failed more often than the
+/// error test) comes first: the Newton failures cut the steps whatever the guard allows.
 pub(crate) fn with_fast_body(
     cause: SlowCause,
     plan: &Plan,
     speeds: &[(f64, f64)],
     guard: Option<(f64, BodyId)>,
+    ill: Option<SlowCause>,
     h_last: f64,
 ) -> SlowCause {
     let fast = |b: BodyId, guard_step: Option<f64>| {
@@ -251,6 +328,9 @@ pub(crate) fn with_fast_body(
             guard_step,
         }
     };
+    if let Some(c) = ill {
+        return c;
+    }
     if let Some((g, b)) = guard {
         if h_last > 0.0 && h_last >= GUARD_LIMITED * g {
             return fast(b, Some(g));
@@ -269,7 +349,7 @@ pub(crate) fn with_fast_body(
         .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
     match spinning {
         Some((b, &(_, w)))
-            if h_last > 0.0 && 2.0 * std::f64::consts::PI / w <= COLLAPSE_RATIO * h_last =>
+            if h_last > 0.0 && 2.0 * std::f64::consts::PI / w <= SPIN_RATIO * h_last =>
         {
             fast(BodyId(b), None)
         }
