@@ -626,7 +626,8 @@ impl Simulation {
 
     /// The diagnosis of a run that reached `budget` after `steps` steps (see
     /// [`WorkDiagnosis`]): a chattering pair if one had an event at least every 10 mean
-    /// steps among the last 200 events, else an ill-conditioned mass matrix when Newton failed
+    /// steps among the last 200 events, else a contact deeper than half its thinner shape,
+    /// else an ill-conditioned mass matrix when Newton failed
     /// more often than the error test, else a fast body that the tunnelling guard follows,
     /// else the stiffest element if it explains the steps, else a fast-spinning body that
     /// does; and the limiting state.
@@ -670,7 +671,9 @@ impl Simulation {
                             .unwrap_or_else(|| format!("velocity {i}")),
                         ratio,
                     });
-                diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last)
+                diagnosis::deep_contact(plan, dae.contact_plan(), dae.contact()).unwrap_or_else(
+                    || diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last),
+                )
             }
         };
         let run = self.segments.solver_base + self.ida.stats();
