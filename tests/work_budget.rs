@@ -274,3 +274,179 @@ fn a_failed_run_prints_a_summary() {
     );
     assert!(!text.contains("states"), "{text}");
 }
+
+/// A free body of `mass` \[kg\] with isotropic inertia `1e-3·mass` [kg·m²] (explicit), a
+/// collision sphere of 2 mm when `collide`, and the constant world wrench `force`, `torque`.
+fn pushed_body(mass: f64, collide: bool, force: [f64; 3], torque: [f64; 3]) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions::default()));
+    if collide {
+        s.add(fixed_box(
+            "table",
+            [1.0, 1.0, 0.01],
+            [0.0, 0.0, -0.005],
+            "Steel",
+        ));
+    }
+    let solid = Solid::new(Shape::Sphere { diameter: 2e-3 })
+        .solid_material("Steel")
+        .collision(collide)
+        .mass_properties(mass, Vector3::zeros(), Matrix3::identity() * 1e-3 * mass);
+    s.add(Object3D::new("top").solid(solid))
+        .add_joint(Joint::new(
+            "top.free",
+            "world",
+            "top",
+            JointKind::FreeMotion {
+                r: Vector3::new(0.0, 0.0, 0.01),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
+    let w = Wrench {
+        force: Vector3::from(force),
+        torque: Vector3::from(torque),
+    };
+    s.add_force(ForceElement::ObjectForce {
+        object: "top".into(),
+        law: ForceFn::new(move |_, _| w),
+    });
+    s
+}
+
+/// Random scenes (issue 15): a 3 mm ellipsoid under 0.1 N·m spun to 1e7 rad/s and reached the
+/// budget with "no stiff element found". Here 1 g with inertia 1e-6 kg·m² under 0.1 N·m about
+/// z: ω = τ·t/I = 1e5 rad/s² · t exactly (isotropic inertia: no gyroscopic term), in free fall
+/// without collision shapes (no tunnelling guard). The diagnosis names the body and its
+/// rotation, with the spin and speed of the state at the end: against 1e5·t and g·t within
+/// 1e-3 (the diagnosis reads the last evaluation, within a step of `t`; a step is ~1e-6 of
+/// `t` here).
+#[test]
+fn a_body_spun_up_by_a_torque_is_named_with_its_spin() {
+    let s = pushed_body(1e-3, false, [0.0; 3], [0.0, 0.0, 0.1]);
+    let opts = SimOptions::new(1.0).max_steps(Some(20_000)).progress(false);
+    let (d, _) = budget_error(s.build().unwrap().simulate(&opts));
+    println!("{d}");
+    match &d.cause {
+        SlowCause::FastBody {
+            object,
+            speed,
+            spin,
+            guard_step,
+        } => {
+            assert_eq!(object, "top");
+            assert_eq!(*guard_step, None);
+            let (w, v) = (1e5 * d.t, 9.81 * d.t);
+            assert!((spin - w).abs() < 1e-3 * w, "spin {spin} vs {w}");
+            assert!((speed - v).abs() < 1e-3 * v, "speed {speed} vs {v}");
+        }
+        c => panic!("cause {c:?}"),
+    }
+    let msg = SimErrorKind::WorkBudget(Box::new(d.clone())).to_string();
+    assert!(msg.contains("object `top` moves at"), "{msg}");
+    assert!(msg.contains("its rotation limits the steps"), "{msg}");
+}
+
+/// Random scenes (issue 15): 1 g bodies pushed by 10 N to km/s held IDA to the tunnelling
+/// guard's steps with the diagnosis "steps collapsed … a force not smooth". Here 1 g pushed
+/// along x by 10 N (gravity balanced) 1 cm above a table: v = 1e4 m/s² · t; the guard limits
+/// the steps (the last step within [½, 1.25] of the guard's) and the diagnosis names the body,
+/// its speed (within 1e-3 of 1e4·t, as above) and the guard's step (within 1e-3 of the
+/// guard's formula at that speed).
+#[test]
+fn a_body_pushed_to_km_per_s_is_named_with_the_tunnelling_guard() {
+    let s = pushed_body(1e-3, true, [10.0, 0.0, 9.81e-3], [0.0; 3]);
+    let opts = SimOptions::new(1.0).max_steps(Some(5_000)).progress(false);
+    let (d, _) = budget_error(s.build().unwrap().simulate(&opts));
+    println!("{d}");
+    match &d.cause {
+        SlowCause::FastBody {
+            object,
+            speed,
+            spin,
+            guard_step,
+        } => {
+            assert_eq!(object, "top");
+            let v = 1e4 * d.t;
+            assert!((speed - v).abs() < 1e-3 * v, "speed {speed} vs {v}");
+            assert!(spin.abs() < 1e-6, "spin {spin}");
+            let g = guard_step.expect("the guard limited the steps");
+            // The guard's step by its formula (contact/step_guard.rs): each shape point moves
+            // at most d = ¼ of the thinnest pair (2 mm sphere + 10 mm table) in
+            // h = 2d / (v + sqrt(v² + 2 a d)).
+            let (dd, a) = (0.25 * (2e-3 + 0.01), 1e4);
+            let h = 2.0 * dd / (v + (v * v + 2.0 * a * dd).sqrt());
+            assert!((g - h).abs() < 1e-3 * h, "guard {g} vs {h}");
+            // IDA's cap is renewed when the guard moved by 10 %, and the speed grew since.
+            assert!(d.last_step >= 0.5 * g && d.last_step <= 1.25 * g, "{g}");
+        }
+        c => panic!("cause {c:?}"),
+    }
+    let msg = SimErrorKind::WorkBudget(Box::new(d.clone())).to_string();
+    assert!(msg.contains("the tunnelling guard"), "{msg}");
+}
+
+/// Random scenes (issue 15): a 2 mm, 4 µg sphere on a revolute joint carrying 78 kg by a free
+/// joint failed Newton's method at every other step (both the coloured and SUNDIALS' dense
+/// difference-quotient Jacobians; with the sphere at 1e-2 kg it ran). Here 1 µg with
+/// I0 = 1e-12 kg·m² about the joint's z axis carries 80 kg (isotropic 0.08 kg·m²) 5 mm off the
+/// axis. The revolute coordinate's effective inertia with the free joint free is its own body's,
+/// I0 (a free-joint child adds nothing to the articulated inertia), and its diagonal entry the
+/// composite inertia about the axis, I0 + 0.08 + 80·ρ² (ρ the load's distance from the axis,
+/// 5 mm at the start), so M_ii·(M⁻¹)_ii is their ratio: ~1e11. The run reaches its budget with
+/// Newton failures at about every other step and no error-test failure; the diagnosis names
+/// the coordinate and the ratio within 1e-4 (the Cholesky inverse of a matrix of condition
+/// ~1e11 keeps ~5 digits).
+#[test]
+fn a_light_body_carrying_a_heavy_one_is_named_as_ill_conditioned() {
+    let (m0, i0, m1, i1, d) = (1e-6, 1e-12, 80.0, 0.08, 5e-3);
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions::default()))
+        .add(
+            Object3D::new("link").solid(Solid::default().mass_properties(
+                m0,
+                Vector3::zeros(),
+                Matrix3::identity() * i0,
+            )),
+        )
+        .add(
+            Object3D::new("load").solid(Solid::default().mass_properties(
+                m1,
+                Vector3::zeros(),
+                Matrix3::identity() * i1,
+            )),
+        )
+        .add_joint(Joint::new("rev", "world", "link", JointKind::revolute(3)).init_velocity(2.0))
+        .add_joint(Joint::new(
+            "load.free",
+            "link",
+            "load",
+            JointKind::FreeMotion {
+                r: Vector3::new(d, 0.0, 0.0),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::new(1.0, -0.5, 1.5),
+                w: Vector3::new(18.0, -17.0, 11.0),
+            },
+        ));
+    let opts = SimOptions::new(1.0).max_steps(Some(20_000)).progress(false);
+    let (d_, _) = budget_error(s.build().unwrap().simulate(&opts));
+    println!("{d_}");
+    assert!(d_.newton_failures > d_.error_test_failures);
+    match &d_.cause {
+        SlowCause::IllConditioned { coordinate, ratio } => {
+            assert!(coordinate.contains("joint `rev`"), "{coordinate}");
+            // The load falls freely (the free joint transmits nothing): its world velocity
+            // is v + ω_link × r = (1, −0.5 + 2·d, 1.5) m/s, so its distance from the axis at
+            // the end is |(d + t, (−0.5 + 2d)·t)| (gravity is along the axis).
+            let t = d_.t;
+            let (x, y) = (d + t, (-0.5 + 2.0 * d) * t);
+            let expect = (i0 + i1 + m1 * (x * x + y * y)) / i0;
+            assert!(
+                (ratio - expect).abs() < 1e-4 * expect,
+                "{ratio} vs {expect}"
+            );
+        }
+        c => panic!("cause {c:?}"),
+    }
+}

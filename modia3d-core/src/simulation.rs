@@ -630,7 +630,11 @@ impl Simulation {
 
     /// The diagnosis of a run that reached `budget` after `steps` steps (see
     /// [`WorkDiagnosis`]): a chattering pair if one had an event at least every 10 mean
-    /// steps among the last 200 events, else the stiffest element; and the limiting state.
+    /// steps among the last 200 events, else a contact deeper than half its thinner shape,
+    /// else an ill-conditioned mass matrix when Newton failed
+    /// more often than the error test, else a fast body that the tunnelling guard follows,
+    /// else the stiffest element if it explains the steps, else a fast-spinning body that
+    /// does; and the limiting state.
     fn diagnose(&mut self, budget: Budget, steps: u64) -> SimErrorKind {
         let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
         let t = self.time();
@@ -646,6 +650,7 @@ impl Simulation {
                 }
             }
             _ => {
+                let h_last = self.ida.stats().last_step;
                 let dae = self.ida.system();
                 let stiffest = diagnosis::stiffest(
                     &self.model.plan,
@@ -653,9 +658,29 @@ impl Simulation {
                     dae.contact(),
                     h_budget,
                 );
-                diagnosis::limiting(stiffest, self.ida.stats().last_step, h_budget)
+                let cause = diagnosis::limiting(stiffest, h_last, h_budget);
+                let speeds: Vec<(f64, f64)> = dae.body_speeds().collect();
+                let guard = dae
+                    .max_safe_step()
+                    .and_then(|g| dae.guard_body(g).map(|b| (g, b)));
+                let run = self.segments.solver_base + self.ida.stats();
+                let plan = &self.model.plan;
+                let ill = (run.nonlinear_convergence_failures > run.error_test_failures)
+                    .then(|| self.ida.y().get(..plan.nq))
+                    .flatten()
+                    .and_then(|q| diagnosis::worst_conditioned(plan, q))
+                    .filter(|&(_, ratio)| ratio >= diagnosis::ILL_CONDITIONED)
+                    .map(|(i, ratio)| SlowCause::IllConditioned {
+                        coordinate: diagnosis::state_name(plan, plan.nq + i)
+                            .unwrap_or_else(|| format!("velocity {i}")),
+                        ratio,
+                    });
+                diagnosis::deep_contact(plan, dae.contact_plan(), dae.contact()).unwrap_or_else(
+                    || diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last),
+                )
             }
         };
+        let run = self.segments.solver_base + self.ida.stats();
         let limiting_state = self
             .ida
             .limiting_component()
@@ -666,6 +691,8 @@ impl Simulation {
             steps,
             events: events.len(),
             last_step: self.ida.stats().last_step,
+            error_test_failures: run.error_test_failures,
+            newton_failures: run.nonlinear_convergence_failures,
             cause,
             limiting_state,
         }))

@@ -94,4 +94,27 @@ impl StepGuard {
         let h = 2.0 * d / (s_max + (s_max * s_max + 2.0 * a_max * d).sqrt());
         (h.is_finite() && h > 0.0).then_some(h)
     }
+
+    /// The body whose shapes move farthest in a step `h` \[s\] by the bound of
+    /// [`Self::max_step`] (`s h + ½ a h²`): the one that sets the guard. For diagnoses (a run
+    /// whose steps the guard limits); `None` when no body with a collision shape moves.
+    pub(crate) fn fastest_body(
+        &self,
+        ws: &Workspace,
+        gravity: &Vector3<f64>,
+        h: f64,
+    ) -> Option<crate::dynamics::BodyId> {
+        let mut best: Option<(crate::dynamics::BodyId, f64)> = None;
+        for &(b, r) in &self.reach {
+            let (vel, acc) = (&ws.vel[b], &ws.acc[b]);
+            let (v, w) = (vel.v.norm(), vel.w.norm());
+            let a_o = (acc.v + ws.world[b].rot.tr_mul(gravity)).norm();
+            let a = a_o + w * v + acc.w.norm() * r;
+            let reach = (v + w * r) * h + 0.5 * a * h * h;
+            if reach > 0.0 && best.is_none_or(|(_, x)| reach > x) {
+                best = Some((b, reach));
+            }
+        }
+        best.map(|(b, _)| b)
+    }
 }

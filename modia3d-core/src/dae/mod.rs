@@ -7,7 +7,7 @@
 use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
-use crate::dynamics::{forces, kinematics, rnea, Plan, Workspace};
+use crate::dynamics::{forces, kinematics, rnea, BodyId, Plan, Workspace};
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
@@ -156,6 +156,19 @@ impl MultibodyDae {
             .as_ref()?
             .step_guard
             .max_step(&self.ws, &self.plan.gravity)
+    }
+    /// The body that sets the tunnelling guard's step `h` \[s\]
+    /// (`StepGuard::fastest_body`), if any (for diagnoses).
+    pub(crate) fn guard_body(&self, h: f64) -> Option<BodyId> {
+        self.contact_plan
+            .as_ref()?
+            .step_guard
+            .fastest_body(&self.ws, &self.plan.gravity, h)
+    }
+    /// Speed of the origin [m/s] and angular speed [rad/s] of every body at the last
+    /// evaluation, in body order (for diagnoses).
+    pub(crate) fn body_speeds(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
+        self.ws.vel.iter().map(|m| (m.v.norm(), m.w.norm()))
     }
     /// Sets input values (len `Plan::n_inputs`).
     pub fn inputs_mut(&mut self) -> &mut [f64] {

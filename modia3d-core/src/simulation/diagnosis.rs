@@ -8,6 +8,12 @@
 //!   the shortest natural period `T = 2π·sqrt(m/k)` (`k` the contact's tangent stiffness at its
 //!   current penetration, `m` the reduced mass of the two bodies), with a suggested `k_red`
 //!   for contacts (below);
+//! - **a fast body**: the body the tunnelling guard follows when the guard held the last step,
+//!   or the fastest-spinning body when it turns within [`SPIN_RATIO`] steps and no stiff
+//!   element explains the steps, with its speed and angular speed;
+//! - **a deep contact**: a pair of the contact set deeper than half its thinner shape;
+//! - **an ill-conditioned mass matrix**: when Newton failed more often than the error test, the
+//!   coordinate with the largest `M_ii·(M⁻¹)_ii` if that exceeds [`ILL_CONDITIONED`];
 //! - **the limiting state**: the component of `y` with the largest weighted local error at the
 //!   last step (IDA's own error test), named by its joint and body.
 //!
@@ -17,7 +23,9 @@
 //! Only read at the end of a failed run: allocates freely.
 
 use crate::contact::{ContactPlan, ContactState};
-use crate::dynamics::{BodyId, ObjectId, Plan};
+use crate::dynamics::mass_matrix::tree_mass_matrices;
+use crate::dynamics::{BodyId, ObjectId, Plan, Workspace};
+use crate::geometry::world_aabb;
 use crate::joints::Source;
 use crate::results::Event;
 use crate::scene::ValidForce;
@@ -68,9 +76,73 @@ pub enum SlowCause {
         /// The stiffest element's natural period \[s\] (`NaN` without one).
         stiffest_period: f64,
     },
+    /// A body moves or spins so fast that its motion limits the steps: the tunnelling guard
+    /// (`contact/step_guard.rs`: no collision shape may pass through another between two step
+    /// ends) holds the steps (the last step is at least [`GUARD_LIMITED`] of the guard's), or,
+    /// when no stiff element explains the steps, the fastest-spinning body turns once in
+    /// fewer than [`SPIN_RATIO`] last steps (IDA's error test follows the rotation).
+    /// Typically a small body under a large force or torque (found in random scenes: a 3 mm
+    /// ellipsoid under 0.1 N·m spinning at 1e7 rad/s, a 1 g body pushed to km/s).
+    FastBody {
+        /// The body's first object.
+        object: String,
+        /// Speed of its frame origin [m/s].
+        speed: f64,
+        /// Its angular speed [rad/s].
+        spin: f64,
+        /// The tunnelling guard's largest step \[s\] when the guard limited the steps, else
+        /// `None` (the rotation did).
+        guard_step: Option<f64>,
+    },
+    /// A contact in the contact set is deeper than [`DEEP_CONTACT`] of its thinner shape's
+    /// smallest extent: one shape has passed far into the other, where the narrow phase's
+    /// normal and point (the shortest way out) jump with the pose, so the contact force is
+    /// not smooth in the states (found in random scenes: a 3 g ellipsoid yanked by a spring
+    /// into a table at 30 m/s under k_red = 3e-3, 3.7 cm deep for a 1.3 cm shape).
+    DeepContact {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Its penetration \[m\].
+        depth: f64,
+        /// The smallest extent of the thinner shape \[m\] (edge of its own bounding box).
+        thickness: f64,
+    },
+    /// The mass matrix is ill-conditioned and Newton's method failed more often than the error
+    /// test: coordinate `coordinate`'s effective inertia (with every other coordinate free)
+    /// is `1/ratio` of its own diagonal inertia (`ratio = M_ii·(M⁻¹)_ii` ≥ [`ILL_CONDITIONED`]),
+    /// typically a light body carrying a heavy one through a joint (found in random scenes: a
+    /// 2 mm, 4 µg sphere on a revolute joint carrying 78 kg by a free joint). Newton's
+    /// direction for that coordinate is the small difference of large terms, and the
+    /// difference-quotient Jacobian (relative error ~1e-8) cannot resolve it.
+    IllConditioned {
+        /// The coordinate, e.g. ``"velocity `j0.w` of joint `j0` (object `b0`)"``.
+        coordinate: String,
+        /// `M_ii·(M⁻¹)_ii` [-] (1 for a coordinate that moves its inertia alone).
+        ratio: f64,
+    },
     /// None of the above was found.
     Unknown,
 }
+
+/// Penetration, as a fraction of the thinner shape's smallest extent, above which a contact
+/// counts as deep for [`SlowCause::DeepContact`].
+pub const DEEP_CONTACT: f64 = 0.5;
+
+/// `M_ii·(M⁻¹)_ii` above which the mass matrix counts as ill-conditioned for
+/// [`SlowCause::IllConditioned`]: the difference-quotient Jacobian's relative error (~1e-8,
+/// √ε) times this is 1 % of the coordinate's effective inertia.
+pub const ILL_CONDITIONED: f64 = 1e6;
+
+/// A spin explains the steps when the body turns once within this many of them: IDA's error
+/// test on a rotation at order 5 allows a turn per step of about `rtol^(1/6)` rad, so some 30
+/// steps per turn at rtol 1e-4 and 200 at 1e-9 (in random scenes a 1.3e3 rad/s body at 1,000
+/// steps per turn was held by Newton failures, not by its rotation).
+pub const SPIN_RATIO: f64 = 300.0;
+
+/// The tunnelling guard limits the steps when the last step is at least this fraction of the
+/// guard's step (IDA grows a step by at most 2x, so a step held by a cap sits between ½ and
+/// 1 of it).
+pub const GUARD_LIMITED: f64 = 0.5;
 
 /// A stiff element explains the steps only when its period is within this many of them (a
 /// resolved oscillation takes some tens of steps per period).
@@ -108,6 +180,10 @@ pub struct WorkDiagnosis {
     pub events: usize,
     /// Size of the last step \[s\].
     pub last_step: f64,
+    /// IDA's error-test failures over the run.
+    pub error_test_failures: u64,
+    /// IDA's Newton (nonlinear) convergence failures over the run.
+    pub newton_failures: u64,
     /// What limited the steps.
     pub cause: SlowCause,
     /// The state with the largest weighted local error at the last step, e.g.
@@ -123,8 +199,14 @@ impl std::fmt::Display for WorkDiagnosis {
         }
         write!(
             f,
-            " at t = {} s ({} steps, {} events, last step {:.3e} s): ",
-            self.t, self.steps, self.events, self.last_step
+            " at t = {} s ({} steps, {} events, last step {:.3e} s, {} error-test and {} Newton \
+             failures): ",
+            self.t,
+            self.steps,
+            self.events,
+            self.last_step,
+            self.error_test_failures,
+            self.newton_failures
         )?;
         match &self.cause {
             SlowCause::Chattering { pair, events, span } => write!(
@@ -153,6 +235,51 @@ impl std::fmt::Display for WorkDiagnosis {
                  initial overlaps and grazing contacts, keep mpr_tolerance at its default, \
                  make user forces continuous — or loosen the tolerance"
             )?,
+            SlowCause::FastBody {
+                object,
+                speed,
+                spin,
+                guard_step,
+            } => {
+                write!(
+                    f,
+                    "object `{object}` moves at {speed:.3e} m/s and spins at {spin:.3e} rad/s"
+                )?;
+                if *spin > 0.0 {
+                    let turn = 2.0 * std::f64::consts::PI / spin;
+                    write!(f, " (a turn in {turn:.3e} s)")?;
+                }
+                match guard_step {
+                    Some(g) => write!(
+                        f,
+                        "; the tunnelling guard (no shape may pass through another unseen) \
+                         limits the steps to {g:.3e} s"
+                    )?,
+                    None => write!(f, "; its rotation limits the steps")?,
+                }
+                write!(
+                    f,
+                    ": check the forces and torques on it against its mass and inertia, or \
+                     raise max_steps"
+                )?
+            }
+            SlowCause::DeepContact {
+                pair,
+                depth,
+                thickness,
+            } => write!(
+                f,
+                "contact `{pair}` is {depth:.3e} m deep, more than half its thinner shape \
+                 ({thickness:.3e} m): one shape has passed into the other and the contact's \
+                 normal jumps — check the forces that drive them together and k_red"
+            )?,
+            SlowCause::IllConditioned { coordinate, ratio } => write!(
+                f,
+                "the mass matrix is ill-conditioned: the {coordinate} moves an effective inertia \
+                 {:.1e} of its own (a light body carrying a heavy one?), and Newton's method \
+                 fails on it — make the carrying body heavier or attach the heavy one elsewhere",
+                1.0 / ratio
+            )?,
             SlowCause::Unknown => write!(
                 f,
                 "no chattering contact or stiff element found; raise max_steps or loosen the \
@@ -163,6 +290,130 @@ impl std::fmt::Display for WorkDiagnosis {
             write!(f, "; the step is limited by {s}")?;
         }
         Ok(())
+    }
+}
+
+/// The name of body `b`: its first object's.
+fn body_name(plan: &Plan, b: BodyId) -> String {
+    plan.bodies
+        .get(b)
+        .and_then(|b| b.objects.first())
+        .and_then(|&o| plan.objects.get(o))
+        .map(|o| o.name.clone())
+        .unwrap_or_default()
+}
+
+/// The contact of the set that is deepest relative to its thinner shape's smallest extent
+/// (its own bounding box's smallest edge), if deeper than [`DEEP_CONTACT`] of it.
+pub(crate) fn deep_contact(
+    plan: &Plan,
+    cp: Option<&ContactPlan>,
+    cs: Option<&ContactState>,
+) -> Option<SlowCause> {
+    let (cp, cs) = (cp?, cs?);
+    let thickness = |s: usize| {
+        cp.shapes.get(s).map_or(f64::NAN, |s| {
+            let b = world_aabb(&s.shape, &nalgebra::Isometry3::identity());
+            (b.maxs - b.mins).min()
+        })
+    };
+    let mut best: Option<(f64, SlowCause)> = None;
+    for (_, pp, ps) in cs.active_pairs() {
+        let depth = ps.response.penetration;
+        let thick = thickness(pp.a).min(thickness(pp.b));
+        let rel = depth / thick;
+        if rel.is_finite() && rel > DEEP_CONTACT && best.as_ref().is_none_or(|(r, _)| rel > *r) {
+            let cause = SlowCause::DeepContact {
+                pair: cp.pair_name(&plan.scene, pp),
+                depth,
+                thickness: thick,
+            };
+            best = Some((rel, cause));
+        }
+    }
+    best.map(|(_, c)| c)
+}
+
+/// The free coordinate (velocity index) of `M(q)` with the largest `M_ii·(M⁻¹)_ii`, and that
+/// ratio; `None` without free coordinates or when a tree's block is singular.
+pub(crate) fn worst_conditioned(plan: &Plan, q: &[f64]) -> Option<(usize, f64)> {
+    let mut ws = Workspace::new(plan);
+    let mut best: Option<(usize, f64)> = None;
+    for (group, m) in tree_mass_matrices(plan, &mut ws, q) {
+        // Velocity indices of the free (not prescribed) coordinates of this tree, and their
+        // rows in the block.
+        let free: Vec<(usize, usize)> = group
+            .iter()
+            .enumerate()
+            .filter(|(_, &i)| plan.prescribed.get(i).is_some_and(|p| p.is_none()))
+            .map(|(r, &i)| (r, i))
+            .collect();
+        let rows: Vec<usize> = free.iter().map(|&(r, _)| r).collect();
+        let mf = m.select_rows(&rows).select_columns(&rows);
+        let inv = nalgebra::Cholesky::new(mf.clone())?.inverse();
+        for (k, &(_, i)) in free.iter().enumerate() {
+            let (Some(a), Some(b)) = (mf.get((k, k)), inv.get((k, k))) else {
+                continue;
+            };
+            let ratio = a * b;
+            if ratio.is_finite() && best.is_none_or(|(_, x)| ratio > x) {
+                best = Some((i, ratio));
+            }
+        }
+    }
+    best
+}
+
+/// `cause` (from [`limiting`]) unless a fast body explains the steps better: the tunnelling
+/// guard limited the last step `h_last` \[s\] (`guard`: its step \[s\] and the body that sets
+/// it), or `cause` names no stiff element and the fastest-spinning body (`speeds`: per body
+/// the speed of its origin [m/s] and its angular speed [rad/s], in body order) turns once
+/// within [`SPIN_RATIO`] last steps. See [`SlowCause::FastBody`]. An ill-conditioned mass
+/// matrix (`ill`, [`SlowCause::IllConditioned`], given when Newton failed more often than the
+/// error test) comes first: the Newton failures cut the steps whatever the guard allows.
+pub(crate) fn with_fast_body(
+    cause: SlowCause,
+    plan: &Plan,
+    speeds: &[(f64, f64)],
+    guard: Option<(f64, BodyId)>,
+    ill: Option<SlowCause>,
+    h_last: f64,
+) -> SlowCause {
+    let fast = |b: BodyId, guard_step: Option<f64>| {
+        let (speed, spin) = speeds.get(b.0).copied().unwrap_or((f64::NAN, f64::NAN));
+        SlowCause::FastBody {
+            object: body_name(plan, b),
+            speed,
+            spin,
+            guard_step,
+        }
+    };
+    if let Some(c) = ill {
+        return c;
+    }
+    if let Some((g, b)) = guard {
+        if h_last > 0.0 && h_last >= GUARD_LIMITED * g {
+            return fast(b, Some(g));
+        }
+    }
+    if matches!(
+        cause,
+        SlowCause::StiffContact { .. } | SlowCause::StiffSpring { .. }
+    ) {
+        return cause;
+    }
+    let spinning = speeds
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, w))| w.is_finite() && *w > 0.0)
+        .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1));
+    match spinning {
+        Some((b, &(_, w)))
+            if h_last > 0.0 && 2.0 * std::f64::consts::PI / w <= SPIN_RATIO * h_last =>
+        {
+            fast(BodyId(b), None)
+        }
+        _ => cause,
     }
 }
 
