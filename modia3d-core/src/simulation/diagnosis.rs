@@ -78,9 +78,9 @@ pub enum SlowCause {
     },
     /// A body moves or spins so fast that its motion limits the steps: the tunnelling guard
     /// (`contact/step_guard.rs`: no collision shape may pass through another between two step
-    /// ends) holds the steps (the last step is at least [`GUARD_LIMITED`] of the guard's), or,
+    /// ends) holds the steps (the last step is at least half (`GUARD_LIMITED`) of the guard's), or,
     /// when no stiff element explains the steps, the fastest-spinning body turns once in
-    /// fewer than [`SPIN_RATIO`] last steps (IDA's error test follows the rotation).
+    /// fewer than 300 (`SPIN_RATIO`) last steps (IDA's error test follows the rotation).
     /// Typically a small body under a large force or torque (found in random scenes: a 3 mm
     /// ellipsoid under 0.1 N·m spinning at 1e7 rad/s, a 1 g body pushed to km/s).
     FastBody {
@@ -94,7 +94,7 @@ pub enum SlowCause {
         /// `None` (the rotation did).
         guard_step: Option<f64>,
     },
-    /// A contact in the contact set is deeper than [`DEEP_CONTACT`] of its thinner shape's
+    /// A contact in the contact set is deeper than half (`DEEP_CONTACT`) of its thinner shape's
     /// smallest extent: one shape has passed far into the other, where the narrow phase's
     /// normal and point (the shortest way out) jump with the pose, so the contact force is
     /// not smooth in the states (found in random scenes: a 3 g ellipsoid yanked by a spring
@@ -109,7 +109,7 @@ pub enum SlowCause {
     },
     /// The mass matrix is ill-conditioned and Newton's method failed more often than the error
     /// test: coordinate `coordinate`'s effective inertia (with every other coordinate free)
-    /// is `1/ratio` of its own diagonal inertia (`ratio = M_ii·(M⁻¹)_ii` ≥ [`ILL_CONDITIONED`]),
+    /// is `1/ratio` of its own diagonal inertia (`ratio = M_ii·(M⁻¹)_ii` ≥ 1e6 (`ILL_CONDITIONED`)),
     /// typically a light body carrying a heavy one through a joint (found in random scenes: a
     /// 2 mm, 4 µg sphere on a revolute joint carrying 78 kg by a free joint). Newton's
     /// direction for that coordinate is the small difference of large terms, and the
