@@ -124,6 +124,36 @@ pub fn sphere_on_plane(
     s
 }
 
+/// A steel ball `ball` (Ø `d` \[m\]) at rest with its lowest point `h` \[m\] above a fixed
+/// 1 × 1 × 0.1 m steel `plate` (top face at z = 0), Steel–Steel pair with `cor`, no friction,
+/// gravity on; `exact_restitution` as given (the bounce and steel-drop scenes of the Rapier
+/// comparison, docs/rapier-comparison.md, and their tests).
+pub fn steel_drop(d: f64, h: f64, cor: f64, exact_restitution: bool) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions {
+        exact_restitution,
+        ..Default::default()
+    }))
+    .add(fixed_box(
+        "plate",
+        [1.0, 1.0, 0.1],
+        [0.0, 0.0, -0.05],
+        "Steel",
+    ));
+    add_free_sphere(
+        &mut s,
+        "ball",
+        d,
+        "Steel",
+        None,
+        [0.0, 0.0, d / 2.0 + h],
+        [0.0; 3],
+        [0.0; 3],
+    );
+    s.add_contact_pair("Steel", "Steel", ContactPairMaterial::new(cor, 0.0, 0.0));
+    s
+}
+
 /// Rebound speed over impact speed of the free object `ball` of `model` that starts 1e-5 m
 /// from a plane, moving at `v0` [m/s] towards it along −z without gravity (as
 /// [`sphere_on_plane`] builds it): simulated for 1e-5/`v0` + 0.05 s at rtol 1e-9, the final

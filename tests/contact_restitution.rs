@@ -81,28 +81,7 @@ fn the_rebound_ratio_is_the_cor_asked_for() {
 fn bounce_apexes_follow_the_cor() {
     let (d, h, g, cor) = (0.1, 0.5, 9.81, 0.9);
     let apex_errors = |exact: bool| -> Vec<f64> {
-        let mut s = SceneDesc::new();
-        s.add(demo::world(SceneOptions {
-            exact_restitution: exact,
-            ..Default::default()
-        }))
-        .add(demo::fixed_box(
-            "plate",
-            [1.0, 1.0, 0.1],
-            [0.0, 0.0, -0.05],
-            "Steel",
-        ));
-        demo::add_free_sphere(
-            &mut s,
-            "ball",
-            d,
-            "Steel",
-            None,
-            [0.0, 0.0, d / 2.0 + h],
-            [0.0; 3],
-            [0.0; 3],
-        );
-        s.add_contact_pair("Steel", "Steel", ContactPairMaterial::new(cor, 0.0, 0.0));
+        let s = demo::steel_drop(d, h, cor, exact);
         let res = s
             .build()
             .unwrap()

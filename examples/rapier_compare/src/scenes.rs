@@ -88,29 +88,7 @@ const DROP_H: f64 = 0.5;
 /// modia3d: a steel ball (Ø `BALL_D`) dropped from `DROP_H` onto a fixed steel plate
 /// (1 × 1 × 0.1 m, top face at z = 0), Steel–Steel pair `cor`, no friction, exact restitution.
 fn modia_drop(cor: f64, exact: bool) -> SceneDesc {
-    let mut s = SceneDesc::new();
-    s.add(demo::world(SceneOptions {
-        exact_restitution: exact,
-        ..Default::default()
-    }))
-    .add(demo::fixed_box(
-        "plate",
-        [1.0, 1.0, 0.1],
-        [0.0, 0.0, -0.05],
-        "Steel",
-    ));
-    demo::add_free_sphere(
-        &mut s,
-        "ball",
-        BALL_D,
-        "Steel",
-        None,
-        [0.0, 0.0, BALL_D / 2.0 + DROP_H],
-        [0.0; 3],
-        [0.0; 3],
-    );
-    s.add_contact_pair("Steel", "Steel", ContactPairMaterial::new(cor, 0.0, 0.0));
-    s
+    demo::steel_drop(BALL_D, DROP_H, cor, exact)
 }
 
 /// One flight between two contacts, as the engine computed it.
