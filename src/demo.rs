@@ -548,40 +548,10 @@ pub const PILE_BALLS: usize = 12;
 /// `wy1`), so they hit the floor, the walls and each other in clusters. `pair` is the
 /// Steel–Steel pair material; `options` the scene options.
 pub fn ball_pile(options: SceneOptions, pair: ContactPairMaterial) -> SceneDesc {
-    let (w, t, h) = (PILE_BOX_WIDTH, 0.05, 0.3);
     let mut s = SceneDesc::new();
     s.add(world(options))
-        .add_contact_pair("Steel", "Steel", pair)
-        .add(fixed_box(
-            "floor",
-            [w + 2.0 * t, w + 2.0 * t, t],
-            [0.0, 0.0, -t / 2.0],
-            "Steel",
-        ))
-        .add(fixed_box(
-            "wx0",
-            [t, w, h],
-            [-(w + t) / 2.0, 0.0, h / 2.0],
-            "Steel",
-        ))
-        .add(fixed_box(
-            "wx1",
-            [t, w, h],
-            [(w + t) / 2.0, 0.0, h / 2.0],
-            "Steel",
-        ))
-        .add(fixed_box(
-            "wy0",
-            [w + 2.0 * t, t, h],
-            [0.0, -(w + t) / 2.0, h / 2.0],
-            "Steel",
-        ))
-        .add(fixed_box(
-            "wy1",
-            [w + 2.0 * t, t, h],
-            [0.0, (w + t) / 2.0, h / 2.0],
-            "Steel",
-        ));
+        .add_contact_pair("Steel", "Steel", pair);
+    add_open_box(&mut s, PILE_BOX_WIDTH, 0.05, 0.3);
     for k in 0..PILE_BALLS {
         let (layer, i, j) = (k / 4, (k / 2) % 2, k % 2);
         let jitter = 0.004 * ((k * 7 % 5) as f64 - 2.0);
@@ -595,6 +565,80 @@ pub fn ball_pile(options: SceneOptions, pair: ContactPairMaterial) -> SceneDesc 
             &mut s,
             &name,
             PILE_BALL_DIAMETER,
+            "Steel",
+            None,
+            r,
+            [0.0; 3],
+            [0.0; 3],
+        );
+    }
+    s
+}
+
+/// Adds an open steel box with a square inner width `w` \[m\], floor and walls `t` \[m\]
+/// thick, walls `h` \[m\] high, its floor's top face at z = 0 (objects `floor`, `wx0`, `wx1`,
+/// `wy0`, `wy1`).
+fn add_open_box(s: &mut SceneDesc, w: f64, t: f64, h: f64) {
+    s.add(fixed_box(
+        "floor",
+        [w + 2.0 * t, w + 2.0 * t, t],
+        [0.0, 0.0, -t / 2.0],
+        "Steel",
+    ))
+    .add(fixed_box(
+        "wx0",
+        [t, w, h],
+        [-(w + t) / 2.0, 0.0, h / 2.0],
+        "Steel",
+    ))
+    .add(fixed_box(
+        "wx1",
+        [t, w, h],
+        [(w + t) / 2.0, 0.0, h / 2.0],
+        "Steel",
+    ))
+    .add(fixed_box(
+        "wy0",
+        [w + 2.0 * t, t, h],
+        [0.0, -(w + t) / 2.0, h / 2.0],
+        "Steel",
+    ))
+    .add(fixed_box(
+        "wy1",
+        [w + 2.0 * t, t, h],
+        [0.0, (w + t) / 2.0, h / 2.0],
+        "Steel",
+    ));
+}
+
+/// A ball pit for the linear algebra (`examples/ball_pit.rs`): `n` steel balls Ø 5 cm in
+/// layers of `side × side` (`side = ⌈∛n⌉`), 5 mm apart with a few millimetres of jitter,
+/// dropped into an open steel box just wide enough for one layer, `k_red = 1e-3`. Once they
+/// settle every ball touches its neighbours, so the iteration matrix is one component of
+/// `13·n` unknowns in which each ball couples with a handful of others.
+pub fn ball_pit(n: usize) -> SceneDesc {
+    let side = (n as f64).cbrt().ceil().max(1.0) as usize;
+    let pitch = 0.055;
+    let w = side as f64 * pitch;
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions {
+        k_red: 1e-3,
+        ..Default::default()
+    }))
+    .add_contact_pair("Steel", "Steel", STEEL_STEEL);
+    add_open_box(&mut s, w, 0.05, 0.06 * (n / (side * side) + 2) as f64);
+    for k in 0..n {
+        let (layer, i, j) = (k / (side * side), (k / side) % side, k % side);
+        let jitter = 0.003 * ((k * 7 % 5) as f64 - 2.0);
+        let r = [
+            (i as f64 + 0.5) * pitch - w / 2.0 + jitter,
+            (j as f64 + 0.5) * pitch - w / 2.0 - 0.5 * jitter,
+            0.03 + 0.06 * layer as f64,
+        ];
+        add_free_sphere(
+            &mut s,
+            &format!("b{k}"),
+            0.05,
             "Steel",
             None,
             r,

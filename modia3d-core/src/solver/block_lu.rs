@@ -1,53 +1,213 @@
-//! Block-diagonal LU for the iteration matrix of a DAE with a [`super::BlockStructure`]: the
-//! matrix is block diagonal over the connected components of the block graph, so only those
-//! blocks are stored and each is factored on its own (partial pivoting) — memory and time
-//! O(Σ m_k²) and O(Σ m_k³) instead of O(n²) and O(n³). Safe code; `ida/linear.rs` wraps it as a
-//! SUNDIALS matrix and linear solver. Buffers are reused, so a warm layout and factorisation
-//! allocate nothing.
+//! Block LU for the iteration matrix of a DAE with a [`super::BlockStructure`]: the matrix is
+//! block diagonal over the connected components of the block graph, so only those blocks are
+//! stored and each is factored on its own — memory and time O(Σ m_k²) and O(Σ m_k³) instead of
+//! O(n²) and O(n³). A component is factored
+//!
+//! - **densely** (partial pivoting over the whole component) when it is small or its blocks are
+//!   densely coupled: one joint tree, two balls touching, a closed loop;
+//! - **block-sparse** when that needs fewer operations (piles, stacks, a rack of balls: each
+//!   block couples with a few others): the blocks are eliminated in a greedy minimum-fill order
+//!   (weighted by block size), only the blocks of `L + U` including the fill are stored, each
+//!   diagonal block is factored with partial pivoting inside it, and the off-diagonal blocks
+//!   follow by triangular solves and Schur updates. The choice is made per component from the
+//!   operation counts of both (`SPARSE_GAIN`), when the structure changes.
+//!
+//! Pivoting inside a diagonal block only is safe for the iteration matrices of mechanical
+//! systems (`c_j·M` and `c_j·I` on the diagonal, contact stiffness coupling bodies weakly
+//! against `c_j²·M` at the step sizes that resolve a contact), but not for every matrix: a
+//! component whose diagonal block is singular, or whose `L` blocks grow beyond
+//! `MAX_L_GROWTH` (a pivot much smaller than an entry below it in another block), is
+//! factored densely instead, from a copy of its entries, until the structure changes.
+//!
+//! Safe code; `ida/linear.rs` wraps it as a SUNDIALS matrix and linear solver. Buffers are
+//! reused, so a warm layout and factorisation allocate nothing.
 
 use super::colouring::Colouring;
 
-/// The diagonal blocks of an iteration matrix (one dense column-major block per connected
-/// component of a [`Colouring`]) and their LU factors. The Jacobian is written straight into
-/// the blocks ([`Self::set`]), so no `n × n` matrix exists.
+/// A component is factored block-sparse when its operation count is below the dense one
+/// divided by this factor (the sparse path's per-block bookkeeping and shorter inner loops
+/// cost more per operation than the dense loops; measured by
+/// `tests::sparse_and_dense_factor_times`, ignored, see BENCHMARKS.md "Linear algebra").
+const SPARSE_GAIN: f64 = 3.0;
+
+/// Largest entry of an `L` block accepted from pivoting inside the diagonal block: threshold
+/// partial pivoting as sparse direct solvers use it (a pivot at least 1e-3 of the largest entry
+/// in its column); beyond, the component is factored densely.
+const MAX_L_GROWTH: f64 = 1e3;
+
+/// The diagonal blocks of an iteration matrix (one per connected component of a
+/// [`Colouring`]) and their LU factors. The Jacobian is written straight into the blocks
+/// ([`Self::set`], [`Self::add_run`]), so no `n × n` matrix exists.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct BlockLu {
-    /// Unknowns of component `k`: `index[start[k]..start[k + 1]]` (copied at layout, so a later
-    /// change of the structure cannot mismatch the factors).
+    /// Unknowns of component `k`: `index[start[k]..start[k + 1]]`, in its local order (copied at
+    /// layout, so a later change of the structure cannot mismatch the factors).
     index: Vec<usize>,
     start: Vec<usize>,
-    /// Component and position within it of each unknown.
+    /// Component and position within it (local order) of each unknown.
     comp: Vec<usize>,
     local: Vec<usize>,
-    /// Column-major block (then LU factors) of component k at `lu[off[k]..]`, size m_k².
+    /// Dense components: column-major block (then LU factors) of component k at
+    /// `lu[off[k]..]`, size m_k² (0 for sparse components).
     lu: Vec<f64>,
     off: Vec<usize>,
     /// Row permutation of each component (local indices), at `piv[start[k]..]`.
     piv: Vec<usize>,
+    /// Sparse component of component k (`usize::MAX`: dense).
+    kind: Vec<usize>,
+    /// The sparse components (a pool: entries beyond `n_sparse` keep their buffers).
+    sparse: Vec<SparseComp>,
+    n_sparse: usize,
     /// Gathered right-hand side.
     work: Vec<f64>,
+    /// Layout scratch: blocks by component, block → local block index, ordering scratch.
+    comp_blocks: Vec<usize>,
+    comp_block_start: Vec<usize>,
+    scratch: OrderScratch,
+    /// A layout exists for `laid_n` unknowns.
+    laid_n: Option<usize>,
+    /// Replaces [`SPARSE_GAIN`] (tests: 0 forces the block-sparse path, infinity the dense).
+    gain: Option<f64>,
+}
+
+/// One component factored block-sparse. Blocks are numbered by their elimination position
+/// `p`; block `p` holds the local unknowns `bstart[p]..bstart[p + 1]`. Every stored block is
+/// column-major.
+#[derive(Clone, Debug, Default)]
+struct SparseComp {
+    bstart: Vec<usize>,
+    /// Elimination position of each local unknown.
+    bpos: Vec<usize>,
+    /// Offset of the diagonal block `p` in `vals`.
+    diag: Vec<usize>,
+    /// Later neighbours of `p` (including fill), ascending: `nbr[nstart[p]..nstart[p + 1]]`,
+    /// with the offsets of the `L` block `(q, p)` and the `U` block `(p, q)`.
+    nbr: Vec<usize>,
+    nstart: Vec<usize>,
+    l_off: Vec<usize>,
+    u_off: Vec<usize>,
+    /// Schur update targets of step `p`: the offset of block `(q_a, q_b)` for the neighbours
+    /// `a, b` of `p`, row-major over `(a, b)` from `ustart[p]`.
+    upd: Vec<usize>,
+    ustart: Vec<usize>,
+    /// The entries (then the factors) and a copy of the entries for the dense fallback.
+    vals: Vec<f64>,
+    orig: Vec<f64>,
+    /// The dense fallback: factored densely until the structure changes.
+    dense: bool,
+    dense_lu: Vec<f64>,
+    /// Row permutations of the diagonal blocks (local indices within each block), or of the
+    /// whole component when dense.
+    piv: Vec<usize>,
+    /// The L and U blocks of one step, copied for its Schur updates.
+    lbuf: Vec<f64>,
+    ubuf: Vec<f64>,
+}
+
+/// Buffers of the minimum-fill ordering.
+#[derive(Clone, Debug, Default)]
+struct OrderScratch {
+    /// Block adjacency (with fill) of the component being ordered, `nb × nb`.
+    adj: Vec<bool>,
+    size: Vec<usize>,
+    cost: Vec<usize>,
+    done: Vec<bool>,
+    order: Vec<usize>,
+    pos: Vec<usize>,
+    nbrs: Vec<usize>,
+    local_of_block: Vec<usize>,
 }
 
 impl BlockLu {
-    /// Lays out zeroed blocks for the components of `col` (n unknowns).
-    pub fn layout(&mut self, col: &Colouring, n: usize) {
+    /// A block LU that chooses dense or block-sparse per component, or (`MODIA3D_DENSE_LU=1`,
+    /// read here, for comparisons) factors every component densely.
+    pub fn new() -> Self {
+        let dense = std::env::var_os("MODIA3D_DENSE_LU").is_some_and(|v| v == "1");
+        BlockLu {
+            gain: dense.then_some(f64::INFINITY),
+            ..Default::default()
+        }
+    }
+
+    /// Lays out zeroed blocks for the components of `col` (n unknowns). `rebuilt`: the colouring
+    /// changed since the last layout (else only the entries are zeroed, and the ordering, the
+    /// choice of dense or sparse and a dense fallback are kept).
+    pub fn layout(&mut self, col: &Colouring, n: usize, rebuilt: bool) {
+        if !rebuilt && self.laid_n == Some(n) {
+            self.lu.fill(0.0);
+            for sc in &mut self.sparse[..self.n_sparse] {
+                sc.vals.fill(0.0);
+            }
+            return;
+        }
+        self.laid_n = Some(n);
         self.index.clear();
         self.start.clear();
         self.off.clear();
+        self.kind.clear();
+        self.n_sparse = 0;
         self.start.push(0);
         self.comp.resize(n, 0);
         self.local.resize(n, 0);
-        let mut size = 0;
-        for k in 0..col.n_components() {
-            let c = col.component(k);
-            for (l, &i) in c.iter().enumerate() {
-                self.comp[i] = k;
-                self.local[i] = l;
+        // Blocks of each component (non-empty ones).
+        let n_comp = col.n_components();
+        let nb = col.n_blocks();
+        self.comp_block_start.clear();
+        self.comp_block_start.resize(n_comp + 1, 0);
+        for b in 0..nb {
+            if !col.members(b).is_empty() {
+                self.comp_block_start[col.component_of_block(b) + 1] += 1;
             }
-            self.index.extend_from_slice(c);
+        }
+        for k in 0..n_comp {
+            self.comp_block_start[k + 1] += self.comp_block_start[k];
+        }
+        self.comp_blocks.clear();
+        self.comp_blocks.resize(self.comp_block_start[n_comp], 0);
+        self.scratch.pos.clear();
+        self.scratch
+            .pos
+            .extend_from_slice(&self.comp_block_start[..n_comp]);
+        for b in 0..nb {
+            if !col.members(b).is_empty() {
+                let k = col.component_of_block(b);
+                self.comp_blocks[self.scratch.pos[k]] = b;
+                self.scratch.pos[k] += 1;
+            }
+        }
+        self.scratch.local_of_block.resize(nb, 0);
+        let mut size = 0;
+        for k in 0..n_comp {
+            let blocks = &self.comp_blocks[self.comp_block_start[k]..self.comp_block_start[k + 1]];
+            let c = col.component(k);
+            let gain = self.gain.unwrap_or(SPARSE_GAIN);
+            let sparse = blocks.len() >= 3
+                && order_blocks(col, blocks, &mut self.scratch) * gain < dense_flops(c.len());
+            if sparse {
+                if self.n_sparse == self.sparse.len() {
+                    self.sparse.push(SparseComp::default());
+                }
+                let sc = &mut self.sparse[self.n_sparse];
+                let first = self.index.len();
+                sc.symbolic(col, blocks, &self.scratch, &mut self.index);
+                for (l, &i) in self.index[first..].iter().enumerate() {
+                    self.comp[i] = k;
+                    self.local[i] = l;
+                }
+                self.kind.push(self.n_sparse);
+                self.n_sparse += 1;
+                self.off.push(size);
+            } else {
+                for (l, &i) in c.iter().enumerate() {
+                    self.comp[i] = k;
+                    self.local[i] = l;
+                }
+                self.index.extend_from_slice(c);
+                self.kind.push(usize::MAX);
+                self.off.push(size);
+                size += c.len() * c.len();
+            }
             self.start.push(self.index.len());
-            self.off.push(size);
-            size += c.len() * c.len();
         }
         self.lu.clear();
         self.lu.resize(size, 0.0);
@@ -56,25 +216,48 @@ impl BlockLu {
         self.work.resize(n, 0.0);
     }
 
+    /// Number of components factored block-sparse in the current layout.
+    #[cfg(test)]
+    fn n_sparse(&self) -> usize {
+        self.n_sparse
+    }
+
+    /// The entry (`i`, `j`) of the matrix, as a slot of the storage; both unknowns must be in
+    /// one component (entries between components are zero by construction), and for a sparse
+    /// component in blocks coupled by the structure. `None` for an entry outside the layout.
+    #[inline]
+    fn slot(&mut self, i: usize, j: usize) -> Option<&mut f64> {
+        let k = self.comp[j];
+        debug_assert_eq!(self.comp[i], k, "entry ({i}, {j}) couples two components");
+        let s = self.kind[k];
+        if s == usize::MAX {
+            let m = self.start[k + 1] - self.start[k];
+            return self
+                .lu
+                .get_mut(self.off[k] + self.local[j] * m + self.local[i]);
+        }
+        let sc = &mut self.sparse[s];
+        let at = sc.offset(self.local[i], self.local[j]);
+        debug_assert!(at.is_some(), "entry ({i}, {j}) outside the block pattern");
+        sc.vals.get_mut(at?)
+    }
+
     /// Sets entry (`i`, `j`) of the matrix; both unknowns must be in one component (entries
     /// between components are zero by construction).
     #[inline]
     pub fn set(&mut self, i: usize, j: usize, value: f64) {
-        let k = self.comp[j];
-        debug_assert_eq!(self.comp[i], k, "entry ({i}, {j}) couples two components");
-        let m = self.start[k + 1] - self.start[k];
-        self.lu[self.off[k] + self.local[j] * m + self.local[i]] = value;
+        if let Some(e) = self.slot(i, j) {
+            *e = value;
+        }
     }
 
     /// Adds `values[t]` to entry (`i0 + t`, `j`): the rows must be in `j`'s component and
-    /// consecutive in it (as a run of one block's unknowns is), so the run is one slice of
-    /// the block's column.
+    /// consecutive in one of its blocks (as a run of one block's unknowns is), so the run is one
+    /// slice of a stored column.
     #[inline]
     pub fn add_run(&mut self, i0: usize, j: usize, values: &[f64]) {
         let k = self.comp[j];
-        let m = self.start[k + 1] - self.start[k];
-        let base = self.off[k] + self.local[j] * m + self.local[i0];
-        for (t, &v) in values.iter().enumerate() {
+        for t in 0..values.len() {
             debug_assert_eq!(
                 self.comp[i0 + t],
                 k,
@@ -86,19 +269,43 @@ impl BlockLu {
                 self.local[i0] + t,
                 "rows not consecutive"
             );
-            self.lu[base + t] += v;
+        }
+        let s = self.kind[k];
+        let (store, base) = if s == usize::MAX {
+            let m = self.start[k + 1] - self.start[k];
+            (
+                &mut self.lu,
+                self.off[k] + self.local[j] * m + self.local[i0],
+            )
+        } else {
+            let sc = &mut self.sparse[s];
+            let Some(base) = sc.offset(self.local[i0], self.local[j]) else {
+                debug_assert!(false, "entry ({i0}, {j}) outside the block pattern");
+                return;
+            };
+            (&mut sc.vals, base)
+        };
+        if let Some(dst) = store.get_mut(base..base + values.len()) {
+            for (d, &v) in dst.iter_mut().zip(values) {
+                *d += v;
+            }
         }
     }
 
-    /// Factors every block in place. Returns the global index of the first zero pivot if a
-    /// block is singular.
+    /// Factors every component in place. Returns the global index of the first zero pivot if a
+    /// component is singular.
     pub fn factor(&mut self) -> Result<(), usize> {
         for k in 0..self.off.len() {
             let idx = &self.index[self.start[k]..self.start[k + 1]];
             let m = idx.len();
-            let lu = &mut self.lu[self.off[k]..self.off[k] + m * m];
             let piv = &mut self.piv[self.start[k]..self.start[k + 1]];
-            lu_in_place(lu, m, piv).map_err(|local| idx[local])?;
+            let s = self.kind[k];
+            if s == usize::MAX {
+                let lu = &mut self.lu[self.off[k]..self.off[k] + m * m];
+                lu_in_place(lu, m, piv).map_err(|local| idx[local])?;
+            } else {
+                self.sparse[s].factor(m).map_err(|local| idx[local])?;
+            }
         }
         Ok(())
     }
@@ -108,16 +315,381 @@ impl BlockLu {
         for k in 0..self.off.len() {
             let idx = &self.index[self.start[k]..self.start[k + 1]];
             let m = idx.len();
-            let lu = &self.lu[self.off[k]..self.off[k] + m * m];
-            let piv = &self.piv[self.start[k]..self.start[k + 1]];
             let w = &mut self.work[..m];
             for (l, &i) in idx.iter().enumerate() {
                 w[l] = x[i];
             }
-            lu_solve(lu, m, piv, w);
+            let s = self.kind[k];
+            if s == usize::MAX {
+                let lu = &self.lu[self.off[k]..self.off[k] + m * m];
+                let piv = &self.piv[self.start[k]..self.start[k + 1]];
+                lu_solve(lu, m, piv, w);
+            } else {
+                self.sparse[s].solve(m, w);
+            }
             for (l, &i) in idx.iter().enumerate() {
                 x[i] = w[l];
             }
+        }
+    }
+}
+
+/// Orders the blocks of one component (`blocks`, global block numbers; `m` unknowns) for
+/// block elimination by greedy minimum fill: the next block is the one whose remaining
+/// neighbours have the fewest unknowns, and eliminating it couples those neighbours with each
+/// other. Leaves the order and the filled adjacency in `sc` and returns the operation count of
+/// the block elimination in that order.
+fn order_blocks(col: &Colouring, blocks: &[usize], sc: &mut OrderScratch) -> f64 {
+    let nb = blocks.len();
+    for (l, &b) in blocks.iter().enumerate() {
+        sc.local_of_block[b] = l;
+    }
+    sc.adj.clear();
+    sc.adj.resize(nb * nb, false);
+    sc.size.clear();
+    sc.size.extend(blocks.iter().map(|&b| col.members(b).len()));
+    for (l, &b) in blocks.iter().enumerate() {
+        for &o in col.neighbours(b) {
+            if !col.members(o).is_empty() && o != b {
+                let lo = sc.local_of_block[o];
+                sc.adj[l * nb + lo] = true;
+                sc.adj[lo * nb + l] = true;
+            }
+        }
+    }
+    sc.cost.clear();
+    sc.cost.extend((0..nb).map(|a| {
+        (0..nb)
+            .filter(|&b| sc.adj[a * nb + b])
+            .map(|b| sc.size[b])
+            .sum::<usize>()
+    }));
+    sc.done.clear();
+    sc.done.resize(nb, false);
+    sc.order.clear();
+    let mut flops = 0.0;
+    for _ in 0..nb {
+        let Some(v) = (0..nb)
+            .filter(|&a| !sc.done[a])
+            .min_by_key(|&a| (sc.cost[a], a))
+        else {
+            break;
+        };
+        sc.order.push(v);
+        sc.done[v] = true;
+        sc.nbrs.clear();
+        sc.nbrs
+            .extend((0..nb).filter(|&u| !sc.done[u] && sc.adj[v * nb + u]));
+        let s = sc.size[v] as f64;
+        let sn: f64 = sc.nbrs.iter().map(|&u| sc.size[u] as f64).sum();
+        // Diagonal LU, the two triangular solves of its row and column, the Schur update.
+        flops += 2.0 / 3.0 * s * s * s + 2.0 * s * s * sn + 2.0 * s * sn * sn;
+        for &u in &sc.nbrs {
+            sc.cost[u] -= sc.size[v];
+        }
+        for ai in 0..sc.nbrs.len() {
+            for bi in 0..sc.nbrs.len() {
+                let (a, b) = (sc.nbrs[ai], sc.nbrs[bi]);
+                if a != b && !sc.adj[a * nb + b] {
+                    sc.adj[a * nb + b] = true;
+                    sc.cost[a] += sc.size[b];
+                }
+            }
+        }
+    }
+    flops
+}
+
+/// Operations of the dense LU of an `m × m` matrix.
+fn dense_flops(m: usize) -> f64 {
+    2.0 / 3.0 * (m as f64).powi(3)
+}
+
+impl SparseComp {
+    /// The symbolic factorisation from the ordering in `sc` (its filled adjacency): block
+    /// positions, the pattern of `L + U`, the Schur update targets; appends the component's
+    /// unknowns in local (elimination) order to `index`.
+    fn symbolic(
+        &mut self,
+        col: &Colouring,
+        blocks: &[usize],
+        sc: &OrderScratch,
+        index: &mut Vec<usize>,
+    ) {
+        let nb = blocks.len();
+        let mut pos_of = std::mem::take(&mut self.piv);
+        pos_of.clear();
+        pos_of.resize(nb, 0);
+        for (p, &v) in sc.order.iter().enumerate() {
+            pos_of[v] = p;
+        }
+        self.bstart.clear();
+        self.bstart.push(0);
+        self.bpos.clear();
+        for (p, &v) in sc.order.iter().enumerate() {
+            let members = col.members(blocks[v]);
+            index.extend_from_slice(members);
+            self.bpos.extend(std::iter::repeat_n(p, members.len()));
+            self.bstart.push(self.bpos.len());
+        }
+        // Pattern: the later neighbours of each block in the filled adjacency.
+        self.nbr.clear();
+        self.nstart.clear();
+        self.nstart.push(0);
+        for &v in &sc.order {
+            let p = pos_of[v];
+            let first = self.nbr.len();
+            self.nbr.extend(
+                (0..nb)
+                    .filter(|&u| sc.adj[v * nb + u] && pos_of[u] > p)
+                    .map(|u| pos_of[u]),
+            );
+            self.nbr[first..].sort_unstable();
+            self.nstart.push(self.nbr.len());
+        }
+        // Offsets: the diagonal block, then the L and U blocks of each step.
+        let mut at = 0;
+        self.diag.clear();
+        self.l_off.clear();
+        self.u_off.clear();
+        let bs = &self.bstart;
+        for p in 0..nb {
+            let s = bs[p + 1] - bs[p];
+            self.diag.push(at);
+            at += s * s;
+            for &q in &self.nbr[self.nstart[p]..self.nstart[p + 1]] {
+                let sq = bs[q + 1] - bs[q];
+                self.l_off.push(at);
+                at += sq * s;
+                self.u_off.push(at);
+                at += s * sq;
+            }
+        }
+        self.vals.clear();
+        self.vals.resize(at, 0.0);
+        self.orig.clear();
+        self.orig.resize(at, 0.0);
+        // Schur targets: block (q_a, q_b) for each pair of later neighbours of p.
+        self.upd.clear();
+        self.ustart.clear();
+        for p in 0..nb {
+            self.ustart.push(self.upd.len());
+            let nbrs = &self.nbr[self.nstart[p]..self.nstart[p + 1]];
+            for &qa in nbrs {
+                for &qb in nbrs {
+                    let target = self.block_offset(qa, qb);
+                    debug_assert!(target.is_some(), "fill block ({qa}, {qb}) missing");
+                    self.upd.push(target.unwrap_or(usize::MAX));
+                }
+            }
+        }
+        self.ustart.push(self.upd.len());
+        self.dense = false;
+        self.piv = pos_of;
+        self.piv.clear();
+        self.piv.resize(self.bpos.len(), 0);
+    }
+
+    /// Offset in `vals` of the stored block (row block `p`, column block `q`).
+    fn block_offset(&self, p: usize, q: usize) -> Option<usize> {
+        use std::cmp::Ordering;
+        match p.cmp(&q) {
+            Ordering::Equal => Some(self.diag[p]),
+            // L block (p, q), stored with the later neighbours of q.
+            Ordering::Greater => {
+                let r = self.nstart[q]..self.nstart[q + 1];
+                let t = self.nbr[r.clone()].binary_search(&p).ok()?;
+                Some(self.l_off[r.start + t])
+            }
+            Ordering::Less => {
+                let r = self.nstart[p]..self.nstart[p + 1];
+                let t = self.nbr[r.clone()].binary_search(&q).ok()?;
+                Some(self.u_off[r.start + t])
+            }
+        }
+    }
+
+    /// Offset in `vals` of the entry of local row `li` and local column `lj`.
+    #[inline]
+    fn offset(&self, li: usize, lj: usize) -> Option<usize> {
+        let (p, q) = (self.bpos[li], self.bpos[lj]);
+        let rows = self.bstart[p + 1] - self.bstart[p];
+        let base = self.block_offset(p, q)?;
+        Some(base + (lj - self.bstart[q]) * rows + (li - self.bstart[p]))
+    }
+
+    /// Block elimination in place (or the dense fallback); `Err(local index)` of a zero pivot.
+    fn factor(&mut self, m: usize) -> Result<(), usize> {
+        if !self.dense {
+            self.orig.copy_from_slice(&self.vals);
+            match self.eliminate() {
+                Ok(()) => return Ok(()),
+                // A singular diagonal block or a poor pivot: dense from here on.
+                Err(_) => self.dense = true,
+            }
+            self.vals.copy_from_slice(&self.orig);
+        }
+        self.dense_lu.clear();
+        self.dense_lu.resize(m * m, 0.0);
+        let nb = self.bstart.len() - 1;
+        for p in 0..nb {
+            for q in 0..nb {
+                let Some(off) = self.block_offset(p, q) else {
+                    continue;
+                };
+                let (r0, r1) = (self.bstart[p], self.bstart[p + 1]);
+                let (c0, c1) = (self.bstart[q], self.bstart[q + 1]);
+                let rows = r1 - r0;
+                for c in c0..c1 {
+                    let src = &self.vals[off + (c - c0) * rows..off + (c - c0 + 1) * rows];
+                    self.dense_lu[c * m + r0..c * m + r1].copy_from_slice(src);
+                }
+            }
+        }
+        lu_in_place(&mut self.dense_lu, m, &mut self.piv)
+    }
+
+    /// The block-sparse elimination; `Err(())` when a diagonal block is singular or an `L`
+    /// block grows beyond [`MAX_L_GROWTH`].
+    fn eliminate(&mut self) -> Result<(), ()> {
+        let nb = self.bstart.len() - 1;
+        for p in 0..nb {
+            let s = self.bstart[p + 1] - self.bstart[p];
+            let d0 = self.diag[p];
+            let (b0, b1) = (self.bstart[p], self.bstart[p + 1]);
+            lu_in_place(&mut self.vals[d0..d0 + s * s], s, &mut self.piv[b0..b1])
+                .map_err(|_| ())?;
+            let (nb0, nb1) = (self.nstart[p], self.nstart[p + 1]);
+            self.lbuf.clear();
+            self.ubuf.clear();
+            for t in nb0..nb1 {
+                let q = self.nbr[t];
+                let sq = self.bstart[q + 1] - self.bstart[q];
+                // U block (p, q) = L_pp⁻¹ P_p A_pq, column by column.
+                let (head, tail) = self.vals.split_at_mut(self.u_off[t]);
+                let d = &head[d0..d0 + s * s];
+                let piv = &self.piv[b0..b1];
+                let u = &mut tail[..s * sq];
+                for colv in u.chunks_exact_mut(s) {
+                    for (k, &pk) in piv.iter().enumerate() {
+                        colv.swap(k, pk);
+                    }
+                    unit_lower_solve(d, s, colv);
+                }
+                self.ubuf.extend_from_slice(u);
+                // L block (q, p) = A_qp U_pp⁻¹: X U = A, column by column.
+                let (head, tail) = self.vals.split_at_mut(self.l_off[t]);
+                let d = &head[d0..d0 + s * s];
+                let l = &mut tail[..sq * s];
+                for c in 0..s {
+                    for k in 0..c {
+                        let ukc = d[c * s + k];
+                        if ukc != 0.0 {
+                            let (done, rest) = l.split_at_mut(c * sq);
+                            let xk = &done[k * sq..(k + 1) * sq];
+                            for (lc, &xv) in rest[..sq].iter_mut().zip(xk) {
+                                *lc -= xv * ukc;
+                            }
+                        }
+                    }
+                    let inv = 1.0 / d[c * s + c];
+                    for lc in &mut l[c * sq..(c + 1) * sq] {
+                        *lc *= inv;
+                    }
+                }
+                if l.iter()
+                    .any(|x| x.abs().partial_cmp(&MAX_L_GROWTH) != Some(std::cmp::Ordering::Less))
+                {
+                    return Err(());
+                }
+                self.lbuf.extend_from_slice(l);
+            }
+            // Schur updates: block (q_a, q_b) -= L_{q_a p} U_{p q_b}.
+            let deg = nb1 - nb0;
+            let mut la = 0;
+            for a in 0..deg {
+                let qa = self.nbr[nb0 + a];
+                let sa = self.bstart[qa + 1] - self.bstart[qa];
+                let lblk = &self.lbuf[la..la + sa * s];
+                la += sa * s;
+                let mut ub = 0;
+                for b in 0..deg {
+                    let qb = self.nbr[nb0 + b];
+                    let sb = self.bstart[qb + 1] - self.bstart[qb];
+                    let ublk = &self.ubuf[ub..ub + s * sb];
+                    ub += s * sb;
+                    let off = self.upd[self.ustart[p] + a * deg + b];
+                    let Some(target) = self.vals.get_mut(off..off + sa * sb) else {
+                        return Err(());
+                    };
+                    for (tcol, ucol) in target.chunks_exact_mut(sa).zip(ublk.chunks_exact(s)) {
+                        for (lcol, &u) in lblk.chunks_exact(sa).zip(ucol) {
+                            if u != 0.0 {
+                                for (t, &lv) in tcol.iter_mut().zip(lcol) {
+                                    *t -= lv * u;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves with the factors of [`Self::factor`], `w` (the component's right-hand side in
+    /// local order) overwritten by the solution.
+    fn solve(&self, m: usize, w: &mut [f64]) {
+        if self.dense {
+            lu_solve(&self.dense_lu, m, &self.piv, w);
+            return;
+        }
+        let nb = self.bstart.len() - 1;
+        // Forward: z_p = L_pp⁻¹ P_p b_p, then b_q -= L_qp z_p.
+        for p in 0..nb {
+            let (b0, b1) = (self.bstart[p], self.bstart[p + 1]);
+            let s = b1 - b0;
+            let d = &self.vals[self.diag[p]..self.diag[p] + s * s];
+            let (head, tail) = w.split_at_mut(b1);
+            let z = &mut head[b0..];
+            for (k, &pk) in self.piv[b0..b1].iter().enumerate() {
+                z.swap(k, pk);
+            }
+            unit_lower_solve(d, s, z);
+            for t in self.nstart[p]..self.nstart[p + 1] {
+                let q = self.nbr[t];
+                let (q0, q1) = (self.bstart[q] - b1, self.bstart[q + 1] - b1);
+                let sq = q1 - q0;
+                let l = &self.vals[self.l_off[t]..self.l_off[t] + sq * s];
+                let bq = &mut tail[q0..q1];
+                for (lcol, &zc) in l.chunks_exact(sq).zip(z.iter()) {
+                    if zc != 0.0 {
+                        for (bi, &lv) in bq.iter_mut().zip(lcol) {
+                            *bi -= lv * zc;
+                        }
+                    }
+                }
+            }
+        }
+        // Backward: x_p = U_pp⁻¹ (z_p − Σ U_pq x_q).
+        for p in (0..nb).rev() {
+            let (b0, b1) = (self.bstart[p], self.bstart[p + 1]);
+            let s = b1 - b0;
+            let (head, tail) = w.split_at_mut(b1);
+            let z = &mut head[b0..];
+            for t in self.nstart[p]..self.nstart[p + 1] {
+                let q = self.nbr[t];
+                let (q0, q1) = (self.bstart[q] - b1, self.bstart[q + 1] - b1);
+                let u = &self.vals[self.u_off[t]..self.u_off[t] + s * (q1 - q0)];
+                for (ucol, &xq) in u.chunks_exact(s).zip(&tail[q0..q1]) {
+                    if xq != 0.0 {
+                        for (zi, &uv) in z.iter_mut().zip(ucol) {
+                            *zi -= uv * xq;
+                        }
+                    }
+                }
+            }
+            upper_solve(&self.vals[self.diag[p]..self.diag[p] + s * s], s, z);
         }
     }
 }
@@ -169,6 +741,13 @@ fn lu_solve(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
     for (k, &p) in piv.iter().enumerate().take(m) {
         b.swap(k, p);
     }
+    unit_lower_solve(a, m, b);
+    upper_solve(a, m, b);
+}
+
+/// `b ← L⁻¹ b` with the unit lower triangle of the column-major `m × m` factors `a`.
+fn unit_lower_solve(a: &[f64], m: usize, b: &mut [f64]) {
+    let b = &mut b[..m];
     for (j, col) in a.chunks_exact(m).enumerate().take(m) {
         let bj = b[j];
         if bj != 0.0 {
@@ -178,6 +757,12 @@ fn lu_solve(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
             }
         }
     }
+}
+
+/// `b ← U⁻¹ b` with the upper triangle (diagonal included) of the column-major `m × m`
+/// factors `a`.
+fn upper_solve(a: &[f64], m: usize, b: &mut [f64]) {
+    let b = &mut b[..m];
     for (j, col) in a.chunks_exact(m).enumerate().take(m).rev() {
         let (above, rest) = b.split_at_mut(j);
         rest[0] /= col[j];
@@ -211,36 +796,19 @@ mod tests {
         let nb = 7;
         let block_of: Vec<usize> = (0..n).map(|i| (i * 5 + 3) % nb).collect();
         let couplings = vec![(0, 1), (1, 2), (4, 5)];
-        let mut col = Colouring::with_structure(BlockStructure {
-            block_of: block_of.clone(),
-            n_blocks: nb,
-            couplings: couplings.clone(),
-            ..Default::default()
+        // Small diagonal on some rows forces pivoting.
+        let (a, col) = structured(&block_of, nb, &couplings, |i, j| {
+            rnd() + if i == j && i % 3 != 0 { 3.0 } else { 0.0 }
         });
-        col.update(n).unwrap();
-        let coupled = |a: usize, b: usize| {
-            a == b
-                || couplings
-                    .iter()
-                    .any(|&(p, q)| (p, q) == (a, b) || (q, p) == (a, b))
-        };
-        let mut a = DMatrix::<f64>::zeros(n, n);
-        for i in 0..n {
-            for j in 0..n {
-                if coupled(block_of[i], block_of[j]) {
-                    // Small diagonal on some rows forces pivoting.
-                    a[(i, j)] = rnd() + if i == j && i % 3 != 0 { 3.0 } else { 0.0 };
-                }
-            }
-        }
+        let coupled = |i: usize, j: usize| col_coupled(&couplings, block_of[i], block_of[j]);
         let b = DVector::<f64>::from_fn(n, |_, _| rnd());
         let exact = a.clone().lu().solve(&b).unwrap();
         let mut lu = BlockLu::default();
         let load = |lu: &mut BlockLu, a: &DMatrix<f64>| {
-            lu.layout(&col, n);
+            lu.layout(&col, n, true);
             for i in 0..n {
                 for j in 0..n {
-                    if coupled(block_of[i], block_of[j]) {
+                    if coupled(i, j) {
                         lu.set(i, j, a[(i, j)]);
                     }
                 }
@@ -257,5 +825,280 @@ mod tests {
         sing.column_mut(5).fill(0.0);
         load(&mut lu, &sing);
         assert_eq!(lu.factor(), Err(5));
+    }
+
+    /// Blocks `a` and `b` are coupled (or the same).
+    fn col_coupled(couplings: &[(usize, usize)], a: usize, b: usize) -> bool {
+        a == b
+            || couplings
+                .iter()
+                .any(|&(p, q)| (p, q) == (a, b) || (q, p) == (a, b))
+    }
+
+    /// The colouring of the structure (`block_of`, `nb` blocks, `couplings`) and a matrix with
+    /// `entry(i, j)` where the blocks of `i` and `j` are coupled, zero elsewhere.
+    fn structured(
+        block_of: &[usize],
+        nb: usize,
+        couplings: &[(usize, usize)],
+        mut entry: impl FnMut(usize, usize) -> f64,
+    ) -> (DMatrix<f64>, Colouring) {
+        let n = block_of.len();
+        let mut col = Colouring::with_structure(BlockStructure {
+            block_of: block_of.to_vec(),
+            n_blocks: nb,
+            couplings: couplings.to_vec(),
+            ..Default::default()
+        });
+        col.update(n).unwrap();
+        let mut a = DMatrix::<f64>::zeros(n, n);
+        for i in 0..n {
+            for j in 0..n {
+                if col_coupled(couplings, block_of[i], block_of[j]) {
+                    a[(i, j)] = entry(i, j);
+                }
+            }
+        }
+        (a, col)
+    }
+
+    /// A random matrix on the block pattern of `couplings` (block `b` has `sizes[b]` unknowns,
+    /// interleaved as a real system's are), diagonally weighted by `diag` on the rows of block
+    /// rows; returns the matrix, its block structure and the colouring.
+    fn pattern(
+        sizes: &[usize],
+        couplings: &[(usize, usize)],
+        diag: f64,
+        seed: u64,
+    ) -> (DMatrix<f64>, Colouring, Vec<usize>) {
+        let mut x = seed;
+        let mut rnd = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        // Unknowns of the blocks interleaved (block of unknown i round-robin over the blocks
+        // that still have unknowns), so that a block's unknowns are not consecutive.
+        let mut left = sizes.to_vec();
+        let mut block_of = Vec::new();
+        while left.iter().any(|&l| l > 0) {
+            for (b, l) in left.iter_mut().enumerate() {
+                if *l > 0 {
+                    block_of.push(b);
+                    *l -= 1;
+                }
+            }
+        }
+        let (a, col) = structured(&block_of, sizes.len(), couplings, |i, j| {
+            rnd() + if i == j { diag } else { 0.0 }
+        });
+        (a, col, block_of)
+    }
+
+    /// Loads `a` (entries on the pattern only, by columns in runs where rows are consecutive
+    /// in their block) into a fresh layout, factors and solves `a x = b`; returns the largest
+    /// error against nalgebra's dense LU relative to the solution and the layout.
+    fn solve_both(a: &DMatrix<f64>, col: &Colouring, block_of: &[usize]) -> (f64, BlockLu) {
+        let n = a.nrows();
+        let mut lu = BlockLu::default();
+        lu.layout(col, n, true);
+        for j in 0..n {
+            for i in 0..n {
+                if a[(i, j)] != 0.0 {
+                    if i % 2 == 0 {
+                        lu.set(i, j, a[(i, j)]);
+                    } else {
+                        lu.add_run(i, j, &[a[(i, j)]]);
+                    }
+                }
+            }
+        }
+        let _ = block_of;
+        lu.factor().unwrap();
+        let b = DVector::<f64>::from_fn(n, |i, _| ((i * 7919) % 13) as f64 - 6.0);
+        let exact = a.clone().lu().solve(&b).unwrap();
+        let mut xs = b.as_slice().to_vec();
+        lu.solve(&mut xs);
+        let err = (DVector::from_vec(xs) - &exact).amax() / exact.amax().max(1.0);
+        (err, lu)
+    }
+
+    /// A triangular rack of 15 balls (13 unknowns each, couplings between touching balls) and a
+    /// stack of 10 bodies (a chain) are factored block-sparse and agree with nalgebra's dense LU
+    /// to round-off (the matrices are diagonally weighted, as an iteration matrix with
+    /// `c_j·M` on its diagonal is, condition ~1e2: 1e-12 is ~1e4 roundings).
+    #[test]
+    fn sparse_components_match_dense_lu() {
+        let mut rack = Vec::new();
+        let id = |r: usize, c: usize| r * (r + 1) / 2 + c;
+        for r in 0..5 {
+            for c in 0..=r {
+                if c < r {
+                    rack.push((id(r, c), id(r, c + 1)));
+                }
+                if r < 4 {
+                    rack.push((id(r, c), id(r + 1, c)));
+                    rack.push((id(r, c), id(r + 1, c + 1)));
+                }
+            }
+        }
+        let chain: Vec<_> = (0..9).map(|b| (b, b + 1)).collect();
+        let mixed_sizes: Vec<usize> = (0..10).map(|b| [13, 6, 1, 7][b % 4]).collect();
+        for (name, sizes, couplings) in [
+            ("rack", vec![13; 15], rack),
+            ("stack", vec![13; 10], chain.clone()),
+            ("mixed stack", mixed_sizes, chain),
+        ] {
+            for seed in 1..4u64 {
+                let (a, col, block_of) = pattern(
+                    &sizes,
+                    &couplings,
+                    4.0,
+                    seed.wrapping_mul(0x9e3779b97f4a7c15),
+                );
+                let (err, lu) = solve_both(&a, &col, &block_of);
+                assert_eq!(lu.n_sparse(), 1, "{name}: not factored block-sparse");
+                assert!(err < 1e-12, "{name}, seed {seed}: error {err:e}");
+                // A second Jacobian on the same structure reuses the layout.
+                let mut again = lu.clone();
+                again.layout(&col, a.nrows(), false);
+                assert!(again.sparse[0].vals.iter().all(|&v| v == 0.0));
+            }
+        }
+    }
+
+    /// Pivoting inside diagonal blocks fails where a diagonal block is singular when it is
+    /// eliminated (a saddle point: its own entries are zero, as an algebraic constraint's are) or its
+    /// pivots are tiny against the entries below them: the component is then factored densely
+    /// and still solves to round-off; a singular component reports its zero column.
+    #[test]
+    fn sparse_falls_back_to_dense_where_block_pivots_fail() {
+        let chain: Vec<_> = (0..5).map(|b| (b, b + 1)).collect();
+        let sizes = vec![4; 6];
+        let (mut a, col, block_of) = pattern(&sizes, &chain, 4.0, 77);
+        let n = a.nrows();
+        for i in 0..n {
+            for j in 0..n {
+                // Block 0 ends the chain and is eliminated first, so its block is still zero
+                // then (a block eliminated later has received Schur updates).
+                if block_of[i] == 0 && block_of[j] == 0 {
+                    a[(i, j)] = 0.0;
+                }
+            }
+        }
+        let (err, lu) = solve_both(&a, &col, &block_of);
+        assert_eq!(lu.n_sparse(), 1);
+        assert!(lu.sparse[0].dense, "expected the dense fallback");
+        assert!(err < 1e-11, "error {err:e}");
+        // Tiny pivots in block 0 against O(1) entries below: L would grow by 1e8.
+        let (mut a, col, block_of) = pattern(&sizes, &chain, 4.0, 78);
+        for i in 0..n {
+            for j in 0..n {
+                if block_of[i] == 0 && block_of[j] == 0 {
+                    a[(i, j)] *= 1e-8;
+                }
+            }
+        }
+        let (err, lu) = solve_both(&a, &col, &block_of);
+        assert!(lu.sparse[0].dense, "expected the dense fallback");
+        assert!(err < 1e-9, "error {err:e}");
+        // A zero column: singular, reported by its global index.
+        let (mut a, col, _) = pattern(&sizes, &chain, 4.0, 79);
+        a.column_mut(9).fill(0.0);
+        let mut lu = BlockLu::default();
+        lu.layout(&col, n, true);
+        for j in 0..n {
+            for i in 0..n {
+                if a[(i, j)] != 0.0 {
+                    lu.set(i, j, a[(i, j)]);
+                }
+            }
+        }
+        assert_eq!(lu.factor(), Err(9));
+    }
+
+    /// Calibration of [`SPARSE_GAIN`]: wall time of the dense and the block-sparse
+    /// factorisation and solve of the rack, stacks and square piles of 13-unknown blocks
+    /// (`cargo test --release -p modia3d-core sparse_and_dense_factor_times -- --ignored
+    /// --nocapture`).
+    #[test]
+    #[ignore]
+    fn sparse_and_dense_factor_times() {
+        use std::time::Instant;
+        let grid = |w: usize| {
+            let mut c = Vec::new();
+            for r in 0..w {
+                for k in 0..w {
+                    if k + 1 < w {
+                        c.push((r * w + k, r * w + k + 1));
+                    }
+                    if r + 1 < w {
+                        c.push((r * w + k, (r + 1) * w + k));
+                    }
+                }
+            }
+            c
+        };
+        println!(
+            "| pattern | blocks | unknowns | operations dense / block-sparse | dense factor + solve [µs] | block-sparse [µs] | time dense / block-sparse | chosen |"
+        );
+        println!("|---|---:|---:|---:|---:|---:|---:|---|");
+        for (name, nb, couplings) in [
+            ("chain 3", 3, (0..2).map(|b| (b, b + 1)).collect::<Vec<_>>()),
+            ("chain 4", 4, (0..3).map(|b| (b, b + 1)).collect()),
+            ("chain 10", 10, (0..9).map(|b| (b, b + 1)).collect()),
+            ("grid 2x2", 4, grid(2)),
+            ("grid 3x3", 9, grid(3)),
+            ("grid 4x4", 16, grid(4)),
+            ("grid 6x6", 36, grid(6)),
+            ("grid 8x8", 64, grid(8)),
+            ("chain 30", 30, (0..29).map(|b| (b, b + 1)).collect()),
+        ] {
+            let (a, col, _) = pattern(&vec![13; nb], &couplings, 4.0, 5);
+            let n = a.nrows();
+            let blocks: Vec<usize> = (0..nb).collect();
+            let mut sc = OrderScratch::default();
+            sc.local_of_block.resize(nb, 0);
+            let flop_ratio = dense_flops(n) / order_blocks(&col, &blocks, &mut sc);
+            let time = |force_dense: bool| {
+                let mut lu = BlockLu {
+                    gain: Some(if force_dense { f64::INFINITY } else { 0.0 }),
+                    ..Default::default()
+                };
+                lu.layout(&col, n, true);
+                for j in 0..n {
+                    for i in 0..n {
+                        if a[(i, j)] != 0.0 {
+                            lu.set(i, j, a[(i, j)]);
+                        }
+                    }
+                }
+                let loaded = lu.clone();
+                let reps = 20_000_000 / (n * n * n).max(1) + 3;
+                let mut best = f64::INFINITY;
+                let mut x = vec![1.0; n];
+                for _ in 0..5 {
+                    let t0 = Instant::now();
+                    for _ in 0..reps {
+                        lu.clone_from(&loaded);
+                        lu.factor().unwrap();
+                        lu.solve(&mut x);
+                    }
+                    best = best.min(t0.elapsed().as_secs_f64() / reps as f64);
+                }
+                (best, lu.n_sparse())
+            };
+            let (dense, _) = time(true);
+            let (sparse, _) = time(false);
+            let chosen = flop_ratio > SPARSE_GAIN;
+            println!(
+                "| {name} | {nb} | {n} | {flop_ratio:.1} | {:.1} | {:.1} | {:.2} | {} |",
+                dense * 1e6,
+                sparse * 1e6,
+                dense / sparse,
+                if chosen { "block-sparse" } else { "dense" }
+            );
+        }
     }
 }

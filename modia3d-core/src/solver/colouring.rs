@@ -231,6 +231,15 @@ impl Colouring {
         &self.comp_members[self.comp_start[k]..self.comp_start[k + 1]]
     }
 
+    /// Number of blocks.
+    pub fn n_blocks(&self) -> usize {
+        self.structure.n_blocks
+    }
+    /// Connected component of block `b`.
+    pub fn component_of_block(&self, b: usize) -> usize {
+        self.comp_of[b]
+    }
+
     /// Number of colours.
     pub fn n_colours(&self) -> usize {
         self.colour_width.len()

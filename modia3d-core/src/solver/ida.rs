@@ -153,7 +153,7 @@ impl<S: DaeSystem> Ida<S> {
             zero_size: Vec::new(),
             rtol: 0.0,
             ewt_factor: Vec::new(),
-            block_lu: BlockLu::default(),
+            block_lu: BlockLu::new(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());
         let mut ida = Ida {

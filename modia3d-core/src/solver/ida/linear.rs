@@ -68,11 +68,14 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
             col.next.analytic.clear();
         }
         // The colouring is rebuilt only when the structure changed (at events).
-        if let Err(msg) = col.refresh(n) {
-            st.fatal.get_or_insert((msg, t));
-            return -1;
-        }
-        st.block_lu.layout(col, n);
+        let rebuilt = match col.refresh(n) {
+            Ok(rebuilt) => rebuilt,
+            Err(msg) => {
+                st.fatal.get_or_insert((msg, t));
+                return -1;
+            }
+        };
+        st.block_lu.layout(col, n, rebuilt);
         if col.any_analytic() {
             // The system's own columns first (the quotients below set other columns only).
             let args = JacobianArgs {
