@@ -960,10 +960,26 @@ mod tests {
                 let (err, lu) = solve_both(&a, &col, &block_of);
                 assert_eq!(lu.n_sparse(), 1, "{name}: not factored block-sparse");
                 assert!(err < 1e-12, "{name}, seed {seed}: error {err:e}");
-                // A second Jacobian on the same structure reuses the layout.
-                let mut again = lu.clone();
-                again.layout(&col, a.nrows(), false);
-                assert!(again.sparse[0].vals.iter().all(|&v| v == 0.0));
+                // A second Jacobian on the same structure reuses the layout, and loading,
+                // factoring and solving allocate nothing (the unit tests count allocations
+                // per thread, `counting_alloc`).
+                let mut lu = lu;
+                let mut x = vec![1.0; a.nrows()];
+                let before = crate::counting_alloc::allocs();
+                lu.layout(&col, a.nrows(), false);
+                assert!(lu.sparse[0].vals.iter().all(|&v| v == 0.0));
+                for (i, j) in (0..a.nrows()).flat_map(|i| (0..a.nrows()).map(move |j| (i, j))) {
+                    if a[(i, j)] != 0.0 {
+                        lu.set(i, j, a[(i, j)]);
+                    }
+                }
+                lu.factor().unwrap();
+                lu.solve(&mut x);
+                assert_eq!(
+                    crate::counting_alloc::allocs() - before,
+                    0,
+                    "{name}: allocations"
+                );
             }
         }
     }
