@@ -60,8 +60,8 @@ struct Side<const N: usize> {
     dx: T3<N>,
     /// Body frame → world.
     rot: Matrix3<f64>,
-    /// `δθ` seed: identity in this body's θ columns.
-    dth: T3<N>,
+    /// First column of this body's `δθ` (its tangent is the identity there).
+    th: usize,
     /// Angular velocity and velocity of the origin (world) and their tangents.
     w: Vector3<f64>,
     dw: T3<N>,
@@ -76,7 +76,7 @@ impl<const N: usize> Side<N> {
             x: Vector3::zeros(),
             dx: T3::zeros(),
             rot: Matrix3::identity(),
-            dth: T3::zeros(),
+            th: 0,
             w: Vector3::zeros(),
             dw: T3::zeros(),
             v0: Vector3::zeros(),
@@ -89,7 +89,7 @@ impl<const N: usize> Side<N> {
             s.x = x.pos;
             s.rot = x.rot;
             s.dx.fixed_view_mut::<3, 3>(0, o).copy_from(&i3);
-            s.dth.fixed_view_mut::<3, 3>(0, o + TH).copy_from(&i3);
+            s.th = o + TH;
             s.w = x.rot * vel.w;
             s.v0 = x.rot * vel.v;
             s.dw.fixed_view_mut::<3, 3>(0, o + OM).copy_from(&x.rot);
@@ -107,8 +107,17 @@ impl<const N: usize> Side<N> {
     /// `shape_pose` places a round shape) and its tangent.
     fn sphere_centre(&self, s: &Vector3<f64>, centre: &Vector3<f64>) -> (Vector3<f64>, T3<N>) {
         let c = self.x + self.rot * s + centre;
-        let dc = self.dx - self.rot * s.cross_matrix() * self.dth;
+        let mut dc = self.dx;
+        if self.moving && *s != Vector3::zeros() {
+            self.add_theta(&(-self.rot * s.cross_matrix()), &mut dc);
+        }
         (c, dc)
+    }
+
+    /// `t += m δθ`: `m` (3 × 3) added to this body's `δθ` columns.
+    fn add_theta(&self, m: &Matrix3<f64>, t: &mut T3<N>) {
+        let mut block = t.fixed_view_mut::<3, 3>(0, self.th);
+        block += m;
     }
 
     /// Velocity of the material point at `p` (tangent `dp`), world.
@@ -141,10 +150,12 @@ impl<const N: usize> Side<N> {
         let rt = self.rot.transpose();
         let n_body = rt * n_world;
         let f_body = rt * f;
-        out.fixed_view_mut::<3, N>(0, 0)
-            .copy_from(&(rt * dn_world + n_body.cross_matrix() * self.dth));
-        out.fixed_view_mut::<3, N>(3, 0)
-            .copy_from(&(rt * df + f_body.cross_matrix() * self.dth));
+        let mut dn_body = rt * dn_world;
+        self.add_theta(&n_body.cross_matrix(), &mut dn_body);
+        let mut df_body = rt * df;
+        self.add_theta(&f_body.cross_matrix(), &mut df_body);
+        out.fixed_view_mut::<3, N>(0, 0).copy_from(&dn_body);
+        out.fixed_view_mut::<3, N>(3, 0).copy_from(&df_body);
     }
 }
 
