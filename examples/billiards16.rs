@@ -1,8 +1,9 @@
 //! Modia3D's 16-ball billiards (docs/reference/materials.md): the cue ball breaks the rack. Runs 5 s
 //! at rtol 1e-5, prints the wall time, statistics and where the balls end, and writes the
 //! trajectories to `out/billiards16.csv` and the animation to `out/billiards16.{json,gltf,html}`.
+//! The third argument is rtol (default 1e-5).
 //!
-//!     cargo run --release --example billiards16 [-- k_red vy]
+//!     cargo run --release --example billiards16 [-- k_red vy rtol]
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -14,16 +15,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .collect();
     let k_red = args.first().copied().unwrap_or(1.0);
     let vy = args.get(1).copied().unwrap_or(0.1);
+    let rtol = args.get(2).copied().unwrap_or(1e-5);
     // The scene is the `model!` type `demo::Billiards16`.
     let model = demo::Billiards16 {
         cue_v: [3.0, vy, 0.0],
         k_red,
     }
     .build()?;
-    let res = model.simulate(&SimOptions::new(5.0).tolerance(1e-5).interval(0.01))?;
+    let res = model.simulate(&SimOptions::new(5.0).tolerance(rtol).interval(0.01))?;
     let st = &res.stats;
     println!(
-        "billiards16, cue (3, {vy}, 0) m/s, k_red = {k_red}: 5 s in {:.2} s wall; {} steps, {} residuals (+{} for Jacobians), {} Jacobians, {} events, {} root functions, {} narrow-phase calls",
+        "billiards16, cue (3, {vy}, 0) m/s, k_red = {k_red}, rtol {rtol:e}: 5 s in {:.3} s wall; {} steps, {} residuals (+{} for Jacobians), {} Jacobians, {} events, {} root functions, {} narrow-phase calls",
         st.wall_time,
         st.solver.steps,
         st.solver.residual_evals,

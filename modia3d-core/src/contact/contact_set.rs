@@ -601,6 +601,19 @@ impl ContactState {
         )
     }
 
+    /// Constants and state of the `k`-th pair in the contact set (for the exact pair derivatives
+    /// of `contact/pair_jacobian.rs`).
+    pub(crate) fn active_pair(&self, k: usize) -> (&PairPlan, &PairState) {
+        let sl = &self.slots[self.active[k] as usize];
+        (&sl.plan, &sl.state)
+    }
+
+    /// Pose of shape `s` as the last evaluation placed it (for a shape fixed to the world: its
+    /// constant pose).
+    pub(crate) fn pose(&self, s: usize) -> &Isometry3<f64> {
+        &self.poses[s]
+    }
+
     /// Number of pairs in the contact set.
     #[cfg(test)]
     pub fn n_active(&self) -> usize {

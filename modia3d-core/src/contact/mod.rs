@@ -11,6 +11,7 @@
 
 mod contact_set;
 mod initial;
+mod pair_jacobian;
 mod preprocess;
 mod regularise;
 mod response;
@@ -19,4 +20,5 @@ mod step_guard;
 
 pub use contact_set::{ContactError, ContactState, Mode, PairState};
 pub(crate) use initial::initial_penetrations;
+pub(crate) use pair_jacobian::{pair_wrench_jacobian, PER_BODY};
 pub use preprocess::ContactPlan;

@@ -14,6 +14,18 @@ pub fn reg(v: f64, v_min: f64) -> f64 {
     }
 }
 
+/// Slope `d reg(v)/d|v|` [-] of [`reg`] at `|v|` (1 above `v_min`, `2|v|/v_min − |v|²/v_min²`
+/// below; 0 at 0).
+#[inline]
+pub fn reg_slope(v: f64, v_min: f64) -> f64 {
+    let a = v.abs();
+    if a >= v_min {
+        1.0
+    } else {
+        a / v_min * (2.0 - a / v_min)
+    }
+}
+
 /// Half-width of the band of [`soft_clamp`] [-].
 pub const CLAMP_BAND: f64 = 1e-4;
 
@@ -34,6 +46,20 @@ pub fn soft_clamp(x: f64) -> f64 {
         0.0
     } else {
         (x + b) * (x + b) / (4.0 * b)
+    }
+}
+
+/// Slope `d soft_clamp(x)/dx` [-] of [`soft_clamp`]: 1 above the band, 0 below, `(x + b)/(2b)`
+/// inside (the branch [`soft_clamp`] evaluates at its ends).
+#[inline]
+pub fn soft_clamp_slope(x: f64) -> f64 {
+    let b = CLAMP_BAND;
+    if x >= b {
+        1.0
+    } else if x <= -b {
+        0.0
+    } else {
+        (x + b) / (2.0 * b)
     }
 }
 

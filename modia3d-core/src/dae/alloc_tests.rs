@@ -27,13 +27,18 @@ fn table(side: f64, material: &str) -> Object3D {
 /// start), 0.02 m apart from each other: 8 ball–table contacts, 28 ball–ball candidate pairs
 /// (all separated), exercising the broad phase, narrow phase and response of both kinds.
 pub(crate) fn balls_on_a_table() -> SceneDesc {
+    balls_on_a_table_apart(0.02)
+}
+
+/// [`balls_on_a_table`] with the balls `gap` \[m\] apart (negative: pressed into each other).
+fn balls_on_a_table_apart(gap: f64) -> SceneDesc {
     let d = 0.06;
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
         .add(table(1.0, "Steel"));
     for i in 0..8 {
         let name = format!("ball{i}");
-        let (x, y) = ((i % 4) as f64 * (d + 0.02), (i / 4) as f64 * (d + 0.02));
+        let (x, y) = ((i % 4) as f64 * (d + gap), (i / 4) as f64 * (d + gap));
         s.add(
             Object3D::new(&name).solid(
                 Solid::new(Shape::Sphere { diameter: d })
@@ -63,6 +68,15 @@ fn residual_roots_and_events_do_not_allocate() {
         g[0] < 0.0 && g[1] > 0.0,
         "balls rest on the table, none touch each other: {g:?}"
     );
+}
+
+/// The balls of [`balls_on_a_table`] pressed 1e-7 m into their neighbours: the ball–ball
+/// pairs' exact Jacobian blocks (two moving bodies, `contact/pair_jacobian.rs`) allocate
+/// nothing either.
+#[test]
+fn touching_balls_do_not_allocate() {
+    let g = hot_path_allocations(balls_on_a_table_apart(-1e-7));
+    assert!(g[0] < 0.0, "in contact: {g:?}");
 }
 
 /// A beam (its own core) and a decomposed L-block mesh (two hull parts on one body) resting
