@@ -78,25 +78,33 @@ fn contact_times_follow_the_tolerance() {
 /// `rtol·|z|` = 5e-5 m was 50× its static penetration). Now no event, and the speed after
 /// rolling sets in (t = 0.7 s > 2v0/(7μg) = 0.233 s) is the rigid solution 5/7·v0 to
 /// 10·rtol (a Hertz contact is not rigid, but the difference is ~1e-6 here; seen 1.7e-3).
-/// (At rtol 1e-2 the tightening, 22×, still leaves 2e-5 m and the ball hops: 10 events.)
+/// At rtol 1e-2 and 1e-1 the scaled tightening alone (22×, 15×) left the ball hopping (18 and
+/// 14 events); in contact the tolerance is now never looser than `LOOSEST_CONTACT_RTOL` =
+/// 5e-5, so no hop there either, and the speed error is bounded by 2e-2 instead of 10·rtol
+/// (seen 1.9e-3 at 1e-1, 3.4e-3 at 1e-2: the whole run is in contact, at the 5e-5 tolerance;
+/// without the tightening the error is 0.29–0.46).
 #[test]
 fn a_rolling_ball_does_not_hop_at_loose_tolerances() {
     let v0 = 4.0;
     let model = demo::sliding_ball(0.1, v0, 0.0, ContactPairMaterial::new(0.7, 0.5, 0.0))
         .build()
         .unwrap();
-    let rtol = 1e-3;
-    let res = model
-        .simulate(&SimOptions::new(0.7).tolerance(rtol).interval(0.07))
-        .unwrap();
-    let v = res.signal("ball.v_abs").unwrap();
-    let vx = v.last().unwrap()[0];
-    let rel = (vx - 5.0 / 7.0 * v0).abs() / (5.0 / 7.0 * v0);
-    println!(
-        "rtol {rtol:e}: {} events, {} steps, speed error {rel:.2e}",
-        res.events.len(),
-        res.stats.solver.steps
-    );
-    assert_eq!(res.events.len(), 0, "rtol {rtol:e}: the ball hops");
-    assert!(rel < 10.0 * rtol, "rtol {rtol:e}: speed error {rel}");
+    for rtol in [1e-3, 1e-2, 1e-1] {
+        let res = model
+            .simulate(&SimOptions::new(0.7).tolerance(rtol).interval(0.07))
+            .unwrap();
+        let v = res.signal("ball.v_abs").unwrap();
+        let vx = v.last().unwrap()[0];
+        let rel = (vx - 5.0 / 7.0 * v0).abs() / (5.0 / 7.0 * v0);
+        println!(
+            "rtol {rtol:e}: {} events, {} steps, speed error {rel:.2e}",
+            res.events.len(),
+            res.stats.solver.steps
+        );
+        assert_eq!(res.events.len(), 0, "rtol {rtol:e}: the ball hops");
+        assert!(
+            rel < (10.0 * rtol).min(2e-2),
+            "rtol {rtol:e}: speed error {rel}"
+        );
+    }
 }

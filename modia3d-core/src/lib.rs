@@ -64,7 +64,7 @@ pub use scene::{Bushing, GravityField, Law, VectorLaw};
 pub use simulation::{
     ActionError, Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause,
     WorkDiagnosis, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_CONTACT_TIGHTENING, DEFAULT_MAX_STEPS,
-    MAX_OUTPUT_POINTS,
+    LOOSEST_CONTACT_RTOL, MAX_OUTPUT_POINTS,
 };
 #[cfg(feature = "solver")]
 pub use solver::IdaError;

@@ -22,7 +22,7 @@ mod warnings;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
 pub use options::{
     SimOptions, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_CONTACT_TIGHTENING, DEFAULT_MAX_STEPS,
-    MAX_OUTPUT_POINTS,
+    LOOSEST_CONTACT_RTOL, MAX_OUTPUT_POINTS,
 };
 pub use segments::ActionError;
 

@@ -59,8 +59,9 @@ pub struct SimOptions {
     /// How many times tighter than `rtol`/`atol` the error test is, at rtol 1e-6, for the
     /// unknowns of the joint trees of bodies in contact (pairs in the contact set), for as long
     /// as the contact lasts (default [`DEFAULT_CONTACT_TIGHTENING`] = 100; 1 = IDA's own
-    /// weights throughout). The factor used is `contact_tightening·(1e-6/rtol)^(1/6)`, capped
-    /// so that `rtol/factor ≥ 1e-13`. Why: IDA bounds the error of each step, and an impact
+    /// weights throughout). The factor used is `contact_tightening·(1e-6/rtol)^(1/6)`, at
+    /// least `rtol/`[`LOOSEST_CONTACT_RTOL`] (so loose tolerances still resolve contacts) and
+    /// capped so that `rtol/factor ≥ 1e-13`. Why: IDA bounds the error of each step, and an impact
     /// takes 30–300 steps (more at tighter rtol, as `rtol^(−1/6)`), so a rebound speed carried
     /// the error of all of them (contact times of a steel ball off by 6–276 × rtol over rtol
     /// 1e-4…1e-10; now within 1.2·rtol); and a resting or rolling contact's force depends on a
@@ -73,6 +74,15 @@ pub struct SimOptions {
 /// Default of [`SimOptions::contact_tightening`]: an impact of ~100 steps then ends with the
 /// error of about one step at `rtol`.
 pub const DEFAULT_CONTACT_TIGHTENING: f64 = 100.0;
+
+/// The loosest relative tolerance of the unknowns of bodies in contact while the contact
+/// tightening is on: at rtol 1e-2 the scaled factor (22×) left 4.6e-4, and a steel ball
+/// rolling on a table hopped (18 contact events in 0.7 s; billiards16 96 events instead of
+/// 62); at 1.5e-4 (rtol 1e-2, 65×) it no longer hopped and at 4.6e-5 neither did billiards16
+/// (`examples/contact_tolerance.rs` measured it; `tests/contact_times.rs`). A resting
+/// contact's force depends on a penetration of micrometres, which a position tolerance of
+/// `5e-5·|r|` still resolves for bodies within metres of the origin.
+pub const LOOSEST_CONTACT_RTOL: f64 = 5e-5;
 
 impl SimOptions {
     /// Options for a run from 0 to `stop_time` \[s\] with defaults otherwise.
@@ -110,15 +120,20 @@ impl SimOptions {
         self.contact_tightening = factor;
         self
     }
-    /// The tightening factor a run uses: [`SimOptions::contact_tightening`], capped so that
-    /// `rtol / factor ≥ 1e-13`: billiards16 at rtol 1e-11 with 1.5e-14 in contact failed its
-    /// error test repeatedly at t = 0.52 s (steps of 1e-9 s), rounding errors of a few ulp.
+    /// The tightening factor a run uses: [`SimOptions::contact_tightening`] scaled with rtol,
+    /// at least `rtol / LOOSEST_CONTACT_RTOL` (a contact is never resolved more loosely than
+    /// that), capped so that `rtol / factor ≥ 1e-13`: billiards16 at rtol 1e-11 with 1.5e-14 in
+    /// contact failed its error test repeatedly at t = 0.52 s (steps of 1e-9 s), rounding
+    /// errors of a few ulp.
     pub(crate) fn effective_contact_tightening(&self) -> f64 {
         if self.contact_tightening <= 1.0 {
             return 1.0;
         }
         let scaled = self.contact_tightening * (1e-6 / self.rtol).powf(1.0 / 6.0);
-        scaled.min(self.rtol / 1e-13).max(1.0)
+        scaled
+            .max(self.rtol / LOOSEST_CONTACT_RTOL)
+            .min(self.rtol / 1e-13)
+            .max(1.0)
     }
     /// Uses (true, the default) or not the coloured Jacobian (see
     /// [`SimOptions::structured_jacobian`]).
