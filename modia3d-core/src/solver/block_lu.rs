@@ -112,6 +112,8 @@ struct OrderScratch {
     size: Vec<usize>,
     cost: Vec<usize>,
     done: Vec<bool>,
+    /// Elimination order (local block indices) and position of each local block in it (also
+    /// the bucket cursors of `BlockLu::layout` before the components are ordered).
     order: Vec<usize>,
     pos: Vec<usize>,
     nbrs: Vec<usize>,
@@ -337,7 +339,7 @@ impl BlockLu {
 /// Orders the blocks of one component (`blocks`, global block numbers; `m` unknowns) for
 /// block elimination by greedy minimum fill: the next block is the one whose remaining
 /// neighbours have the fewest unknowns, and eliminating it couples those neighbours with each
-/// other. Leaves the order and the filled adjacency in `sc` and returns the operation count of
+/// other. Leaves the order, the positions and the filled adjacency in `sc` and returns the operation count of
 /// the block elimination in that order.
 fn order_blocks(col: &Colouring, blocks: &[usize], sc: &mut OrderScratch) -> f64 {
     let nb = blocks.len();
@@ -397,6 +399,11 @@ fn order_blocks(col: &Colouring, blocks: &[usize], sc: &mut OrderScratch) -> f64
             }
         }
     }
+    sc.pos.clear();
+    sc.pos.resize(nb, 0);
+    for (p, &v) in sc.order.iter().enumerate() {
+        sc.pos[v] = p;
+    }
     flops
 }
 
@@ -417,12 +424,7 @@ impl SparseComp {
         index: &mut Vec<usize>,
     ) {
         let nb = blocks.len();
-        let mut pos_of = std::mem::take(&mut self.piv);
-        pos_of.clear();
-        pos_of.resize(nb, 0);
-        for (p, &v) in sc.order.iter().enumerate() {
-            pos_of[v] = p;
-        }
+        let pos_of = &sc.pos;
         self.bstart.clear();
         self.bstart.push(0);
         self.bpos.clear();
@@ -485,7 +487,6 @@ impl SparseComp {
         }
         self.ustart.push(self.upd.len());
         self.dense = false;
-        self.piv = pos_of;
         self.piv.clear();
         self.piv.resize(self.bpos.len(), 0);
     }
@@ -899,7 +900,7 @@ mod tests {
     /// Loads `a` (entries on the pattern only, by columns in runs where rows are consecutive
     /// in their block) into a fresh layout, factors and solves `a x = b`; returns the largest
     /// error against nalgebra's dense LU relative to the solution and the layout.
-    fn solve_both(a: &DMatrix<f64>, col: &Colouring, block_of: &[usize]) -> (f64, BlockLu) {
+    fn solve_both(a: &DMatrix<f64>, col: &Colouring) -> (f64, BlockLu) {
         let n = a.nrows();
         let mut lu = BlockLu::default();
         lu.layout(col, n, true);
@@ -914,7 +915,6 @@ mod tests {
                 }
             }
         }
-        let _ = block_of;
         lu.factor().unwrap();
         let b = DVector::<f64>::from_fn(n, |i, _| ((i * 7919) % 13) as f64 - 6.0);
         let exact = a.clone().lu().solve(&b).unwrap();
@@ -951,13 +951,13 @@ mod tests {
             ("mixed stack", mixed_sizes, chain),
         ] {
             for seed in 1..4u64 {
-                let (a, col, block_of) = pattern(
+                let (a, col, _) = pattern(
                     &sizes,
                     &couplings,
                     4.0,
                     seed.wrapping_mul(0x9e3779b97f4a7c15),
                 );
-                let (err, lu) = solve_both(&a, &col, &block_of);
+                let (err, lu) = solve_both(&a, &col);
                 assert_eq!(lu.n_sparse(), 1, "{name}: not factored block-sparse");
                 assert!(err < 1e-12, "{name}, seed {seed}: error {err:e}");
                 // A second Jacobian on the same structure reuses the layout, and loading,
@@ -1003,7 +1003,7 @@ mod tests {
                 }
             }
         }
-        let (err, lu) = solve_both(&a, &col, &block_of);
+        let (err, lu) = solve_both(&a, &col);
         assert_eq!(lu.n_sparse(), 1);
         assert!(lu.sparse[0].dense, "expected the dense fallback");
         assert!(err < 1e-11, "error {err:e}");
@@ -1016,7 +1016,7 @@ mod tests {
                 }
             }
         }
-        let (err, lu) = solve_both(&a, &col, &block_of);
+        let (err, lu) = solve_both(&a, &col);
         assert!(lu.sparse[0].dense, "expected the dense fallback");
         assert!(err < 1e-9, "error {err:e}");
         // A zero column: singular, reported by its global index.
