@@ -498,6 +498,32 @@ impl SimulationResult {
         names.contains(&swapped).then_some((swapped, true))
     }
 
+    /// A lookup from a pair name as [`Self::contact_pairs`] spells it to the pair's shape
+    /// indices `(a, b)`, `a < b` (`contact_pairs()` is in that order: by `a`, then `b`);
+    /// `None` for a name that is not a candidate pair of this result's model. Builds a map of
+    /// the shape names once (O(shapes)) for callers that would otherwise make all N²/2 pair
+    /// names (525,000 strings for 1024 balls).
+    pub(crate) fn pair_lookup(&self) -> impl Fn(&str) -> Option<(usize, usize)> + '_ {
+        let scene = &self.model.plan.scene;
+        let cp = self.model.contact.as_deref();
+        let shapes: std::collections::HashMap<String, usize> = cp
+            .map(|cp| {
+                (0..cp.shapes.len())
+                    .map(|s| (cp.shape_name(scene, s), s))
+                    .collect()
+            })
+            .unwrap_or_default();
+        move |pair| {
+            let cp = cp?;
+            // An object name may hold '|' itself: try every split.
+            pair.match_indices('|').find_map(|(i, _)| {
+                let a = *shapes.get(pair.get(..i)?)?;
+                let b = *shapes.get(pair.get(i + 1..)?)?;
+                (a < b && cp.pair(a, b).is_some()).then_some((a, b))
+            })
+        }
+    }
+
     pub(crate) fn push_contacts(&mut self, cs: &crate::contact::ContactState) {
         let Some(rec) = self.contacts.as_mut() else {
             return;

@@ -156,20 +156,30 @@ pub(super) fn run_warnings(
 ) -> Vec<SimWarning> {
     let mut out = vec![];
     let time = result.time();
-    for pair in result.contact_pairs() {
-        let changes: Vec<(f64, bool)> = result
-            .events
-            .iter()
-            .flat_map(|e| {
-                let s = e
-                    .started
-                    .iter()
-                    .filter(|p| **p == pair)
-                    .map(|_| (e.t, true));
-                let x = e.ended.iter().filter(|p| **p == pair).map(|_| (e.t, false));
-                s.chain(x).collect::<Vec<_>>()
-            })
-            .collect();
+    // Only a pair that started or ended contact at an event can chatter or miss a phase: its
+    // changes in event order, gathered in one pass over the events. The pairs are taken in
+    // the order of `contact_pairs()` (by shape indices), without making all N²/2 names of it
+    // (at 1024 balls 524,800 names: 33 MB of heap and ~6 s at the end of every `advance_to`,
+    // BENCHMARKS.md "Peak memory at 1024 balls"); names that are not
+    // candidate pairs of the result's model are skipped, as that list never held them.
+    let mut of_pair: std::collections::HashMap<&str, Vec<(f64, bool)>> =
+        std::collections::HashMap::new();
+    for e in &result.events {
+        for p in &e.started {
+            of_pair.entry(p).or_default().push((e.t, true));
+        }
+        for p in &e.ended {
+            of_pair.entry(p).or_default().push((e.t, false));
+        }
+    }
+    let lookup = result.pair_lookup();
+    let mut pairs: Vec<((usize, usize), &str, Vec<(f64, bool)>)> = of_pair
+        .into_iter()
+        .filter_map(|(p, changes)| Some((lookup(p)?, p, changes)))
+        .collect();
+    pairs.sort_by_key(|&(ab, _, _)| ab);
+    for (_, pair, changes) in pairs {
+        let pair = pair.to_string();
         // Chattering: CHATTER_WARN_EVENTS changes within CHATTER_WARN_SPAN of the run.
         let window = CHATTER_WARN_EVENTS.saturating_sub(1);
         if let Some((first, last)) = changes
