@@ -236,6 +236,14 @@ pub enum ResultError {
     },
 }
 
+/// Size \[B\] of one chunk of a result's stored states (at least one time point).
+const STATE_CHUNK_BYTES: usize = 1 << 20;
+
+/// Time points per chunk of stored states for `n` unknowns per point (at least 1).
+fn points_per_chunk(n: usize) -> usize {
+    (STATE_CHUNK_BYTES / (8 * n.max(1))).max(1)
+}
+
 /// The outcome of a simulation: output time points, states `y = [q; v]` at each, statistics
 /// and events. Signals are derived on demand.
 ///
@@ -246,7 +254,11 @@ pub enum ResultError {
 pub struct SimulationResult {
     model: Model,
     time: Vec<f64>,
-    states: Vec<f64>,
+    /// The states `[q; v]` of the time points, [`STATE_CHUNK_BYTES`] at a time: chunk `c` holds
+    /// points `c·p … c·p + p − 1` (`p = points_per_chunk(n)`) back to back, allocated with
+    /// exactly that capacity. A single vector grown by doubling reserved up to twice what the
+    /// run recorded (1024 balls: 27.3 MB for 15.9 MB of states) and copied it at every growth.
+    states: Vec<Vec<f64>>,
     /// Counters of the run.
     pub stats: SimStats,
     /// Events in time order.
@@ -601,7 +613,15 @@ impl SimulationResult {
             s.time.push(t);
         }
         self.time.push(t);
-        self.states.extend_from_slice(y);
+        let per_chunk = points_per_chunk(y.len());
+        match self.states.last_mut() {
+            Some(c) if c.len() + y.len() <= per_chunk * y.len() => c.extend_from_slice(y),
+            _ => {
+                let mut c = Vec::with_capacity(per_chunk * y.len());
+                c.extend_from_slice(y);
+                self.states.push(c);
+            }
+        }
     }
 
     /// Output time points \[s\] (of every segment of a run with structure changes).
@@ -632,8 +652,10 @@ impl SimulationResult {
             return None;
         }
         let n = self.state_len();
-        // k < time().len(), and `states` holds n values per time point: no overflow.
-        self.states.get(k * n..(k + 1) * n)
+        let per_chunk = points_per_chunk(n);
+        // k < time().len(), and the chunks hold n values per time point: no overflow.
+        let at = (k % per_chunk) * n;
+        self.states.get(k / per_chunk)?.get(at..at + n)
     }
 
     /// The states at every time point, in order.
