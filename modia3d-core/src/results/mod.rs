@@ -511,10 +511,11 @@ impl SimulationResult {
     }
 
     /// A lookup from a pair name as [`Self::contact_pairs`] spells it to the pair's shape
-    /// indices `(a, b)`, `a < b` (`contact_pairs()` is in that order: by `a`, then `b`);
-    /// `None` for a name that is not a candidate pair of this result's model. Builds a map of
-    /// the shape names once (O(shapes)) for callers that would otherwise make all N²/2 pair
-    /// names (525,000 strings for 1024 balls).
+    /// indices `(lo, hi)`, `lo < hi` (`contact_pairs()` is in that order: by `lo`, then `hi`;
+    /// the name itself may put either shape first, as `ContactPlan::pair` orders them);
+    /// `None` for a name that is not a candidate pair of this result's model or not spelled
+    /// as that list spells it. Builds a map of the shape names once (O(shapes)) for callers
+    /// that would otherwise make all N²/2 pair names (524,800 strings for 1024 balls).
     pub(crate) fn pair_lookup(&self) -> impl Fn(&str) -> Option<(usize, usize)> + '_ {
         let scene = &self.model.plan.scene;
         let cp = self.model.contact.as_deref();
@@ -531,7 +532,9 @@ impl SimulationResult {
             pair.match_indices('|').find_map(|(i, _)| {
                 let a = *shapes.get(pair.get(..i)?)?;
                 let b = *shapes.get(pair.get(i + 1..)?)?;
-                (a < b && cp.pair(a, b).is_some()).then_some((a, b))
+                let (lo, hi) = (a.min(b), a.max(b));
+                let pp = cp.pair(lo, hi)?;
+                (a != b && (pp.a, pp.b) == (a, b)).then_some((lo, hi))
             })
         }
     }
@@ -1071,4 +1074,35 @@ fn split_signal_name(name: &str) -> Result<(&str, &str, &str, Option<usize>), St
         .rsplit_once('.')
         .ok_or_else(|| "expected `<joint or object>.<quantity>`".to_string())?;
     Ok((base, owner, field, index))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// States pushed across several chunks read back exactly, point by point; every chunk has
+    /// exactly the capacity of its points (nothing reserved beyond the last chunk's).
+    #[test]
+    fn states_in_chunks_read_back_exactly() {
+        let model = crate::dae::alloc_tests::balls_on_a_table().build().unwrap();
+        let n = model.plan.nq + model.plan.nv;
+        let per_chunk = points_per_chunk(n);
+        assert!(per_chunk > 1 && per_chunk * n * 8 <= STATE_CHUNK_BYTES);
+        let mut res = SimulationResult::new(model);
+        let points = 2 * per_chunk + 3;
+        let value = |k: usize, i: usize| (k * n + i) as f64 + 0.5;
+        for k in 0..points {
+            let y: Vec<f64> = (0..n).map(|i| value(k, i)).collect();
+            res.push(1e-3 * k as f64, &y);
+        }
+        assert_eq!(res.states.len(), 3);
+        assert!(res.states.iter().all(|c| c.capacity() == per_chunk * n));
+        for k in 0..points {
+            let y = res.state(k).unwrap();
+            assert!(y.iter().enumerate().all(|(i, &x)| x == value(k, i)), "{k}");
+        }
+        assert_eq!(res.final_state().unwrap()[n - 1], value(points - 1, n - 1));
+        assert!(res.state(points).is_none());
+        assert_eq!(res.states_iter().count(), points);
+    }
 }
