@@ -6,7 +6,10 @@
 //! points and a checksum of the final state's bits (to compare versions bit for bit).
 //! Release build:
 //!
-//!     cargo run --release --example scaling \[N\]
+//!     cargo run --release --example scaling \[N \[contact_tightening\]\]
+//!
+//! (`contact_tightening` 1 turns the tightening of the error test in contact off, the error
+//! test the library had before it; default `SimOptions`' 100.)
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -19,6 +22,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .map_or(vec![16, 64, 256], |a| vec![a.parse().unwrap()])
     {
+        let tightening: f64 = std::env::args()
+            .nth(2)
+            .and_then(|a| a.parse().ok())
+            .unwrap_or(modia3d::core::DEFAULT_CONTACT_TIGHTENING);
         let model = demo::balls_on_table(n).build()?;
         for structured in [true, false] {
             if !structured && n > 64 {
@@ -28,7 +35,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 &SimOptions::new(0.5)
                     .tolerance(1e-6)
                     .interval(0.05)
-                    .structured_jacobian(structured),
+                    .structured_jacobian(structured)
+                    .contact_tightening(tightening),
             )?;
             let s = res.stats.solver;
             println!(
