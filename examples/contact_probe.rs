@@ -43,6 +43,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "final state checksum {:.12e}",
             y.iter().map(|x| x.abs()).sum::<f64>()
         );
+        // FNV-1a over the bits: equal iff the final states are equal bit for bit (up to a
+        // hash collision).
+        let hash = y.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, x| {
+            (h ^ x.to_bits()).wrapping_mul(0x0000_0100_0000_01b3)
+        });
+        println!("final state FNV-1a {hash:016x}");
     }
     Ok(())
 }

@@ -13,6 +13,10 @@
 // (shapes and collision queries). The pipeline's inner stages — contact, DAE, dynamics, the
 // IDA wrapper — are internal, so changing them is never a breaking change; their tests are
 // unit tests inside the crate.
+// Bench hooks for examples/contact_cost.rs: not part of the supported API.
+#[cfg(feature = "solver")]
+#[doc(hidden)]
+pub mod bench;
 #[cfg(feature = "solver")]
 mod contact;
 #[cfg(feature = "solver")]

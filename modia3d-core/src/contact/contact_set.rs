@@ -130,6 +130,9 @@ pub struct ContactState {
     near_shapes: Vec<(u32, u32)>,
     /// Slots of the pairs reported by the broad phase at the last evaluation.
     near: Vec<u32>,
+    /// Scratch of continuous mode: the contact patch of each pair in `active` (resized with
+    /// `active` at events, so residuals do not allocate).
+    patches: Vec<ContactPatch>,
 }
 
 fn to_isometry(t: &Transform) -> Isometry3<f64> {
@@ -185,6 +188,7 @@ impl ContactState {
             broad: BroadPhase::new(ns),
             near_shapes: Vec::with_capacity(ns),
             near: Vec::with_capacity(ns),
+            patches: Vec::with_capacity(ns),
         };
         // Shapes fixed to the world: pose and boxes once (the evaluations update moving ones).
         for (s, sp) in cp.shapes.iter().enumerate() {
@@ -195,18 +199,6 @@ impl ContactState {
             }
         }
         cs
-    }
-
-    /// Poses of the two shapes of the pair in slot `p` at the workspace state (fixed shapes
-    /// keep theirs).
-    #[inline]
-    fn update_pair_poses(&mut self, cp: &ContactPlan, ws: &Workspace, p: usize) {
-        let (a, b) = self.shapes_of(p);
-        for s in [a, b] {
-            if cp.shapes[s].body.is_some() {
-                self.poses[s] = shape_pose(cp, ws, s);
-            }
-        }
     }
 
     /// Shape indices of the pair in slot `p`.
@@ -238,11 +230,7 @@ impl ContactState {
                 Ok(sd)
             }
             Ok((sd, _)) => Ok(sd),
-            Err(source) => Err(ContactError {
-                pair: cp.pair_name(&plan.scene, &self.slots[p].plan),
-                t,
-                source,
-            }),
+            Err(source) => Err(self.narrow_error(plan, cp, p, t, source)),
         }
     }
 
@@ -340,15 +328,22 @@ impl ContactState {
     ) -> Result<(), ContactError> {
         match mode {
             Mode::Continuous => {
+                // Two passes: the geometry of every pair, then the responses and wrenches
+                // (added in the same pair order, so the same bits as one pass). One pair's
+                // work in one pass is ~900 instructions with long chains of square roots and
+                // divisions, more than the processor's reorder window: in two shorter loops
+                // consecutive pairs' chains overlap (BENCHMARKS.md, "Cost per active contact").
+                if self.patches.len() < self.active.len() {
+                    // Only if an evaluation comes before any event sized it.
+                    self.patches.resize(self.active.len(), EMPTY_PATCH);
+                }
                 for k in 0..self.active.len() {
                     let p = self.active[k] as usize;
-                    self.update_pair_poses(cp, ws, p);
-                    let sd = self.narrow(plan, cp, p, t)?;
-                    let patch = self.patch(cp, p, &sd);
-                    let sl = &mut self.slots[p];
-                    sl.state.geometry = sd;
-                    sl.state.z = sd.distance;
-                    apply(cp, &sl.plan, &mut sl.state, &patch, ws);
+                    self.patches[k] = self.continuous_geometry(plan, cp, ws, p, t)?;
+                }
+                for (&p, patch) in self.active.iter().zip(&self.patches) {
+                    let sl = &mut self.slots[p as usize];
+                    apply(cp, &sl.plan, &mut sl.state, patch, ws);
                 }
                 Ok(())
             }
@@ -405,6 +400,74 @@ impl ContactState {
                 self.release_far();
                 Ok(())
             }
+        }
+    }
+
+    /// Continuous mode's geometry of the pair in slot `p` (in the contact set): poses of its
+    /// moving shapes, narrow phase (stored in the pair's state) and the contact patch
+    /// (returned). The per-pair work of every residual evaluation, so written out here rather
+    /// than through [`Self::narrow`] and [`Self::patch`]: the shapes are looked up once, a
+    /// round shape's pose is updated in its translation only (its rotation stays the identity,
+    /// [`shape_pose`]), and the error path is out of line (BENCHMARKS.md, "Cost per active
+    /// contact"). The same operations in the same order as those functions.
+    #[inline]
+    fn continuous_geometry(
+        &mut self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        ws: &Workspace,
+        p: usize,
+        t: f64,
+    ) -> Result<ContactPatch, ContactError> {
+        let (a, b) = self.shapes_of(p);
+        let (sa, sb) = (&cp.shapes[a], &cp.shapes[b]);
+        for (s, sp) in [(a, sa), (b, sb)] {
+            match sp.body {
+                Some(body) if sp.round => {
+                    // The rotation of a round moving shape's pose is always the identity
+                    // (`shape_pose`; the pose array starts as identities).
+                    debug_assert!(self.poses[s].rotation == UnitQuaternion::identity());
+                    let x = &ws.world[body];
+                    self.poses[s].translation.vector = x.pos + x.rot * sp.in_body.pos;
+                }
+                Some(_) => self.poses[s] = shape_pose(cp, ws, s),
+                None => {}
+            }
+        }
+        let (pa, pb) = (&self.poses[a], &self.poses[b]);
+        self.narrow_calls += 1;
+        let sd = match signed_distance_method(&sa.shape, pa, &sb.shape, pb, &cp.narrow) {
+            Ok((sd, Method::IterationLimit)) => {
+                self.limit_reached(plan, cp, p, t);
+                sd
+            }
+            Ok((sd, _)) => sd,
+            Err(source) => return Err(self.narrow_error(plan, cp, p, t, source)),
+        };
+        let (pa, pb) = (&self.poses[a], &self.poses[b]);
+        let patch = contact_patch(&sa.shape, pa, &sb.shape, pb, &sd);
+        let sl = &mut self.slots[p];
+        sl.state.geometry = sd;
+        sl.state.z = sd.distance;
+        Ok(patch)
+    }
+
+    /// The error of a failed narrow phase of slot `p` (the pair's name made here, off the hot
+    /// path).
+    #[cold]
+    #[inline(never)]
+    fn narrow_error(
+        &self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        p: usize,
+        t: f64,
+        source: GeometryError,
+    ) -> ContactError {
+        ContactError {
+            pair: cp.pair_name(&plan.scene, &self.slots[p].plan),
+            t,
+            source,
         }
     }
 
@@ -468,6 +531,7 @@ impl ContactState {
                 self.active.push(p as u32);
             }
         }
+        self.patches.resize(self.active.len(), EMPTY_PATCH);
     }
 
     /// Penetration velocity `δ̇ = −(v_b − v_a)·n` \[m/s\] of slot `p`'s pair at its contact
@@ -614,6 +678,27 @@ impl ContactState {
         &self.poses[s]
     }
 
+    /// The narrow-phase distance calls of continuous mode alone, for the pairs in the set at
+    /// the poses of the last evaluation (no state touched): the sum of the distances \[m\]
+    /// (errors count as 0). For the bench hook `crate::bench::contact_stage_cost`, which
+    /// subtracts this from a whole continuous evaluation.
+    pub fn narrow_phase_only(&self, cp: &ContactPlan) -> f64 {
+        let mut sum = 0.0;
+        for &p in &self.active {
+            let (a, b) = self.shapes_of(p as usize);
+            if let Ok((sd, _)) = signed_distance_method(
+                &cp.shapes[a].shape,
+                &self.poses[a],
+                &cp.shapes[b].shape,
+                &self.poses[b],
+                &cp.narrow,
+            ) {
+                sum += sd.distance;
+            }
+        }
+        sum
+    }
+
     /// Number of pairs in the contact set.
     #[cfg(test)]
     pub fn n_active(&self) -> usize {
@@ -661,6 +746,12 @@ impl PairState {
         response: PairResponse::ZERO,
     };
 }
+
+/// A placeholder patch for `ContactState::patches` before its first evaluation.
+const EMPTY_PATCH: ContactPatch = ContactPatch {
+    point: Point3::new(0.0, 0.0, 0.0),
+    spread: 0.0,
+};
 
 /// The levels of the contact-set hysteresis, in values of `z_AB` \[m\] (signed distance:
 /// negative = penetrating), for `ε` = [`SceneOptions::hysteresis`](crate::scene::SceneOptions):
@@ -720,9 +811,10 @@ fn apply(
     let point = &patch.point.coords;
     let (v1, w1) = point_velocity(ws, ba, point);
     let (v2, w2) = point_velocity(ws, bb, point);
-    let r = pair_response(cp, pp, ps.d, sd, patch, &v1, &w1, &v2, &w2);
+    // Written into the pair's state directly (a 144-byte copy per pair and evaluation less).
+    ps.response = pair_response(cp, pp, ps.d, sd, patch, &v1, &w1, &v2, &w2);
+    let r = &ps.response;
     let f = r.normal_force + r.friction_force;
     add_world_wrench(ws, bb, &r.point, &f, &r.rolling_torque);
     add_world_wrench(ws, ba, &r.point, &-f, &-r.rolling_torque);
-    ps.response = r;
 }

@@ -133,14 +133,22 @@ struct PairMaterial {
 impl ContactPlan {
     /// Display name of pair `pp`: `"<object a>|<object b>"` (the owner part of its signals).
     pub fn pair_name(&self, scene: &ValidScene, pp: &PairPlan) -> String {
-        let name = |s: &ShapePlan| {
-            let o = &scene.objects[s.object].name;
-            match s.part {
-                Some(k) => format!("{o}#{k}"),
-                None => o.clone(),
-            }
-        };
-        format!("{}|{}", name(&self.shapes[pp.a]), name(&self.shapes[pp.b]))
+        format!(
+            "{}|{}",
+            self.shape_name(scene, pp.a),
+            self.shape_name(scene, pp.b)
+        )
+    }
+
+    /// Display name of shape `s`: its object's name, `"<object>#<k>"` for part `k` of a
+    /// decomposed mesh (the halves of [`Self::pair_name`]).
+    pub fn shape_name(&self, scene: &ValidScene, s: usize) -> String {
+        let sp = &self.shapes[s];
+        let o = &scene.objects[sp.object].name;
+        match sp.part {
+            Some(k) => format!("{o}#{k}"),
+            None => o.clone(),
+        }
     }
 
     /// Compiles the pipeline; `Ok(None)` when collision handling is off or there is no

@@ -1,0 +1,117 @@
+//! Bench hooks (hidden from the docs, not part of the supported API): crate-internal stages run
+//! in isolation at a given state, for `examples/contact_cost.rs` and BENCHMARKS.md. They build
+//! their own scratch (allocation is fine here); the timed loops call the hot-path functions
+//! exactly as the residual does.
+
+use crate::contact::{ContactError, ContactState, Mode};
+use crate::dynamics::{kinematics, Workspace};
+use crate::Model;
+use std::hint::black_box;
+use std::time::Instant;
+
+/// Cost of the contact stage of one residual evaluation at one state (see
+/// [`contact_stage_cost`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactStageCost {
+    /// Pairs in the contact set at the state (the pairs continuous mode evaluates).
+    pub active_pairs: usize,
+    /// Of them, pairs of two moving shapes (ball–ball).
+    pub moving_pairs: usize,
+    /// Median wall time \[ns\] of one continuous-mode evaluation of the whole set (per pair:
+    /// poses, narrow phase, contact point, relative velocity, force law, friction, wrenches
+    /// added to both bodies).
+    pub stage_ns: f64,
+    /// Median wall time \[ns\] of the narrow-phase distance calls alone for the same pairs at
+    /// the same poses.
+    pub narrow_ns: f64,
+}
+
+impl ContactStageCost {
+    /// `(stage − narrow) / active pairs` \[ns\]: the cost per active contact beyond the narrow
+    /// phase (the difference of the two medians).
+    pub fn per_pair_beyond_narrow_ns(&self) -> f64 {
+        (self.stage_ns - self.narrow_ns) / self.active_pairs.max(1) as f64
+    }
+}
+
+/// Number of pairs in the contact set that an event at `(t, y)` forms (`y = [q; v]` of the
+/// model's layout); 0 for a scene without contacts or a state of the wrong length.
+pub fn active_pairs_at(model: &Model, t: f64, y: &[f64]) -> Result<usize, ContactError> {
+    Ok(stage_at(model, t, y)?.map_or(0, |(_, cs, _)| cs.active_pairs().count()))
+}
+
+/// Builds the contact set at `(t, y)` (event mode) and times `evaluations` continuous-mode
+/// evaluations of it against `evaluations` rounds of only the narrow-phase calls of the same
+/// pairs at the same poses, `repeats` times each, interleaved; returns the medians per
+/// evaluation. `None` for a scene without contacts or a state of the wrong length.
+pub fn contact_stage_cost(
+    model: &Model,
+    t: f64,
+    y: &[f64],
+    evaluations: usize,
+    repeats: usize,
+) -> Result<Option<ContactStageCost>, ContactError> {
+    let Some((mut ws, mut cs, cp)) = stage_at(model, t, y)? else {
+        return Ok(None);
+    };
+    let plan = &*model.plan;
+    let (evaluations, repeats) = (evaluations.max(1), repeats.max(1));
+    // Warm-up; also sets the poses the narrow-phase loop uses.
+    cs.evaluate(plan, &cp, &mut ws, Mode::Continuous, t)?;
+    let (mut stage, mut narrow) = (Vec::new(), Vec::new());
+    for _ in 0..repeats {
+        let start = Instant::now();
+        for _ in 0..evaluations {
+            cs.evaluate(plan, &cp, black_box(&mut ws), Mode::Continuous, t)?;
+        }
+        stage.push(start.elapsed().as_secs_f64());
+        let start = Instant::now();
+        for _ in 0..evaluations {
+            black_box(cs.narrow_phase_only(black_box(&cp)));
+        }
+        narrow.push(start.elapsed().as_secs_f64());
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        1e9 * v[v.len() / 2] / evaluations as f64
+    };
+    let moving_pairs = cs
+        .active_pairs()
+        .filter(|(_, pp, _)| cp.shapes[pp.a].body.is_some() && cp.shapes[pp.b].body.is_some())
+        .count();
+    Ok(Some(ContactStageCost {
+        active_pairs: cs.active_pairs().count(),
+        moving_pairs,
+        stage_ns: median(&mut stage),
+        narrow_ns: median(&mut narrow),
+    }))
+}
+
+/// Workspace at `(t, y)` (`position_velocity` done) and the contact set an event there forms.
+#[allow(clippy::type_complexity)]
+fn stage_at(
+    model: &Model,
+    t: f64,
+    y: &[f64],
+) -> Result<
+    Option<(
+        Workspace,
+        ContactState,
+        std::sync::Arc<crate::contact::ContactPlan>,
+    )>,
+    ContactError,
+> {
+    let plan = &*model.plan;
+    let Some(cp) = model.contact.clone() else {
+        return Ok(None);
+    };
+    if y.len() != plan.nq + plan.nv {
+        return Ok(None);
+    }
+    let mut ws = Workspace::new(plan);
+    let mut cs = ContactState::new(&cp);
+    let (q, v) = y.split_at(plan.nq);
+    kinematics::position_velocity(plan, &mut ws, q, v);
+    cs.evaluate(plan, &cp, &mut ws, Mode::Event, t)?;
+    Ok(Some((ws, cs, cp)))
+}
