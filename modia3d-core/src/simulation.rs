@@ -710,9 +710,22 @@ impl Simulation {
                             .unwrap_or_else(|| format!("velocity {i}")),
                         ratio,
                     });
-                diagnosis::deep_contact(plan, dae.contact_plan(), dae.contact()).unwrap_or_else(
-                    || diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last),
-                )
+                let cause = diagnosis::deep_contact(plan, dae.contact_plan(), dae.contact())
+                    .unwrap_or_else(|| {
+                        diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last)
+                    });
+                match cause {
+                    SlowCause::StepCollapse { .. } | SlowCause::Unknown => {
+                        diagnosis::rough_contact(
+                            plan,
+                            dae.contact_plan(),
+                            dae.contact(),
+                            dae.workspace(),
+                        )
+                        .unwrap_or(cause)
+                    }
+                    cause => cause,
+                }
             }
         };
         let run = self.segments.solver_base + self.ida.stats();

@@ -184,6 +184,10 @@ impl MultibodyDae {
     pub fn contact_plan(&self) -> Option<&ContactPlan> {
         self.contact_plan.as_deref()
     }
+    /// The workspace (body poses and velocities of the last residual evaluation).
+    pub(crate) fn workspace(&self) -> &Workspace {
+        &self.ws
+    }
     /// The contact set, if the scene has collision pairs.
     pub fn contact(&self) -> Option<&ContactState> {
         self.contact.as_ref()
