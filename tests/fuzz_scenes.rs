@@ -335,7 +335,8 @@ fn ten_thousand_random_scenes() {
 /// Replays one scene (`MODIA3D_FUZZ_SCENE=<scene seed>`, optionally `MODIA3D_FUZZ_WALL=<s>` for
 /// its wall budget): prints the scene, its outcome and a minimised scene with the same outcome
 /// class (a reproducer for `tests/regressions/`; work-budget outcomes only with
-/// `MODIA3D_FUZZ_MINIMISE=1`).
+/// `MODIA3D_FUZZ_MINIMISE=1`; `MODIA3D_FUZZ_MINIMISE_CONTAINS=<phrase>` keeps only candidates
+/// whose message still contains the phrase).
 #[test]
 fn replay_one_scene() {
     let Some(seed) = std::env::var("MODIA3D_FUZZ_SCENE")
@@ -362,11 +363,42 @@ fn replay_one_scene() {
     let m = if class == "sim:WorkBudget" && std::env::var_os("MODIA3D_FUZZ_MINIMISE").is_none() {
         s.clone()
     } else {
-        minimise(&s, &|c| run_scene(c).class == class)
+        // `MODIA3D_FUZZ_MINIMISE_CONTAINS=<phrase>`: a candidate must also keep the phrase in
+        // its message (e.g. `at t = 0.0000` for a collapse at the start, or a cause).
+        let phrase = std::env::var("MODIA3D_FUZZ_MINIMISE_CONTAINS").ok();
+        minimise(&s, &|c| {
+            let o = run_scene(c);
+            o.class == class && phrase.as_deref().is_none_or(|p| o.detail.contains(p))
+        })
     };
     println!(
         "minimised ({} bodies): {}",
         m.bodies.len(),
         serde_json::json!({ "seed": seed, "expected": class, "scene": m })
     );
+}
+
+/// Reruns a list of scenes as they are, without minimising (`MODIA3D_FUZZ_SCENES=<seed>,<seed>,…`,
+/// optionally `MODIA3D_FUZZ_WALL=<s>` for every scene's wall budget): one line per scene with
+/// its outcome class, wall time and message. For the question whether work-budget runs would
+/// finish with more time (BENCHMARKS.md, "Random scenes"); a no-op without the variable.
+#[test]
+fn replay_scenes() {
+    let Ok(list) = std::env::var("MODIA3D_FUZZ_SCENES") else {
+        return;
+    };
+    let wall = std::env::var("MODIA3D_FUZZ_WALL")
+        .ok()
+        .and_then(|w| w.parse::<f64>().ok());
+    for seed in list.split([',', ' ', '\n']).filter_map(parse_seed) {
+        let mut s = generate(seed);
+        if let Some(w) = wall {
+            s.run.max_wall_time = w;
+        }
+        let o = run_scene(&s);
+        println!(
+            "replay {seed:#x}: {} {:.3} s (budget {} s, stop {} s, rtol {:.1e}): {}",
+            o.class, o.wall, s.run.max_wall_time, s.run.stop_time, s.run.rtol, o.detail
+        );
+    }
 }

@@ -62,3 +62,110 @@ fn every_recorded_failure_has_its_expected_outcome() {
     }
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
+
+/// The reproducer `error_test_fails_under_contact_tightening.json` (a run that failed with
+/// `IDA_ERR_FAIL` under the contact tightening and now goes on with it relaxed) checked against
+/// the energy balance, an independent check for a chaotic scene: gravity and the spring are
+/// conservative and every other force (the spring's damper, the contact's damping, friction,
+/// rolling resistance) dissipates, and the contact's own elastic energy is ≥ 0, so the
+/// mechanical energy (kinetic + gravity + spring) can only fall from one output point out of
+/// contact to the next. Tolerance 1e-6 of the energy turned over (the largest kinetic energy): the soft clamp
+/// of the damping (`contact/regularise.rs`) adds at most an impulse of order 1e-8 of the
+/// contact's, and IDA's error at rtol 1.4e-9 is far below; a run whose relaxed restart lost
+/// consistency (a jump of the state) would show as a rise of the energy.
+#[test]
+fn relaxed_contact_tightening_loses_no_energy() {
+    use modia3d::prelude::*;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/error_test_fails_under_contact_tightening.json");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let s = SceneSpec::from_json(&v["scene"].to_string()).unwrap();
+    let model = fuzz::build::scene(&s).build().unwrap();
+    let opts = fuzz::build::options(&s)
+        .interval(s.run.stop_time / 2000.0)
+        .contact_results(true);
+    let res = model.simulate(&opts).expect("the run ends");
+    assert!(
+        res.warnings
+            .iter()
+            .any(|w| matches!(w, SimWarning::ContactTighteningRelaxed { .. })),
+        "the tightening was not relaxed (the reproducer no longer fails its error test): {:?}",
+        res.warnings
+    );
+    let g = Vector3::from(s.gravity);
+    let fuzz::ForceSpec::Spring {
+        stiffness, length0, ..
+    } = s.forces[0]
+    else {
+        panic!("the reproducer's force is its spring");
+    };
+    let length = res.signal("spring0.length").unwrap();
+    let mut e = vec![0.0; res.time().len()];
+    let mut kinetic_max: f64 = 0.0;
+    for (k, b) in s.bodies.iter().enumerate() {
+        let fuzz::ShapeSpec::Box(l) = b.shape else {
+            panic!("the reproducer's bodies are boxes");
+        };
+        let m = b.mass.expect("the reproducer's masses are given");
+        // A box's inertia about its centre (its object origin) [kg·m²].
+        let inertia = Matrix3::from_diagonal(&Vector3::new(
+            m / 12.0 * (l[1] * l[1] + l[2] * l[2]),
+            m / 12.0 * (l[0] * l[0] + l[2] * l[2]),
+            m / 12.0 * (l[0] * l[0] + l[1] * l[1]),
+        ));
+        let name = format!("b{k}");
+        let r = res.signal(&format!("{name}.r_abs")).unwrap();
+        let vel = res.signal(&format!("{name}.v_abs")).unwrap();
+        let w = res.signal(&format!("{name}.w_abs")).unwrap();
+        let rot = res.signal(&format!("{name}.R_abs")).unwrap();
+        for (i, ei) in e.iter_mut().enumerate() {
+            let rm = Matrix3::from_row_slice(rot.at(i).unwrap());
+            let wv = Vector3::from_column_slice(w.at(i).unwrap());
+            let vv = Vector3::from_column_slice(vel.at(i).unwrap());
+            let rv = Vector3::from_column_slice(r.at(i).unwrap());
+            let kin =
+                0.5 * m * vv.norm_squared() + 0.5 * wv.dot(&(rm * inertia * rm.transpose() * wv));
+            kinetic_max = kinetic_max.max(kin);
+            *ei += -m * g.dot(&rv) + kin;
+        }
+    }
+    for (i, ei) in e.iter_mut().enumerate() {
+        let stretch = length.at(i).unwrap()[0] - length0;
+        *ei += 0.5 * stiffness * stretch * stretch;
+    }
+    // Out of contact (no pair penetrating) the contact stores nothing: there the energy may
+    // only fall from one such point to the next.
+    let pairs = res.contact_pairs();
+    let depths: Vec<_> = pairs
+        .iter()
+        .map(|p| res.signal(&format!("{p}.penetration")).unwrap())
+        .collect();
+    let free: Vec<usize> = (0..e.len())
+        .filter(|&i| depths.iter().all(|d| d.at(i).unwrap()[0] <= 0.0))
+        .collect();
+    let rise = free
+        .windows(2)
+        .map(|w| e[w[1]] - e[w[0]])
+        .fold(0.0f64, f64::max);
+    let t_relaxed = res
+        .warnings
+        .iter()
+        .find_map(|w| match w {
+            SimWarning::ContactTighteningRelaxed { t, .. } => Some(*t),
+            _ => None,
+        })
+        .unwrap();
+    let after = free.iter().filter(|&&i| res.time()[i] > t_relaxed).count();
+    println!(
+        "energy: start {:.6e} J, end {:.6e} J; {} output points out of contact ({after} after the relaxation at {t_relaxed:.3e} s), largest rise between them {rise:.3e} J; largest kinetic {kinetic_max:.3e} J",
+        e[0],
+        e[e.len() - 1],
+        free.len()
+    );
+    assert!(after >= 10, "too few output points out of contact: {after}");
+    assert!(
+        rise <= 1e-6 * kinetic_max,
+        "the mechanical energy rose by {rise:e} J between two points out of contact (largest kinetic energy {kinetic_max:e} J)"
+    );
+}

@@ -334,7 +334,8 @@ pub struct Simulation {
     call_started: Instant,
     /// Progress bar of a one-shot run on a terminal.
     progress: Option<indicatif::ProgressBar>,
-    /// Warnings found at the start of the run (`warnings::start_warnings`).
+    /// Warnings found at the start of the run (`warnings::start_warnings`) and the relaxations
+    /// of the contact tightening (`relax_contact_tightening`).
     start_warnings: Vec<crate::results::SimWarning>,
     /// Scratch of `measure_step`: the pairs in the contact set.
     active_scratch: Vec<usize>,
@@ -531,7 +532,16 @@ impl Simulation {
             if let Some(e) = self.ida.system_mut().take_root_error() {
                 return Err(e.into());
             }
-            let status = solved?;
+            let status = match solved {
+                Err(IdaError::Flag { ref name, .. })
+                    if name == "IDA_ERR_FAIL" && self.relax_contact_tightening() =>
+                {
+                    // Go on from the last step IDA reached, with the looser error test.
+                    self.restart(self.time())?;
+                    continue;
+                }
+                other => other?,
+            };
             let (SolveStatus::Reached { t }
             | SolveStatus::StopTime { t }
             | SolveStatus::Root { t }) = status;
@@ -559,6 +569,31 @@ impl Simulation {
                 _ => {}
             }
         }
+    }
+
+    /// After IDA's error test failed repeatedly (`IDA_ERR_FAIL`) with the error test of the
+    /// bodies in contact tightened (`SimOptions::contact_tightening`): divides the factor by 10
+    /// (to 1 = off at most) for the rest of the run (segment), records a
+    /// [`SimWarning::ContactTighteningRelaxed`](crate::results::SimWarning::ContactTighteningRelaxed)
+    /// and returns true (the caller restarts IDA from its last step); false when nothing is
+    /// tightened (the failure is the run's error). Why: random scenes at rtol ≈ 1.4e-9 asked
+    /// ~5e-12 in contact and failed at 2e-14 s steps (fuzz scene 0x51c3833739c3634e, BENCHMARKS.md
+    /// "Random scenes"), while the same runs end at 1/2 of that factor; a fixed floor under the
+    /// tightened tolerance would loosen the contact times of `tests/contact_times.rs` at rtol
+    /// 1e-9 and 1e-10, which never fail.
+    fn relax_contact_tightening(&mut self) -> bool {
+        let t = self.time();
+        let dae = self.ida.system_mut();
+        let from = dae.contact_tightening();
+        if from <= 1.0 {
+            return false;
+        }
+        let to = if from > 10.0 { from / 10.0 } else { 1.0 };
+        dae.set_contact_tightening(to);
+        let w = crate::results::SimWarning::ContactTighteningRelaxed { t, from, to };
+        tracing::warn!(t, "{w}");
+        self.start_warnings.push(w);
+        true
     }
 
     /// Limits the next step to the tunnelling guard's (`MultibodyDae::max_safe_step`) and the
@@ -675,9 +710,22 @@ impl Simulation {
                             .unwrap_or_else(|| format!("velocity {i}")),
                         ratio,
                     });
-                diagnosis::deep_contact(plan, dae.contact_plan(), dae.contact()).unwrap_or_else(
-                    || diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last),
-                )
+                let cause = diagnosis::deep_contact(plan, dae.contact_plan(), dae.contact())
+                    .unwrap_or_else(|| {
+                        diagnosis::with_fast_body(cause, plan, &speeds, guard, ill, h_last)
+                    });
+                match cause {
+                    SlowCause::StepCollapse { .. } | SlowCause::Unknown => {
+                        diagnosis::rough_contact(
+                            plan,
+                            dae.contact_plan(),
+                            dae.contact(),
+                            dae.workspace(),
+                        )
+                        .unwrap_or(cause)
+                    }
+                    cause => cause,
+                }
             }
         };
         let run = self.segments.solver_base + self.ida.stats();

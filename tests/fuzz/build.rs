@@ -286,7 +286,8 @@ pub fn scene(s: &SceneSpec) -> SceneDesc {
     d
 }
 
-/// The run options of `s`.
+/// The run options of `s` (`MODIA3D_FUZZ_TIGHTENING=<factor>` overrides
+/// `SimOptions::contact_tightening`, to replay a scene without it: 1 turns it off).
 pub fn options(s: &SceneSpec) -> SimOptions {
     let r = &s.run;
     let mut o = SimOptions::new(r.stop_time)
@@ -297,6 +298,12 @@ pub fn options(s: &SceneSpec) -> SimOptions {
         .progress(false);
     if let Some(dt) = r.interval {
         o = o.interval(dt);
+    }
+    if let Some(k) = std::env::var("MODIA3D_FUZZ_TIGHTENING")
+        .ok()
+        .and_then(|k| k.parse().ok())
+    {
+        o = o.contact_tightening(k);
     }
     o
 }

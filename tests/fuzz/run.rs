@@ -14,7 +14,7 @@ use std::time::Instant;
 pub struct Outcome {
     /// Outcome class (see the module documentation).
     pub class: String,
-    /// The error message or the non-finite signal, for reports.
+    /// The error message, the non-finite signal, or an ok run's warnings, for reports.
     pub detail: String,
     /// Wall time of build + run \[s\].
     pub wall: f64,
@@ -71,7 +71,11 @@ pub fn non_finite(r: &SimulationResult) -> Option<String> {
 
 fn finish(res: Result<SimulationResult, SimError>) -> (String, String) {
     let (class, detail, result) = match res {
-        Ok(r) => ("ok".to_string(), String::new(), r),
+        // An ok run's detail: its warnings (for `detail_contains` in `tests/regressions/`).
+        Ok(r) => {
+            let warnings: Vec<String> = r.warnings.iter().map(|w| w.to_string()).collect();
+            ("ok".to_string(), warnings.join("; "), r)
+        }
         Err(e) => (sim_class(&e.kind), e.kind.to_string(), *e.partial),
     };
     match non_finite(&result) {

@@ -605,6 +605,50 @@ impl ContactState {
         })
     }
 
+    /// How far the narrow phase of the `k`-th pair in the contact set is from smooth at the
+    /// workspace poses: the largest central second difference of its unit normal [rad] and of
+    /// its signed distance \[m\] when shape b moves by `±step` \[m\] along each world axis.
+    /// A smooth narrow phase gives `~step²·κ²` (κ the curvature, 1/m): nothing at
+    /// `step` = 1e-9 m; a narrow phase whose answer jumps with the pose (an iteration stopped at
+    /// its tolerance on a curved core, MPR's portal on a deep overlap) gives the jump itself.
+    /// For the work-budget diagnosis only (not on the hot path); `None` if a query fails.
+    pub fn pair_roughness(
+        &self,
+        cp: &ContactPlan,
+        ws: &Workspace,
+        k: usize,
+        step: f64,
+    ) -> Option<(f64, f64)> {
+        let p = *self.active.get(k)? as usize;
+        let (a, b) = self.shapes_of(p);
+        let pose = |s: usize| {
+            if cp.shapes[s].body.is_some() {
+                shape_pose(cp, ws, s)
+            } else {
+                self.poses[s]
+            }
+        };
+        let (pa, pb) = (pose(a), pose(b));
+        let (sa, sb) = (&cp.shapes[a].shape, &cp.shapes[b].shape);
+        let query = |d: Vector3<f64>| {
+            let mut moved = pb;
+            moved.translation.vector += d;
+            signed_distance_method(sa, &pa, sb, &moved, &cp.narrow)
+                .ok()
+                .map(|(sd, _)| sd)
+        };
+        let centre = query(Vector3::zeros())?;
+        let (mut normal, mut distance) = (0.0f64, 0.0f64);
+        for axis in 0..3 {
+            let mut e = Vector3::zeros();
+            e[axis] = step;
+            let (plus, minus) = (query(e)?, query(-e)?);
+            normal = normal.max((plus.normal - 2.0 * centre.normal + minus.normal).norm());
+            distance = distance.max((plus.distance - 2.0 * centre.distance + minus.distance).abs());
+        }
+        Some((normal, distance))
+    }
+
     /// Narrow phase and contact patch of the `k`-th pair in the contact set at the workspace
     /// poses, as continuous mode computes them, but touching no pair state, pose or counter:
     /// for pair-local difference quotients of the Jacobian (`dae/jacobian.rs`).

@@ -138,10 +138,16 @@ impl MultibodyDae {
         }
     }
     /// Tightens the error test of the bodies in contact (in the contact set) by `factor`
-    /// (≥ 1; 1 = off): see [`crate::SimOptions::contact_tightening`]. Takes effect when the
-    /// solver is created.
+    /// (≥ 1; 1 = off): see [`crate::SimOptions::contact_tightening`]. Whether the error
+    /// weights are tightened at all is fixed when the solver is created (a factor > 1 then);
+    /// a later change sets the factor of the following steps' weights (the driver relaxes it
+    /// after a repeated error-test failure: `Simulation::relax_contact_tightening`).
     pub fn set_contact_tightening(&mut self, factor: f64) {
         self.contact_tightening = factor.max(1.0);
+    }
+    /// The tightening factor of the error test of the bodies in contact [-] (1 = off).
+    pub fn contact_tightening(&self) -> f64 {
+        self.contact_tightening
     }
     /// The plan.
     pub fn plan(&self) -> &Plan {
@@ -177,6 +183,10 @@ impl MultibodyDae {
     /// The compiled contact pipeline, if the scene has collision pairs.
     pub fn contact_plan(&self) -> Option<&ContactPlan> {
         self.contact_plan.as_deref()
+    }
+    /// The workspace (body poses and velocities of the last residual evaluation).
+    pub(crate) fn workspace(&self) -> &Workspace {
+        &self.ws
     }
     /// The contact set, if the scene has collision pairs.
     pub fn contact(&self) -> Option<&ContactState> {

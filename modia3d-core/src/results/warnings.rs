@@ -60,6 +60,20 @@ pub enum SimWarning {
         /// Time of the first of them \[s\].
         t: f64,
     },
+    /// IDA's error test failed repeatedly (`IDA_ERR_FAIL`) while the error test of the bodies
+    /// in contact was tightened ([`SimOptions::contact_tightening`](crate::SimOptions::contact_tightening)):
+    /// the run went on from the last step with the factor divided by 10 (1 = off) for the rest
+    /// of the run (segment). Found in random scenes: at rtol 1.4e-9 the tightened tolerance
+    /// ~5e-12 was below what the contact forces' rounding allows, and the step fell to 2e-14 s.
+    #[error("at t = {t:.6e} s the error test failed repeatedly with the error test of bodies in contact {from:.3e} times tighter than rtol; the run goes on with {to:.3e} (SimOptions::contact_tightening): loosen rtol, or set contact_tightening lower, to avoid this")]
+    ContactTighteningRelaxed {
+        /// Time of the failure (the last step reached) \[s\].
+        t: f64,
+        /// The tightening factor that failed [-].
+        from: f64,
+        /// The factor used from then on [-] (1 = off).
+        to: f64,
+    },
     /// Contact phases that began and ended between two output points: the signals never show
     /// them.
     #[error("{phases} contact phase(s) of `{pair}` fell between output points (the shortest {shortest:.3e} s, output interval {interval:.3e} s): the signals do not show them; use `SimOptions::output_steps(true)` or read `result.contacts()` (with `contact_results(true)`)")]

@@ -120,8 +120,76 @@ pub enum SlowCause {
         /// `M_ii·(M⁻¹)_ii` [-] (1 for a coordinate that moves its inertia alone).
         ratio: f64,
     },
+    /// The steps collapsed (or no cause was found) and the narrow phase of a contact in the
+    /// contact set is not smooth in the pose: moved by 1e-9 or 1e-7 m (`ROUGHNESS_TESTS`), its
+    /// normal or depth jumps far more than a smooth surface allows, so the
+    /// contact force jumps between steps and IDA's error test follows the jumps. Found in
+    /// random scenes (BENCHMARKS.md, "Random scenes"): GJK stopped at its tolerance on curved
+    /// cores (cylinder, ellipsoid, capsule pairs) gives normals 1e-6 to 1e-5 rad apart at poses
+    /// 1e-12 m apart, and MPR's estimate of a 4 cm overlap jumps by 2e-7 m; under forces of
+    /// 1e2 to 1e9 N the tangential part of that jump held the steps at 1e-12 to 1e-15 s. A
+    /// limitation of the narrow phase, not of the scene.
+    NarrowPhaseNoise {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// The move of shape b that showed it \[m\].
+        step: f64,
+        /// The largest second difference of the normal over the moves \[rad\].
+        normal_jump: f64,
+        /// The largest second difference of the signed distance over the moves \[m\].
+        depth_jump: f64,
+        /// The pair's normal force \[N\].
+        force: f64,
+    },
     /// None of the above was found.
     Unknown,
+}
+
+/// The tests of [`SlowCause::NarrowPhaseNoise`]: (move \[m\], second difference of the normal
+/// \[rad\], of the signed distance \[m\]) above which a narrow phase counts as not smooth. A
+/// smooth surface of curvature κ gives `(move·κ)²` and `move²·κ`: at 1e-9 m below 1e-8 rad down
+/// to radii of 10 µm (GJK's jumps on curved cores, 1e-6 to 1e-5 rad, show at every move from
+/// 1e-12 m on); at 1e-7 m below 1e-5 rad down to 0.03 mm (MPR's estimate of a 4 cm overlap
+/// showed 4e-11 rad at 1e-9 m at one pose, but 3.6e-5 rad and 4.3e-7 m at 1e-7 m). The depth's
+/// bounds (1e-10 m, 1e-8 m) stay above the narrow phase's own tolerance (`mpr_tolerance` ≤ 1e-9
+/// relative to the shapes' size, ≤ 1e-9 m for a 1 m shape).
+pub const ROUGHNESS_TESTS: [(f64, f64, f64); 2] = [(1e-9, 1e-8, 1e-10), (1e-7, 1e-5, 1e-8)];
+
+/// The contact of the set whose narrow phase is roughest (see [`SlowCause::NarrowPhaseNoise`])
+/// if it is rough at all; its force weighs the jumps (`normal_jump·f_n`).
+pub(crate) fn rough_contact(
+    plan: &Plan,
+    cp: Option<&ContactPlan>,
+    cs: Option<&ContactState>,
+    ws: &Workspace,
+) -> Option<SlowCause> {
+    let (cp, cs) = (cp?, cs?);
+    let mut best: Option<(f64, SlowCause)> = None;
+    for (k, (_, pp, ps)) in cs.active_pairs().enumerate() {
+        let rough = ROUGHNESS_TESTS.iter().find_map(|&(step, n_max, d_max)| {
+            cs.pair_roughness(cp, ws, k, step)
+                .filter(|&(n, d)| n > n_max || d > d_max)
+                .map(|(n, d)| (step, n, d))
+        });
+        let Some((step, normal_jump, depth_jump)) = rough else {
+            continue;
+        };
+        let force = ps.response.f_n;
+        let weight = force * normal_jump.max(depth_jump);
+        if best.as_ref().is_none_or(|(w, _)| weight > *w) {
+            best = Some((
+                weight,
+                SlowCause::NarrowPhaseNoise {
+                    pair: cp.pair_name(&plan.scene, pp),
+                    step,
+                    normal_jump,
+                    depth_jump,
+                    force,
+                },
+            ));
+        }
+    }
+    best.map(|(_, c)| c)
 }
 
 /// Penetration, as a fraction of the thinner shape's smallest extent, above which a contact
@@ -279,6 +347,21 @@ impl std::fmt::Display for WorkDiagnosis {
                  {:.1e} of its own (a light body carrying a heavy one?), and Newton's method \
                  fails on it — make the carrying body heavier or attach the heavy one elsewhere",
                 1.0 / ratio
+            )?,
+            SlowCause::NarrowPhaseNoise {
+                pair,
+                step,
+                normal_jump,
+                depth_jump,
+                force,
+            } => write!(
+                f,
+                "the steps collapsed: the narrow phase of contact `{pair}` is not smooth here — \
+                 moved by ±{step:.0e} m its normal jumps by {normal_jump:.1e} rad and its depth by \
+                 {depth_jump:.1e} m under a normal force of {force:.3e} N (a limitation of the \
+                 collision query on curved or deeply overlapping shapes, not of the scene); \
+                 loosen the tolerance, lower the force that presses the pair (k_red, the driving \
+                 forces), or raise max_steps"
             )?,
             SlowCause::Unknown => write!(
                 f,

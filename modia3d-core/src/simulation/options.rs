@@ -67,7 +67,9 @@ pub struct SimOptions {
     /// 1e-4…1e-10; now within 1.2·rtol); and a resting or rolling contact's force depends on a
     /// penetration of ~1e-6 m that IDA's position tolerance `rtol·|r|` did not resolve at loose
     /// rtol (balls hopped on the table at 1e-3). See docs/contact-model.md §5 and
-    /// `tests/contact_times.rs`. Range `[1, 1e6]`.
+    /// `tests/contact_times.rs`. When IDA's error test then fails repeatedly (`IDA_ERR_FAIL`),
+    /// the run goes on from IDA's last step with the factor divided by 10 (down to 1) and the
+    /// warning `SimWarning::ContactTighteningRelaxed`. Range `[1, 1e6]`.
     pub contact_tightening: f64,
 }
 
