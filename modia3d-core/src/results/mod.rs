@@ -1077,6 +1077,8 @@ fn split_signal_name(name: &str) -> Result<(&str, &str, &str, Option<usize>), St
 }
 
 #[cfg(test)]
+// In tests an out-of-range index is a failure report like any assertion.
+#[allow(clippy::indexing_slicing)]
 mod tests {
     use super::*;
 

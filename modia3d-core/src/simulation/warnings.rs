@@ -227,6 +227,8 @@ pub(super) fn run_warnings(
 }
 
 #[cfg(test)]
+// In tests an out-of-range index is a failure report like any assertion.
+#[allow(clippy::indexing_slicing)]
 mod tests {
     use super::*;
     use crate::results::Event;
