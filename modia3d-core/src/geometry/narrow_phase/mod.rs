@@ -6,6 +6,7 @@
 
 mod closed_form;
 mod contact_point;
+mod curved;
 mod dispatch;
 mod gjk_distance;
 mod mpr;

@@ -24,6 +24,7 @@
 //! plane's normal (if GJK stalls above 100·tol, a second GJK from the fully refined portal's
 //! normal is tried and the better certificate kept).
 
+use super::curved::{CoreContact, Supports};
 use super::gjk_distance::gjk_distance;
 use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
@@ -70,6 +71,51 @@ impl Pair<'_> {
             b: sb,
         }
     }
+}
+
+impl Pair<'_> {
+    /// Support point of core A alone in world direction `d` (no inflation) \[m\].
+    #[inline]
+    fn support_a(&self, d: &Vector3<f64>) -> Point3<f64> {
+        Point3::from(self.ra * self.a.support(&self.ra.tr_mul(d)).coords + self.ta)
+    }
+
+    /// Support point of core B alone in world direction `d` (no inflation) \[m\].
+    #[inline]
+    fn support_b(&self, d: &Vector3<f64>) -> Point3<f64> {
+        Point3::from(self.rb * self.b.support(&self.rb.tr_mul(d)).coords + self.tb)
+    }
+}
+
+/// Cores with curved boundary parts (where GJK's and MPR's normals are only as good as the
+/// square root of their tolerance; `curved.rs`).
+fn curved(c: &CoreShape) -> bool {
+    matches!(
+        c,
+        CoreShape::Ellipsoid { .. } | CoreShape::Frustum { .. } | CoreShape::Beam { .. }
+    )
+}
+
+/// `r` (the cores' distance, normal a → b and witness points, world), its normal refined by
+/// Newton's method where a core is curved (`curved.rs`); `r` itself for polytopes, inflated
+/// cores, or where the refinement does not apply.
+fn curved_refined(
+    pair: &Pair<'_>,
+    a: &CollisionShape,
+    b: &CollisionShape,
+    size: f64,
+    r: CoreContact,
+) -> CoreContact {
+    if !(curved(pair.a) || curved(pair.b)) || pair.ia > 0.0 || pair.ib > 0.0 {
+        return r;
+    }
+    let s = Supports {
+        a: |d: &Vector3<f64>| pair.support_a(d),
+        b: |d: &Vector3<f64>| pair.support_b(d),
+        radius_a: a.bounding_radius(),
+        radius_b: b.bounding_radius(),
+    };
+    s.refine(&r.1, size).unwrap_or(r)
 }
 
 fn lower_dimensional(c: &CoreShape) -> bool {
@@ -159,8 +205,12 @@ pub fn mpr_signed_distance(
             Some(c) => {
                 let n = pose_a.rotation * c.normal;
                 let (ca, cb) = (pose_a * c.point_a, pose_a * c.point_b);
-                let (dist, n, ca, cb) =
-                    face_refined(a, pose_a, b, pose_b, c.distance, n, ca, cb, tol);
+                let mut r = face_refined(a, pose_a, b, pose_b, c.distance, n, ca, cb, tol);
+                // Not after an iteration limit: the result stays GJK's bounded iterate.
+                if r.1 == n && !c.at_limit {
+                    r = curved_refined(&pair, a, b, size, r);
+                }
+                let (dist, n, ca, cb) = r;
                 return finite(
                     SignedDistance {
                         distance: dist - a.margin() - b.margin(),
@@ -199,10 +249,17 @@ pub fn mpr_signed_distance(
         if let Some(c) = gjk_distance(&pos12, a.core(), b.core(), &init, tol, opts.max_iterations) {
             let n_gjk = pose_a.rotation * c.normal;
             let (pa, pb) = (pose_a * c.point_a, pose_a * c.point_b);
-            (delta, n, ca, cb) = face_refined(a, pose_a, b, pose_b, c.distance, n_gjk, pa, pb, tol);
+            let mut r = face_refined(a, pose_a, b, pose_b, c.distance, n_gjk, pa, pb, tol);
+            if r.1 == n_gjk && !c.at_limit {
+                r = curved_refined(&pair, a, b, size, r);
+            }
+            (delta, n, ca, cb) = r;
             (ra, rb) = (a.margin(), b.margin());
             method = limited(Method::MprThenGjk, c.at_limit);
         }
+    } else if delta <= 0.0 && !both_thin && method == Method::Mpr {
+        // Overlapping cores: MPR's portal normal, refined on curved cores as GJK's is.
+        (delta, n, ca, cb) = curved_refined(&pair, a, b, size, (delta, n, ca, cb));
     }
     finite(
         SignedDistance {
