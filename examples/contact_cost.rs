@@ -11,28 +11,15 @@
 //!
 //!     cargo run --release --example contact_cost \[evaluations repeats\]
 
-use modia3d::core::bench::{active_pairs_at, contact_stage_cost};
+use modia3d::core::bench::{busiest_output, chunk_args, contact_stage_cost};
 use modia3d::demo;
 use modia3d::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<usize> = std::env::args()
-        .skip(1)
-        .filter_map(|a| a.parse().ok())
-        .collect();
-    let evaluations = args.first().copied().unwrap_or(50);
-    let repeats = args.get(1).copied().unwrap_or(4001);
+    let (evaluations, repeats) = chunk_args(50, 4001);
     let model = demo::billiards16([3.0, 0.1, 0.0], 1.0).build()?;
     let res = model.simulate(&SimOptions::new(0.5).tolerance(1e-5).interval(0.001))?;
-    let mut best = (0, 0);
-    for (k, &t) in res.time().iter().enumerate() {
-        let y = res.state(k).ok_or("no state")?;
-        let n = active_pairs_at(&model, t, y)?;
-        if n > best.0 {
-            best = (n, k);
-        }
-    }
-    let k = best.1;
+    let k = busiest_output(&model, &res)?;
     let t = res.time()[k];
     let y = res.state(k).ok_or("no state")?;
     let c = contact_stage_cost(&model, t, y, evaluations, repeats)?.ok_or("no contacts")?;

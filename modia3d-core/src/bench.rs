@@ -115,3 +115,111 @@ fn stage_at(
     cs.evaluate(plan, &cp, &mut ws, Mode::Event, t)?;
     Ok(Some((ws, cs, cp)))
 }
+
+/// Cost of one DAE residual evaluation at one state (see [`residual_cost`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResidualCost {
+    /// Moving bodies of the model (each on its own joint).
+    pub bodies: usize,
+    /// Pairs in the contact set at the state.
+    pub active_pairs: usize,
+    /// Median wall time \[ns\] of one residual evaluation (kinematics, the contact stage of
+    /// the pairs in the contact set, forces, Newton–Euler, position and velocity residuals),
+    /// what IDA calls per Newton iteration.
+    pub residual_ns: f64,
+    /// Median wall time \[ns\] of one evaluation of the root functions at the same state.
+    pub roots_ns: f64,
+}
+
+impl ResidualCost {
+    /// `residual_ns / bodies` \[ns\]: the residual's cost per body per evaluation (issue 16
+    /// asks ≤ 200 ns for billiards16).
+    pub fn per_body_ns(&self) -> f64 {
+        self.residual_ns / self.bodies.max(1) as f64
+    }
+}
+
+/// Times the model's DAE residual (and its root functions) at `(t, y)`: the contact set an
+/// event there forms, `y'` consistent with `y`, then `repeats` chunks of `evaluations`
+/// residual evaluations, interleaved with as many chunks of root evaluations; returns the
+/// medians per evaluation. `None` for a state of the wrong length or one where no consistent
+/// derivative exists (a singular mass matrix, a failing force law).
+pub fn residual_cost(
+    model: &Model,
+    t: f64,
+    y: &[f64],
+    evaluations: usize,
+    repeats: usize,
+) -> Result<Option<ResidualCost>, ContactError> {
+    use crate::dae::MultibodyDae;
+    use crate::solver::DaeSystem;
+    let plan = &*model.plan;
+    if y.len() != plan.nq + plan.nv || !plan.loops.is_empty() {
+        return Ok(None);
+    }
+    let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+    dae.handle_event(t, y)?;
+    let mut y = y.to_vec();
+    let Ok(yp) = dae.consistent_derivative(t, &mut y) else {
+        return Ok(None);
+    };
+    let mut res = vec![0.0; dae.len()];
+    let mut g = vec![0.0; 2];
+    let (evaluations, repeats) = (evaluations.max(1), repeats.max(1));
+    // Warm-up.
+    if dae.residual(t, &y, &yp, &mut res).is_err() {
+        return Ok(None);
+    }
+    dae.roots(t, &y, &yp, &mut g);
+    let (mut residual, mut roots) = (Vec::new(), Vec::new());
+    for _ in 0..repeats {
+        let start = Instant::now();
+        for _ in 0..evaluations {
+            // The result is checked once above; errors here cannot differ (same state).
+            let _ = dae.residual(t, black_box(&y), black_box(&yp), black_box(&mut res));
+        }
+        residual.push(start.elapsed().as_secs_f64());
+        let start = Instant::now();
+        for _ in 0..evaluations {
+            dae.roots(t, black_box(&y), black_box(&yp), black_box(&mut g));
+        }
+        roots.push(start.elapsed().as_secs_f64());
+    }
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        1e9 * v[v.len() / 2] / evaluations as f64
+    };
+    Ok(Some(ResidualCost {
+        bodies: plan.bodies.len(),
+        active_pairs: active_pairs_at(model, t, &y)?,
+        residual_ns: median(&mut residual),
+        roots_ns: median(&mut roots),
+    }))
+}
+
+/// Index of the output point of `res` whose state has the most pairs in the contact set (the
+/// first of equals; 0 when no state has any), for timing a stage where it works hardest.
+pub fn busiest_output(model: &Model, res: &crate::SimulationResult) -> Result<usize, ContactError> {
+    let mut best = (0, 0);
+    for (k, &t) in res.time().iter().enumerate() {
+        let Some(y) = res.state(k) else { break };
+        let n = active_pairs_at(model, t, y)?;
+        if n > best.0 {
+            best = (n, k);
+        }
+    }
+    Ok(best.1)
+}
+
+/// The timing examples' command line `[evaluations repeats]` (chunk length and number of
+/// chunks), each falling back to the given default when absent or not a number.
+pub fn chunk_args(evaluations: usize, repeats: usize) -> (usize, usize) {
+    let args: Vec<usize> = std::env::args()
+        .skip(1)
+        .filter_map(|a| a.parse().ok())
+        .collect();
+    (
+        args.first().copied().unwrap_or(evaluations),
+        args.get(1).copied().unwrap_or(repeats),
+    )
+}
