@@ -52,6 +52,22 @@ pub(super) struct Supports<FA, FB> {
     pub b: FB,
     pub radius_a: f64,
     pub radius_b: f64,
+    /// What each core's support map can do, so that no support point is evaluated that
+    /// cannot change the answer.
+    pub profile_a: Profile,
+    pub profile_b: Profile,
+}
+
+/// What a core's support map can do under small turns of the direction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Profile {
+    /// One point (a sphere's or a rounded point's core): constant, no curvature, no jumps.
+    Point,
+    /// Strictly convex and smooth (an ellipsoid): curvature, never a jump.
+    Smooth,
+    /// With flat features (segments, frustum generators and caps, beam and box faces):
+    /// curvature where curved, jumps over the flat features.
+    Faceted,
 }
 
 /// A core distance, normal and witness points (world): `(δ, n, p_a, p_b)`.
@@ -150,20 +166,31 @@ where
             };
         for j in 0..2 {
             let (np, nm) = ((n + t[j] * H).normalize(), (n - t[j] * H).normalize());
-            let (ap, am) = ((self.a)(&np), (self.a)(&nm));
-            let (bp, bm) = ((self.b)(&-np), (self.b)(&-nm));
+            // A point's support does not move: no probes.
+            let (ap, am) = match self.profile_a {
+                Profile::Point => (sa, sa),
+                _ => ((self.a)(&np), (self.a)(&nm)),
+            };
+            let (bp, bm) = match self.profile_b {
+                Profile::Point => (sb, sb),
+                _ => ((self.b)(&-np), (self.b)(&-nm)),
+            };
             let mut dw = Vector3::zeros();
             // A jump within ±H does not enter R; one only within ±hd does (the support is
-            // smooth at n, the kink is near).
+            // smooth at n, the kink is near). Only faceted cores jump.
             let (da, db) = (ap - am, bp - bm);
             let (mut skip_a, mut skip_b) = (false, false);
-            if let Some(f) = jump(&self.a, 1.0, &t[j], self.radius_a, (ap, am)) {
-                skip_a = f.0 == da;
-                keep(&mut jump_a, &mut ends_a, f);
+            if self.profile_a == Profile::Faceted {
+                if let Some(f) = jump(&self.a, 1.0, &t[j], self.radius_a, (ap, am)) {
+                    skip_a = f.0 == da;
+                    keep(&mut jump_a, &mut ends_a, f);
+                }
             }
-            if let Some(f) = jump(&self.b, -1.0, &t[j], self.radius_b, (bp, bm)) {
-                skip_b = f.0 == db;
-                keep(&mut jump_b, &mut ends_b, f);
+            if self.profile_b == Profile::Faceted {
+                if let Some(f) = jump(&self.b, -1.0, &t[j], self.radius_b, (bp, bm)) {
+                    skip_b = f.0 == db;
+                    keep(&mut jump_b, &mut ends_b, f);
+                }
             }
             near_a |= skip_a;
             near_b |= skip_b;

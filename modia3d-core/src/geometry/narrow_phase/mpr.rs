@@ -24,7 +24,7 @@
 //! plane's normal (if GJK stalls above 100·tol, a second GJK from the fully refined portal's
 //! normal is tried and the better certificate kept).
 
-use super::curved::{CoreContact, Supports};
+use super::curved::{CoreContact, Profile, Supports};
 use super::gjk_distance::gjk_distance;
 use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
@@ -96,6 +96,16 @@ fn curved(c: &CoreShape) -> bool {
     )
 }
 
+/// What the core's support map can do under small turns (`curved.rs` probes only what can
+/// change the answer).
+fn profile(c: &CoreShape) -> Profile {
+    match c {
+        CoreShape::Point { .. } => Profile::Point,
+        CoreShape::Ellipsoid { .. } => Profile::Smooth,
+        _ => Profile::Faceted,
+    }
+}
+
 /// `r` (the cores' distance, normal a → b and witness points, world), its normal refined by
 /// Newton's method where a core is curved (`curved.rs`); `r` itself for polytopes, inflated
 /// cores, or where the refinement does not apply.
@@ -114,6 +124,8 @@ fn curved_refined(
         b: |d: &Vector3<f64>| pair.support_b(d),
         radius_a: a.bounding_radius(),
         radius_b: b.bounding_radius(),
+        profile_a: profile(pair.a),
+        profile_b: profile(pair.b),
     };
     s.refine(&r.1, size).unwrap_or(r)
 }
