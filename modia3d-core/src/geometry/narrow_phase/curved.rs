@@ -250,7 +250,8 @@ where
                 }
                 let hd = (10.0 * step.norm()).clamp(H, HD_FIRST);
                 let next = self.local((cur.n + step).normalize(), hd);
-                if next.psi < cur.psi - 1e-14 * size {
+                // A NaN ψ is no progress either.
+                if next.psi.is_nan() || next.psi < cur.psi - 1e-14 * size {
                     return None;
                 }
                 let r = self.witnesses(&next)?;
