@@ -204,6 +204,12 @@ where
             for i in 0..2 {
                 r[(i, j)] = -t[i].dot(&dw) / (2.0 * H);
             }
+            // Both supports jump at `n` (flat on flat: a cylinder lying across another): no
+            // step applies and no witness is taken at such an iterate (`refine`,
+            // `witnesses`), so the other tangent's probes would change nothing.
+            if near_a && near_b {
+                break;
+            }
         }
         let r = (r + r.transpose()) * 0.5;
         Local {
