@@ -71,10 +71,6 @@ pub fn contact_stage_cost(
         }
         narrow.push(start.elapsed().as_secs_f64());
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        1e9 * v[v.len() / 2] / evaluations as f64
-    };
     let moving_pairs = cs
         .active_pairs()
         .filter(|(_, pp, _)| cp.shapes[pp.a].body.is_some() && cp.shapes[pp.b].body.is_some())
@@ -82,9 +78,16 @@ pub fn contact_stage_cost(
     Ok(Some(ContactStageCost {
         active_pairs: cs.active_pairs().count(),
         moving_pairs,
-        stage_ns: median(&mut stage),
-        narrow_ns: median(&mut narrow),
+        stage_ns: median_ns(&mut stage, evaluations),
+        narrow_ns: median_ns(&mut narrow, evaluations),
     }))
+}
+
+/// Median \[ns\] per evaluation of chunk times `v` \[s\] of `evaluations` evaluations each
+/// (`v` not empty).
+fn median_ns(v: &mut [f64], evaluations: usize) -> f64 {
+    v.sort_by(f64::total_cmp);
+    1e9 * v[v.len() / 2] / evaluations as f64
 }
 
 /// Workspace at `(t, y)` (`position_velocity` done) and the contact set an event there forms.
@@ -185,15 +188,11 @@ pub fn residual_cost(
         }
         roots.push(start.elapsed().as_secs_f64());
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        1e9 * v[v.len() / 2] / evaluations as f64
-    };
     Ok(Some(ResidualCost {
         bodies: plan.bodies.len(),
         active_pairs: active_pairs_at(model, t, &y)?,
-        residual_ns: median(&mut residual),
-        roots_ns: median(&mut roots),
+        residual_ns: median_ns(&mut residual, evaluations),
+        roots_ns: median_ns(&mut roots, evaluations),
     }))
 }
 

@@ -84,7 +84,8 @@ struct Local {
     g: Vector2<f64>,
     /// `R = R_A + R_B` in the basis `t` \[m\].
     r: Matrix2<f64>,
-    /// The flat feature of A (jump vector over `2H`, world) if its support jumps.
+    /// The flat feature of A (its support's jump across the probe that found it, world) if
+    /// its support jumps.
     jump_a: Option<Vector3<f64>>,
     jump_b: Option<Vector3<f64>>,
     /// The two ends of A's (B's) flat feature.

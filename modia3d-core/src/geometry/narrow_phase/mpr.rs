@@ -25,7 +25,7 @@
 //! normal is tried and the better certificate kept).
 
 use super::curved::{CoreContact, Profile, Supports};
-use super::gjk_distance::gjk_distance;
+use super::gjk_distance::{gjk_distance, Closest};
 use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
 use crate::geometry::error::GeometryError;
@@ -58,8 +58,7 @@ impl Pair<'_> {
     /// Support point of `M` in world direction `d` (unit or not).
     #[inline]
     fn support(&self, d: &Vector3<f64>) -> Sv {
-        let mut sa = Point3::from(self.ra * self.a.support(&-self.ra.tr_mul(d)).coords + self.ta);
-        let mut sb = Point3::from(self.rb * self.b.support(&self.rb.tr_mul(d)).coords + self.tb);
+        let (mut sa, mut sb) = (self.support_a(&-d), self.support_b(d));
         if self.ia > 0.0 || self.ib > 0.0 {
             let u = d.normalize();
             sa -= u * self.ia;
@@ -71,16 +70,14 @@ impl Pair<'_> {
             b: sb,
         }
     }
-}
 
-impl Pair<'_> {
-    /// Support point of core A alone in world direction `d` (no inflation) \[m\].
+    /// Support point of core A alone (no inflation) in world direction `d` \[m\].
     #[inline]
     fn support_a(&self, d: &Vector3<f64>) -> Point3<f64> {
         Point3::from(self.ra * self.a.support(&self.ra.tr_mul(d)).coords + self.ta)
     }
 
-    /// Support point of core B alone in world direction `d` (no inflation) \[m\].
+    /// Support point of core B alone (no inflation) in world direction `d` \[m\].
     #[inline]
     fn support_b(&self, d: &Vector3<f64>) -> Point3<f64> {
         Point3::from(self.rb * self.b.support(&self.rb.tr_mul(d)).coords + self.tb)
@@ -215,14 +212,7 @@ pub fn mpr_signed_distance(
         }
         match first {
             Some(c) => {
-                let n = pose_a.rotation * c.normal;
-                let (ca, cb) = (pose_a * c.point_a, pose_a * c.point_b);
-                let mut r = face_refined(a, pose_a, b, pose_b, c.distance, n, ca, cb, tol);
-                // Not after an iteration limit: the result stays GJK's bounded iterate.
-                if r.1 == n && !c.at_limit {
-                    r = curved_refined(&pair, a, b, size, r);
-                }
-                let (dist, n, ca, cb) = r;
+                let (dist, n, ca, cb) = gjk_refined(&pair, a, pose_a, b, pose_b, &c, size, tol);
                 return finite(
                     SignedDistance {
                         distance: dist - a.margin() - b.margin(),
@@ -259,13 +249,7 @@ pub fn mpr_signed_distance(
         let pos12 = pose_a.inv_mul(pose_b);
         let init = pose_a.rotation.inverse_transform_vector(&n);
         if let Some(c) = gjk_distance(&pos12, a.core(), b.core(), &init, tol, opts.max_iterations) {
-            let n_gjk = pose_a.rotation * c.normal;
-            let (pa, pb) = (pose_a * c.point_a, pose_a * c.point_b);
-            let mut r = face_refined(a, pose_a, b, pose_b, c.distance, n_gjk, pa, pb, tol);
-            if r.1 == n_gjk && !c.at_limit {
-                r = curved_refined(&pair, a, b, size, r);
-            }
-            (delta, n, ca, cb) = r;
+            (delta, n, ca, cb) = gjk_refined(&pair, a, pose_a, b, pose_b, &c, size, tol);
             (ra, rb) = (a.margin(), b.margin());
             method = limited(Method::MprThenGjk, c.at_limit);
         }
@@ -282,6 +266,31 @@ pub fn mpr_signed_distance(
         },
         method,
     )
+}
+
+/// GJK's answer `c` for separated cores (resolved in a's frame) in world, made exact on a flat
+/// face ([`face_refined`]) or, where no face applies, its normal refined on curved cores
+/// ([`curved_refined`]); not after an iteration limit, where the result stays GJK's bounded
+/// iterate.
+#[allow(clippy::too_many_arguments)]
+fn gjk_refined(
+    pair: &Pair<'_>,
+    a: &CollisionShape,
+    pose_a: &Isometry3<f64>,
+    b: &CollisionShape,
+    pose_b: &Isometry3<f64>,
+    c: &Closest,
+    size: f64,
+    tol: f64,
+) -> CoreContact {
+    let n = pose_a.rotation * c.normal;
+    let (pa, pb) = (pose_a * c.point_a, pose_a * c.point_b);
+    let r = face_refined(a, pose_a, b, pose_b, c.distance, n, pa, pb, tol);
+    if r.1 == n && !c.at_limit {
+        curved_refined(pair, a, b, size, r)
+    } else {
+        r
+    }
 }
 
 /// GJK's result for separated cores (core distance `dist` \[m\], unit normal `n` a → b and
