@@ -169,3 +169,46 @@ fn relaxed_contact_tightening_loses_no_energy() {
         "the mechanical energy rose by {rise:e} J between two points out of contact (largest kinetic energy {kinetic_max:e} J)"
     );
 }
+
+/// The reproducer `conv_fail_is_diagnosed.json` (an ellipsoid starting 5.9 cm inside a fixed
+/// sphere, which the contact law lets out no faster than its damping allows, until IDA's
+/// corrector fails): the error is `SolverStalled` with `DampingLimited`, and its numbers are
+/// checked against the run's own partial results, an independent measurement: the depth equals
+/// the penetration at the last output point to 1e-5 of it (the failed step's attempts move it
+/// by ~1e-9 m per 1.7e-9 s step), and the speed `1/d` equals the rate at which the penetration
+/// fell over the last 20 ms to 1 % (the creep is steady there; the elastic force's small
+/// change over 20 µm of 5.9 cm moves the balance speed by far less).
+#[test]
+fn a_damping_limited_contact_is_named_when_the_solver_fails() {
+    use modia3d::prelude::*;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions/conv_fail_is_diagnosed.json");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let s = SceneSpec::from_json(&v["scene"].to_string()).unwrap();
+    let model = fuzz::build::scene(&s).build().unwrap();
+    let opts = fuzz::build::options(&s)
+        .output_steps(true)
+        .contact_results(true);
+    let e = model.simulate(&opts).expect_err("the corrector fails");
+    let SimErrorKind::SolverStalled { error, cause, .. } = &e.kind else {
+        panic!("{}", e.kind);
+    };
+    assert!(error.to_string().contains("IDA_CONV_FAIL"), "{error}");
+    let modia3d::core::SlowCause::DampingLimited {
+        pair, depth, speed, ..
+    } = &**cause
+    else {
+        panic!("cause {cause:?}");
+    };
+    assert_eq!(pair, "b0|b1");
+    let r = &e.partial;
+    let t = r.time();
+    let p = r.signal("b0|b1.penetration").unwrap();
+    let n = t.len();
+    let last = p.at(n - 1).unwrap()[0];
+    assert!((depth - last).abs() < 1e-5 * last, "{depth} vs {last}");
+    let k0 = t.iter().position(|&x| x >= t[n - 1] - 0.02).unwrap();
+    let rate = (p.at(k0).unwrap()[0] - last) / (t[n - 1] - t[k0]);
+    assert!((rate - speed).abs() < 1e-2 * speed, "{rate} vs {speed}");
+}

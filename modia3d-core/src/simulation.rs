@@ -96,6 +96,21 @@ pub enum SimErrorKind {
     /// The integrator failed.
     #[error(transparent)]
     Solver(#[from] IdaError),
+    /// IDA gave up at a step it could not take (`IDA_ERR_FAIL`, `IDA_CONV_FAIL`,
+    /// `IDA_TOO_MUCH_ACC`, a failed linear-solver setup or solve, repeated recoverable
+    /// residual failures), with the diagnosis a run at its work budget gets: what made the
+    /// steps collapse, measured on the run (a deep or stiff contact, an ill-conditioned mass
+    /// matrix, a fast body, …).
+    #[error("{error}; diagnosis: {cause}{}", limiting_suffix(.limiting_state))]
+    SolverStalled {
+        /// The integrator's error (flag, time, hint).
+        error: Box<IdaError>,
+        /// What limited the steps.
+        cause: Box<SlowCause>,
+        /// The state with the largest weighted local error at the last step (see
+        /// [`WorkDiagnosis::limiting_state`]).
+        limiting_state: Option<String>,
+    },
     /// The collision stage failed.
     #[error(transparent)]
     Contact(#[from] ContactError),
@@ -123,6 +138,14 @@ pub enum SimErrorKind {
         /// Events without progress.
         count: u32,
     },
+}
+
+/// `"; the step is limited by …"` for a named limiting state, else nothing.
+fn limiting_suffix(state: &Option<String>) -> String {
+    state
+        .as_ref()
+        .map(|s| format!("; the step is limited by {s}"))
+        .unwrap_or_default()
 }
 
 impl From<UserFault> for SimErrorKind {
@@ -540,7 +563,8 @@ impl Simulation {
                     self.restart(self.time())?;
                     continue;
                 }
-                other => other?,
+                Err(e) => return Err(self.stalled(e)),
+                Ok(status) => status,
             };
             let (SolveStatus::Reached { t }
             | SolveStatus::StopTime { t }
@@ -671,12 +695,71 @@ impl Simulation {
     /// else the stiffest element if it explains the steps, else a fast-spinning body that
     /// does; and the limiting state.
     fn diagnose(&mut self, budget: Budget, steps: u64) -> SimErrorKind {
+        let t = self.time();
+        let cause = self.slow_cause(steps);
+        let run = self.segments.solver_base + self.ida.stats();
+        let limiting_state = self.limiting_state();
+        SimErrorKind::WorkBudget(Box::new(WorkDiagnosis {
+            budget,
+            t,
+            steps,
+            events: self.result.events.len(),
+            last_step: self.ida.stats().last_step,
+            error_test_failures: run.error_test_failures,
+            newton_failures: run.nonlinear_convergence_failures,
+            cause,
+            limiting_state,
+        }))
+    }
+
+    /// The state with the largest weighted local error at IDA's last step, by name.
+    fn limiting_state(&mut self) -> Option<String> {
+        self.ida
+            .limiting_component()
+            .and_then(|(i, _)| diagnosis::state_name(&self.model.plan, i))
+    }
+
+    /// `error` with the diagnosis of [`Simulation::diagnose`] when IDA gave up at a step it
+    /// could not take (its error test or Newton's method failed repeatedly, the accuracy
+    /// cannot be reached, or the iteration matrix is singular): the same measurements name
+    /// what made the steps collapse ([`SimErrorKind::SolverStalled`]). Other solver errors
+    /// (bad arguments, caught panics, fatal residuals) are returned as they are.
+    fn stalled(&mut self, error: IdaError) -> SimErrorKind {
+        use sundials_sys as sys;
+        let stall = matches!(
+            &error,
+            IdaError::Flag { flag, .. } if [
+                sys::IDA_ERR_FAIL,
+                sys::IDA_CONV_FAIL,
+                sys::IDA_TOO_MUCH_ACC,
+                sys::IDA_LSETUP_FAIL,
+                sys::IDA_LSOLVE_FAIL,
+                sys::IDA_REP_RES_ERR,
+            ]
+            .contains(flag)
+        );
+        if !stall {
+            return SimErrorKind::Solver(error);
+        }
+        let steps = self.segments.solver_base.steps + self.ida.stats().steps;
+        let cause = self.slow_cause(steps);
+        let limiting_state = self.limiting_state();
+        SimErrorKind::SolverStalled {
+            error: Box::new(error),
+            cause: Box::new(cause),
+            limiting_state,
+        }
+    }
+
+    /// What limited the steps of the run so far, after `steps` steps (see
+    /// [`Simulation::diagnose`]).
+    fn slow_cause(&mut self, steps: u64) -> SlowCause {
         let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
         let t = self.time();
         let h_budget = (t1 - t0) / self.opts.max_steps.unwrap_or(DEFAULT_MAX_STEPS) as f64;
         let mean_step = (t - t0) / steps.max(1) as f64;
         let events = &self.result.events;
-        let cause = match diagnosis::busiest_pair(events, 200) {
+        match diagnosis::busiest_pair(events, 200) {
             Some((pair, n, span)) if n >= 20 && span <= 10.0 * mean_step * n as f64 => {
                 SlowCause::Chattering {
                     pair,
@@ -716,34 +799,21 @@ impl Simulation {
                     });
                 match cause {
                     SlowCause::StepCollapse { .. } | SlowCause::Unknown => {
-                        diagnosis::rough_contact(
-                            plan,
-                            dae.contact_plan(),
-                            dae.contact(),
-                            dae.workspace(),
-                        )
-                        .unwrap_or(cause)
+                        diagnosis::damping_limited(plan, dae.contact_plan(), dae.contact())
+                            .or_else(|| {
+                                diagnosis::rough_contact(
+                                    plan,
+                                    dae.contact_plan(),
+                                    dae.contact(),
+                                    dae.workspace(),
+                                )
+                            })
+                            .unwrap_or(cause)
                     }
                     cause => cause,
                 }
             }
-        };
-        let run = self.segments.solver_base + self.ida.stats();
-        let limiting_state = self
-            .ida
-            .limiting_component()
-            .and_then(|(i, _)| diagnosis::state_name(&self.model.plan, i));
-        SimErrorKind::WorkBudget(Box::new(WorkDiagnosis {
-            budget,
-            t,
-            steps,
-            events: events.len(),
-            last_step: self.ida.stats().last_step,
-            error_test_failures: run.error_test_failures,
-            newton_failures: run.nonlinear_convergence_failures,
-            cause,
-            limiting_state,
-        }))
+        }
     }
 
     /// Chattering guard: [`CHATTER_EVENTS`] events within [`CHATTER_SPAN`] of the run's

@@ -43,6 +43,11 @@ pub fn sim_class(kind: &SimErrorKind) -> String {
         SimErrorKind::Solver(modia3d::core::IdaError::Flag { name, .. }) => {
             format!("sim:Solver:{name}")
         }
+        // Classed by IDA's flag as before the diagnosis, so batches stay comparable.
+        SimErrorKind::SolverStalled { error, .. } => match &**error {
+            modia3d::core::IdaError::Flag { name, .. } => format!("sim:Solver:{name}"),
+            e => format!("sim:Solver:{}", variant(&format!("{e:?}"))),
+        },
         SimErrorKind::Solver(e) => format!("sim:Solver:{}", variant(&format!("{e:?}"))),
         k => format!("sim:{}", variant(&format!("{k:?}"))),
     }

@@ -22,3 +22,4 @@ pub use contact_set::{ContactError, ContactState, Mode, PairState};
 pub(crate) use initial::initial_penetrations;
 pub(crate) use pair_jacobian::{pair_wrench_jacobian, PER_BODY};
 pub use preprocess::ContactPlan;
+pub(crate) use regularise::CLAMP_BAND;

@@ -14,12 +14,15 @@
 //! - **a deep contact**: a pair of the contact set deeper than half its thinner shape;
 //! - **an ill-conditioned mass matrix**: when Newton failed more often than the error test, the
 //!   coordinate with the largest `M_ii·(M⁻¹)_ii` if that exceeds [`ILL_CONDITIONED`];
+//! - **a damping-limited contact** (when the steps collapsed): a pair of the set whose damping
+//!   factor `1 + d·δ̇` is at its clamp, separating no faster than `1/d`;
 //! - **the limiting state**: the component of `y` with the largest weighted local error at the
 //!   last step (IDA's own error test), named by its joint and body.
 //!
 //! The suggested `k_red` scales the contact stiffness so that its period becomes
 //! `T* = 50·h_b`, with `h_b = (stop − start)/max_steps` the mean step the budget allows (IDA
 //! resolves an oscillation with some tens of steps per period): `k_red · (T/T*)²`.
+//! The same causes are given when IDA itself gives up (`SimErrorKind::SolverStalled`).
 //! Only read at the end of a failed run: allocates freely.
 
 use crate::contact::{ContactPlan, ContactState};
@@ -40,7 +43,8 @@ pub enum Budget {
     WallTime(f64),
 }
 
-/// What limited the step size of a run that reached its budget.
+/// What limited the step size of a run that reached its budget or whose solver gave up
+/// ([`SimErrorKind::SolverStalled`](super::SimErrorKind::SolverStalled)).
 #[derive(Clone, Debug, PartialEq)]
 pub enum SlowCause {
     /// A contact starts and ends again and again.
@@ -141,6 +145,25 @@ pub enum SlowCause {
         /// The pair's normal force \[N\].
         force: f64,
     },
+    /// The steps collapsed (or no cause was found) while a contact of the set separates no
+    /// faster than its damping allows: its damping factor `1 + d·δ̇` of the normal force is
+    /// at or below the soft clamp's band (`contact/regularise.rs`), so the force is the small
+    /// rest of a stiff elastic force times a nearly cancelling damper, with a slope of
+    /// `f_el·d` in the penetration velocity and a knee where the clamp ends, on which Newton's
+    /// method fails. Typically shapes that started inside each other: a contact present at
+    /// the start has `δ̇⁻ = 0` and so the largest damping factor, and the law lets it out at
+    /// `1/d` (found in random scenes: a 36 g ellipsoid starting 5.9 cm inside a fixed sphere
+    /// crept out at 1 mm/s for 0.13 s and then failed at 1.7e-9 s steps).
+    DampingLimited {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Its penetration \[m\].
+        depth: f64,
+        /// The separation speed `1/d` the damping allows [m/s].
+        speed: f64,
+        /// The pair's normal force \[N\].
+        force: f64,
+    },
     /// None of the above was found.
     Unknown,
 }
@@ -190,6 +213,32 @@ pub(crate) fn rough_contact(
         }
     }
     best.map(|(_, c)| c)
+}
+
+/// The contact of the set whose damping factor `1 + d·δ̇` is at or below the soft clamp's
+/// band ([`SlowCause::DampingLimited`]), the deepest if several.
+pub(crate) fn damping_limited(
+    plan: &Plan,
+    cp: Option<&ContactPlan>,
+    cs: Option<&ContactState>,
+) -> Option<SlowCause> {
+    let (cp, cs) = (cp?, cs?);
+    cs.active_pairs()
+        .filter(|(_, _, ps)| {
+            let x = 1.0 + ps.d * ps.response.penetration_velocity;
+            ps.d > 0.0 && ps.response.penetration > 0.0 && x < crate::contact::CLAMP_BAND
+        })
+        .max_by(|a, b| {
+            a.2.response
+                .penetration
+                .total_cmp(&b.2.response.penetration)
+        })
+        .map(|(_, pp, ps)| SlowCause::DampingLimited {
+            pair: cp.pair_name(&plan.scene, pp),
+            depth: ps.response.penetration,
+            speed: 1.0 / ps.d,
+            force: ps.response.f_n,
+        })
 }
 
 /// Penetration, as a fraction of the thinner shape's smallest extent, above which a contact
@@ -276,7 +325,18 @@ impl std::fmt::Display for WorkDiagnosis {
             self.error_test_failures,
             self.newton_failures
         )?;
-        match &self.cause {
+        write!(f, "{}", self.cause)?;
+        if let Some(s) = &self.limiting_state {
+            write!(f, "; the step is limited by {s}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for SlowCause {
+    /// What limited the steps and what to do, as one clause (without the run's numbers).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
             SlowCause::Chattering { pair, events, span } => write!(
                 f,
                 "contact `{pair}` chatters ({events} events in {span:.3e} s); check its initial \
@@ -363,14 +423,24 @@ impl std::fmt::Display for WorkDiagnosis {
                  loosen the tolerance, lower the force that presses the pair (k_red, the driving \
                  forces), or raise max_steps"
             )?,
+            SlowCause::DampingLimited {
+                pair,
+                depth,
+                speed,
+                force,
+            } => write!(
+                f,
+                "the steps collapsed: contact `{pair}` is {depth:.3e} m deep and separates no \
+                 faster than its damping allows ({speed:.3e} m/s; its normal force \
+                 {force:.3e} N is the small rest of a stiff elastic force and a damper at its \
+                 clamp) — typically shapes that started inside each other (see the initial \
+                 penetration warning): move them apart, or lower k_red"
+            )?,
             SlowCause::Unknown => write!(
                 f,
                 "no chattering contact or stiff element found; raise max_steps or loosen the \
                  tolerance"
             )?,
-        }
-        if let Some(s) = &self.limiting_state {
-            write!(f, "; the step is limited by {s}")?;
         }
         Ok(())
     }
