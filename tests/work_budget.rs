@@ -388,18 +388,22 @@ fn a_body_pushed_to_km_per_s_is_named_with_the_tunnelling_guard() {
 }
 
 /// Random scenes (issue 15): a 2 mm, 4 µg sphere on a revolute joint carrying 78 kg by a free
-/// joint failed Newton's method at every other step (both the coloured and SUNDIALS' dense
-/// difference-quotient Jacobians; with the sphere at 1e-2 kg it ran). Here 1 µg with
-/// I0 = 1e-12 kg·m² about the joint's z axis carries 80 kg (isotropic 0.08 kg·m²) 5 mm off the
-/// axis. The revolute coordinate's effective inertia with the free joint free is its own body's,
-/// I0 (a free-joint child adds nothing to the articulated inertia), and its diagonal entry the
-/// composite inertia about the axis, I0 + 0.08 + 80·ρ² (ρ the load's distance from the axis,
-/// 5 mm at the start), so M_ii·(M⁻¹)_ii is their ratio: ~1e11. The run reaches its budget with
-/// Newton failures at about every other step and no error-test failure; the diagnosis names
-/// the coordinate and the ratio within 1e-4 (the Cholesky inverse of a matrix of condition
-/// ~1e11 keeps ~5 digits).
+/// joint failed Newton's method at every other step and ended at its budget (both the coloured
+/// and SUNDIALS' dense difference-quotient Jacobians; with the sphere at 1e-2 kg it ran). Here
+/// 1 µg with I0 = 1e-12 kg·m² about the joint's z axis carries 80 kg (isotropic 0.08 kg·m²)
+/// 5 mm off the axis: `M_ii·(M⁻¹)_ii` of the revolute coordinate is ~1e11, and the rounding of
+/// the load's terms in its row (~1e-16 of 80 kg·m/s²) exceeded the link's own. The residual's
+/// row operation (`dynamics/rnea.rs`, `residual_dynamics`: a joint's residual rows are taken
+/// out of the force it passes on) leaves the link's row with its own inertia, so the run ends.
+/// Checked against the analytic motion: a free joint transmits nothing and gravity is along the
+/// axis, so the link spins at its initial 2 rad/s and the load falls freely from its initial
+/// world velocity `v + ω_link × r = (1, −0.5 + 2·d, 1.5)` m/s. Tolerances: the spin to 1e-9
+/// rad/s (the link's row holds its own inertia only, so nothing moves it: measured exactly 2);
+/// the load's position to 1e-4 m, 2e-5 of its 5 m path, 20·rtol (IDA's global error over ~400
+/// steps is a multiple of its local tolerance: measured 4.1e-5 m, and 2.9e-7 m at rtol 1e-9).
+/// Newton's method fails at no more than 1 % of the steps (measured: none).
 #[test]
-fn a_light_body_carrying_a_heavy_one_is_named_as_ill_conditioned() {
+fn a_light_body_carrying_a_heavy_one_by_a_free_joint_runs() {
     let (m0, i0, m1, i1, d) = (1e-6, 1e-12, 80.0, 0.08, 5e-3);
     let mut s = SceneDesc::new();
     s.add(world(SceneOptions::default()))
@@ -429,24 +433,30 @@ fn a_light_body_carrying_a_heavy_one_is_named_as_ill_conditioned() {
                 w: Vector3::new(18.0, -17.0, 11.0),
             },
         ));
-    let opts = SimOptions::new(1.0).max_steps(Some(20_000)).progress(false);
-    let (d_, _) = budget_error(s.build().unwrap().simulate(&opts));
-    println!("{d_}");
-    assert!(d_.newton_failures > d_.error_test_failures);
-    match &d_.cause {
-        SlowCause::IllConditioned { coordinate, ratio } => {
-            assert!(coordinate.contains("joint `rev`"), "{coordinate}");
-            // The load falls freely (the free joint transmits nothing): its world velocity
-            // is v + ω_link × r = (1, −0.5 + 2·d, 1.5) m/s, so its distance from the axis at
-            // the end is |(d + t, (−0.5 + 2d)·t)| (gravity is along the axis).
-            let t = d_.t;
-            let (x, y) = (d + t, (-0.5 + 2.0 * d) * t);
-            let expect = (i0 + i1 + m1 * (x * x + y * y)) / i0;
-            assert!(
-                (ratio - expect).abs() < 1e-4 * expect,
-                "{ratio} vs {expect}"
-            );
-        }
-        c => panic!("cause {c:?}"),
+    let opts = SimOptions::new(1.0)
+        .tolerance(1e-6)
+        .max_steps(Some(20_000))
+        .progress(false);
+    let res = s.build().unwrap().simulate(&opts).expect("the run ends");
+    let st = &res.stats.solver;
+    println!("{}", res.stats);
+    assert!(
+        st.nonlinear_convergence_failures * 100 <= st.steps,
+        "{} Newton failures in {} steps",
+        st.nonlinear_convergence_failures,
+        st.steps
+    );
+    let w = res.signal("rev.w").unwrap();
+    let r = res.signal("load.r_abs").unwrap();
+    let v0 = Vector3::new(1.0, -0.5 + 2.0 * d, 1.5);
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let (mut err_w, mut err_r) = (0.0f64, 0.0f64);
+    for (k, &t) in res.time().iter().enumerate() {
+        err_w = err_w.max((w.at(k).unwrap()[0] - 2.0).abs());
+        let expect: Vector3<f64> = Vector3::new(d, 0.0, 0.0) + v0 * t + g * (0.5 * t * t);
+        let got: Vector3<f64> = Vector3::from_column_slice(r.at(k).unwrap());
+        err_r = err_r.max((got - expect).norm());
     }
+    println!("largest errors: link spin {err_w:.2e} rad/s, load position {err_r:.2e} m");
+    assert!(err_w < 1e-9 && err_r < 1e-4, "{err_w} rad/s, {err_r} m");
 }

@@ -369,7 +369,7 @@ impl DaeSystem for MultibodyDae {
         } else {
             kinematics::position_residual(plan, q, v, qd, res_q);
         }
-        rnea::inverse_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
+        rnea::residual_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;
         }

@@ -3,7 +3,7 @@
 //! `kinematics::position_velocity`) and accelerations `v̇`, the generalised forces
 //! `τ = M(q) v̇ + C(q, v) − τ_ext` that the joints must transmit. O(n), no allocation.
 
-use super::spatial::Motion;
+use super::spatial::{Force, Motion};
 use super::{Plan, Workspace};
 use nalgebra::Vector3;
 
@@ -17,6 +17,47 @@ pub fn inverse_dynamics(
     vd: &[f64],
     gravity: &Vector3<f64>,
     tau: &mut [f64],
+) {
+    newton_euler(plan, ws, q, vd, gravity, tau, false);
+}
+
+/// The dynamic rows of the DAE residual: [`inverse_dynamics`] minus `τ_applied`, except that
+/// each body passes on to its parent its force `f` less `S R`, with `R = Sᵀ f − τ_applied`
+/// its joint's own residual rows (zero at the solution; a prescribed coordinate's row, `v̇ − a`,
+/// is not one of them and passes its force on whole). This subtracts `X_childᵀ S R` from the
+/// parent's rows: a row operation on `F`, the same DAE (the same solution, `y` and its error
+/// test unchanged), with `W = S` (any matrix would keep the solution). Why: in generalised
+/// coordinates a light body carrying a heavy one has the heavy body's terms in its own rows
+/// even where the joint between them lets the heavy body stay put (a free joint transmits
+/// nothing; a revolute joint on the light body's axis transmits no moment about it); their
+/// rounding, ~1e-16 of them, exceeded the light body's own terms (a 1 µg link under an 80 kg
+/// load by a free joint: `M_ii·(M⁻¹)_ii` ~1e11), and Newton's method failed at every other
+/// step. With `S` orthonormal (every kind but a universal joint with skew axes) `f − S R` is
+/// the force the joint transmits (plus `S τ_applied`): what the parent feels. The residual is
+/// still `τ − τ_applied` (`τ` into `tau` here, `τ_applied` subtracted by the caller), and the
+/// mass matrix (`mass_matrix.rs`), which must stay symmetric, uses [`inverse_dynamics`].
+pub fn residual_dynamics(
+    plan: &Plan,
+    ws: &mut Workspace,
+    q: &[f64],
+    vd: &[f64],
+    gravity: &Vector3<f64>,
+    tau: &mut [f64],
+) {
+    newton_euler(plan, ws, q, vd, gravity, tau, true);
+}
+
+/// [`inverse_dynamics`]; with `decouple`, each joint's residual rows are taken out of the
+/// force it passes to its parent ([`residual_dynamics`]).
+#[inline]
+fn newton_euler(
+    plan: &Plan,
+    ws: &mut Workspace,
+    q: &[f64],
+    vd: &[f64],
+    gravity: &Vector3<f64>,
+    tau: &mut [f64],
+    decouple: bool,
 ) {
     // The world accelerates upwards at −g: gravity enters every body through this.
     let a_world = Motion {
@@ -46,10 +87,27 @@ pub fn inverse_dynamics(
         let j = &plan.joints[b.joint];
         let f = ws.f[i];
         let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
-        j.coord
-            .project(qj, &f, &mut tau[j.v_offset..j.v_offset + j.coord.nv()]);
+        let (v0, nvj) = (j.v_offset, j.coord.nv());
+        let tau_j = &mut tau[v0..v0 + nvj];
+        j.coord.project(qj, &f, tau_j);
         if let Some(p) = b.parent {
-            let fp = ws.x[i].force_to_parent(&f);
+            let mut pass = f;
+            if decouple {
+                // The joint's residual rows R = Sᵀ f − τ_applied (a prescribed coordinate's
+                // row is v̇ − a, not this: it passes its force on whole), subtracted as S R.
+                let mut r = [0.0; 6];
+                for (k, rk) in r.iter_mut().enumerate().take(nvj) {
+                    if plan.prescribed[v0 + k].is_none() {
+                        *rk = tau_j[k] - ws.tau_applied[v0 + k];
+                    }
+                }
+                let s_r = j.coord.motion(qj, &r[..nvj]);
+                pass = Force {
+                    n: f.n - s_r.w,
+                    f: f.f - s_r.v,
+                };
+            }
+            let fp = ws.x[i].force_to_parent(&pass);
             ws.f[p] = ws.f[p] + fp;
         }
     }
