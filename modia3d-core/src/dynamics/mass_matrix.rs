@@ -148,7 +148,15 @@ pub fn consistent_accelerations_with(
         if free.is_empty() {
             continue;
         }
-        let mf = mf.ok()?;
+        let Ok(mf) = mf else {
+            // Singular by the pivot test: the row-operated system of the residual, where it is
+            // regular (a light body carrying a heavy one), else no consistent accelerations.
+            let vd_f = row_operated_accelerations(plan, ws, q, &group, &free, &vd)?;
+            for (i, &r) in free.iter().enumerate() {
+                vd[group[r]] = vd_f[i];
+            }
+            continue;
+        };
         let mut y: Vec<f64> = free
             .iter()
             .map(|&r| {
@@ -176,6 +184,123 @@ pub fn consistent_accelerations_with(
         }
     }
     Some((vd, vec![]))
+}
+
+/// `M' = L(q) M(q)` of joint tree `group` (velocity indices) restricted to its coordinates
+/// `free` (positions in `group`), the matrix of the residual's own rows
+/// (`rnea::residual_dynamics`: each joint's residual rows taken out of the force it passes on,
+/// `F' = L F`, the same solution) in the accelerations; no longer symmetric. Equilibrated (rows,
+/// then columns, to unit largest entries) and factored by LU with partial pivoting; returns
+/// the factors, the row scales and the column scales, or the global velocity index of a
+/// coordinate whose row vanishes or whose pivot is below [`PIVOT_TOLERANCE`] (relative to each
+/// row's and coordinate's own scale, as the Cholesky test is). Where `M`'s ill-conditioning comes from a light body carrying a heavy one through
+/// a joint that lets the heavy one stay put, `M'` is block triangular in them and regular;
+/// where a coordinate truly has no inertia (a massless body, or one whose coordinate only
+/// duplicates another's), its row of `M'` vanishes as its row of `M` does. `ws` is not
+/// changed (a copy is set to zero velocity and force; `M'` depends on `q` alone). Allocates.
+type RowOperatedLu = (
+    nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    Vec<f64>,
+    Vec<f64>,
+);
+
+fn row_operated_lu(
+    plan: &Plan,
+    ws: &Workspace,
+    q: &[f64],
+    group: &[usize],
+    free: &[usize],
+) -> Result<RowOperatedLu, usize> {
+    let nv = plan.nv;
+    let mut w0 = ws.clone();
+    position_velocity(plan, &mut w0, q, &vec![0.0; nv]);
+    w0.f_ext.fill(Force::default());
+    w0.tau_applied.fill(0.0);
+    let n = free.len();
+    let mut mp = DMatrix::zeros(n, n);
+    let (mut e, mut rows) = (vec![0.0; nv], vec![0.0; nv]);
+    for (c, &rc) in free.iter().enumerate() {
+        e.fill(0.0);
+        e[group[rc]] = 1.0;
+        super::rnea::residual_dynamics(plan, &mut w0, q, &e, &Vector3::zeros(), &mut rows);
+        for (r, &rr) in free.iter().enumerate() {
+            mp[(r, c)] = rows[group[rr]];
+        }
+    }
+    let mut row_scale = vec![0.0; n];
+    for (r, rs) in row_scale.iter_mut().enumerate() {
+        *rs = mp.row(r).amax();
+        if !(*rs > 0.0 && rs.is_finite()) {
+            return Err(group[free[r]]);
+        }
+        mp.row_mut(r).scale_mut(1.0 / *rs);
+    }
+    let col_scale: Vec<f64> = (0..n).map(|c| mp.column(c).amax()).collect();
+    for (c, &cs) in col_scale.iter().enumerate() {
+        if cs.is_nan() || cs <= 0.0 {
+            return Err(group[free[c]]);
+        }
+        mp.column_mut(c).scale_mut(1.0 / cs);
+    }
+    let lu = mp.lu();
+    let u = lu.u();
+    if let Some(i) = (0..n).find(|&i| u[(i, i)].is_nan() || u[(i, i)].abs() <= PIVOT_TOLERANCE) {
+        return Err(group[free[i]]);
+    }
+    Ok((lu, row_scale, col_scale))
+}
+
+/// The free accelerations of joint tree `group` (`free`: the positions in `group` of its
+/// coordinates that are not prescribed; `vd`: the prescribed accelerations set) from the
+/// residual's own rows `F'(v̇) = M' v̇ + b' = 0` ([`row_operated_lu`]), for a tree whose
+/// Cholesky factor of `M` failed its pivot test (random scenes: runs that reached an event
+/// failed at the restart as singular, `M_ii·(M⁻¹)_ii` ~1e13). `ws` holds positions,
+/// velocities and forces at the state (the caller's). `None` if `M'` is singular too.
+fn row_operated_accelerations(
+    plan: &Plan,
+    ws: &mut Workspace,
+    q: &[f64],
+    group: &[usize],
+    free: &[usize],
+    vd: &[f64],
+) -> Option<Vec<f64>> {
+    let (lu, row_scale, col_scale) = row_operated_lu(plan, ws, q, group, free).ok()?;
+    // b' + M'·(prescribed part): the rows at v̇ = (prescribed, 0) with the state's forces.
+    let mut vd0 = vec![0.0; plan.nv];
+    for &k in group {
+        if plan.prescribed[k].is_some() {
+            vd0[k] = vd[k];
+        }
+    }
+    let mut rows = vec![0.0; plan.nv];
+    super::rnea::residual_dynamics(plan, ws, q, &vd0, &plan.gravity, &mut rows);
+    let rhs = nalgebra::DVector::from_iterator(
+        free.len(),
+        free.iter()
+            .zip(&row_scale)
+            .map(|(&r, s)| (ws.tau_applied[group[r]] - rows[group[r]]) / s),
+    );
+    let y = lu.solve(&rhs)?;
+    let x: Vec<f64> = y.iter().zip(&col_scale).map(|(y, s)| y / s).collect();
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// Whether tree `group`'s coordinates that are not prescribed have no consistent
+/// accelerations at `q`: the Cholesky factor of `m` (its block of `M`) fails its pivot test
+/// ([`free_cholesky`]) and so does the residual's row-operated matrix ([`row_operated_lu`]).
+/// Returns the global velocity index of the coordinate the latter names then (a row that
+/// vanishes is the coordinate without inertia of its own: a massless link's, not the load's
+/// it carries).
+pub fn singular_coordinate(
+    plan: &Plan,
+    ws: &Workspace,
+    q: &[f64],
+    group: &[usize],
+    m: &DMatrix<f64>,
+) -> Option<usize> {
+    let (free, factor) = free_cholesky(plan, group, m);
+    factor.err()?;
+    row_operated_lu(plan, ws, q, group, &free).err()
 }
 
 #[cfg(test)]

@@ -358,7 +358,9 @@ impl Plan {
     }
 
     /// The mass matrix of the coordinates that are not prescribed must be positive definite at
-    /// the initial state; otherwise names the joint whose coordinate has no inertia.
+    /// the initial state (or, where its Cholesky pivot test fails, the residual's row-operated
+    /// matrix must be regular: `mass_matrix::singular_coordinate`); otherwise names the joint
+    /// whose coordinate has no inertia.
     ///
     /// This is the one scene check after validation: it needs the compiled plan and the
     /// dynamics (an inverse-dynamics pass per coordinate). It runs only on a scene without
@@ -369,7 +371,9 @@ impl Plan {
         let mut ws = super::Workspace::new(self);
         let singular = super::mass_matrix::tree_mass_matrices(self, &mut ws, &self.q0)
             .into_iter()
-            .find_map(|(group, m)| super::mass_matrix::free_cholesky(self, &group, &m).1.err());
+            .find_map(|(group, m)| {
+                super::mass_matrix::singular_coordinate(self, &ws, &self.q0, &group, &m)
+            });
         if let Some(k) = singular {
             let j = self
                 .joints
