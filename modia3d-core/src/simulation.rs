@@ -672,9 +672,14 @@ impl Simulation {
         }
     }
 
+    /// IDA steps of the run so far, over all restarts and segments.
+    fn run_steps(&self) -> u64 {
+        self.segments.solver_base.steps + self.ida.stats().steps
+    }
+
     /// Ends the run if a budget is reached (checked before every internal step).
     fn check_budget(&mut self) -> Result<(), SimErrorKind> {
-        let steps = self.segments.solver_base.steps + self.ida.stats().steps;
+        let steps = self.run_steps();
         let wall = self.wall + self.call_started.elapsed().as_secs_f64();
         let reached = match (self.opts.max_steps, self.opts.max_wall_time) {
             (Some(n), _) if steps >= n => Some(Budget::Steps(n)),
@@ -725,24 +730,10 @@ impl Simulation {
     /// what made the steps collapse ([`SimErrorKind::SolverStalled`]). Other solver errors
     /// (bad arguments, caught panics, fatal residuals) are returned as they are.
     fn stalled(&mut self, error: IdaError) -> SimErrorKind {
-        use sundials_sys as sys;
-        let stall = matches!(
-            &error,
-            IdaError::Flag { flag, .. } if [
-                sys::IDA_ERR_FAIL,
-                sys::IDA_CONV_FAIL,
-                sys::IDA_TOO_MUCH_ACC,
-                sys::IDA_LSETUP_FAIL,
-                sys::IDA_LSOLVE_FAIL,
-                sys::IDA_REP_RES_ERR,
-            ]
-            .contains(flag)
-        );
-        if !stall {
+        if !error.is_stall() {
             return SimErrorKind::Solver(error);
         }
-        let steps = self.segments.solver_base.steps + self.ida.stats().steps;
-        let cause = self.slow_cause(steps);
+        let cause = self.slow_cause(self.run_steps());
         let limiting_state = self.limiting_state();
         SimErrorKind::SolverStalled {
             error: Box::new(error),

@@ -71,6 +71,23 @@ impl IdaError {
     pub fn is_too_much_work(&self) -> bool {
         matches!(self, IdaError::Flag { flag, .. } if *flag == sys::IDA_TOO_MUCH_WORK)
     }
+
+    /// IDA gave up at a step it could not take: its error test or Newton's method failed
+    /// repeatedly (`IDA_ERR_FAIL`, `IDA_CONV_FAIL`), the accuracy cannot be reached
+    /// (`IDA_TOO_MUCH_ACC`), the linear solver's setup or solve failed, or the residual kept
+    /// failing recoverably (`IDA_REP_RES_ERR`): failures whose cause lies in the system's
+    /// dynamics (bad arguments, caught panics and fatal residuals are not).
+    pub fn is_stall(&self) -> bool {
+        matches!(self, IdaError::Flag { flag, .. } if [
+            sys::IDA_ERR_FAIL,
+            sys::IDA_CONV_FAIL,
+            sys::IDA_TOO_MUCH_ACC,
+            sys::IDA_LSETUP_FAIL,
+            sys::IDA_LSOLVE_FAIL,
+            sys::IDA_REP_RES_ERR,
+        ]
+        .contains(flag))
+    }
 }
 
 fn sundials_suffix(message: &str) -> String {
