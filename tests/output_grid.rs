@@ -82,14 +82,8 @@ fn interpolated_output_points_match_free_fall() {
     assert!(err < 1e-9, "max error {err:e} m");
 }
 
-/// A steel ball dropped from 20 m (20 m/s at impact) onto a 5 mm steel plate, at a loose
-/// tolerance and with only 10 output points: free fall is a parabola, so the error test alone
-/// would let steps grow to a large part of a second and carry the ball through the plate
-/// between two step ends, unseen. The step guard keeps every passage visible: the ball
-/// bounces (a contact event), stays above the plate, and rises again close to the height the
-/// restitution gives (cor 0.7 → 0.49 · 20 m; 10 % for the regularised, compliant law).
-#[test]
-fn a_fast_ball_does_not_tunnel_through_a_thin_plate() {
+/// A 1 m × 1 m × 5 mm steel plate with its top face at z = 0.
+fn steel_plate() -> SceneDesc {
     let mut scene = SceneDesc::new();
     scene
         .add(demo::world(SceneOptions::default()))
@@ -99,6 +93,18 @@ fn a_fast_ball_does_not_tunnel_through_a_thin_plate() {
             [0.0, 0.0, -0.0025],
             "Steel",
         ));
+    scene
+}
+
+/// A steel ball dropped from 20 m (20 m/s at impact) onto a 5 mm steel plate, at a loose
+/// tolerance and with only 10 output points: free fall is a parabola, so the error test alone
+/// would let steps grow to a large part of a second and carry the ball through the plate
+/// between two step ends, unseen. The step guard keeps every passage visible: the ball
+/// bounces (a contact event), stays above the plate, and rises again close to the height the
+/// restitution gives (cor 0.7 → 0.49 · 20 m; 10 % for the regularised, compliant law).
+#[test]
+fn a_fast_ball_does_not_tunnel_through_a_thin_plate() {
+    let mut scene = steel_plate();
     demo::add_free_sphere(
         &mut scene,
         "ball",
@@ -136,4 +142,72 @@ fn a_fast_ball_does_not_tunnel_through_a_thin_plate() {
     assert!(!res.events.is_empty(), "the impact is seen");
     assert!(z_min > 0.0, "the ball stays above the plate");
     assert!(apex > 0.5 * 0.49 * 20.0, "the ball rebounds ({apex} m)");
+}
+
+/// The guard holds each body to the thinnest pair it takes part in, not the fastest body to the
+/// thinnest pair of the scene: a 0.2 m steel ball thrown at 20 m/s high above a 5 mm plate on
+/// which a 2 cm bead rests takes steps of up to ¼ · (0.2 + 0.02) m / 20 m/s = 2.75 ms (its
+/// thinnest pair is with the bead), while a guard for the whole scene held every step to
+/// ¼ · (0.02 + 0.005) m / 20 m/s = 0.31 ms, at least 960 steps for 0.3 s. The run must take
+/// fewer than half of those, follow the throw's parabola and keep the bead at rest.
+#[test]
+fn a_fast_body_is_not_held_to_a_thin_pair_it_is_not_part_of() {
+    let mut scene = steel_plate();
+    let (d_bead, d_ball, v0, z0) = (0.02, 0.2, 20.0, 1.0);
+    let bead_z = 0.5 * d_bead;
+    demo::add_free_sphere(
+        &mut scene,
+        "bead",
+        d_bead,
+        "Steel",
+        None,
+        [0.0, 0.0, bead_z],
+        [0.0; 3],
+        [0.0; 3],
+    );
+    demo::add_free_sphere(
+        &mut scene,
+        "ball",
+        d_ball,
+        "Steel",
+        None,
+        [-3.0, 0.0, z0],
+        [v0, 0.0, 0.0],
+        [0.0; 3],
+    );
+    let model = scene.build().unwrap();
+    let stop = 0.3;
+    let res = model
+        .simulate(
+            &SimOptions::new(stop)
+                .tolerance(1e-6)
+                .interval(0.01)
+                .progress(false),
+        )
+        .unwrap();
+    let scene_guard_steps = stop / (0.25 * (d_bead + 0.005) / v0);
+    let steps = res.stats.solver.steps;
+    let (t, x, z) = (
+        res.time(),
+        res.signal("ball.r_abs[0]").unwrap().values(),
+        res.signal("ball.r_abs[2]").unwrap().values(),
+    );
+    let path_err = t
+        .iter()
+        .zip(x.iter().zip(&z))
+        .map(|(t, (x, z))| {
+            let (xe, ze) = (-3.0 + v0 * t, z0 - 0.5 * G * t * t);
+            (x - xe).hypot(z - ze)
+        })
+        .fold(0.0, f64::max);
+    let bead = res.signal("bead.r_abs[2]").unwrap().values();
+    let bead_dev = bead.iter().map(|z| (z - bead_z).abs()).fold(0.0, f64::max);
+    println!(
+        "{steps} steps (a scene-wide guard: >= {scene_guard_steps:.0}); ball off the parabola by {path_err:.2e} m; bead moved {bead_dev:.2e} m"
+    );
+    assert!((steps as f64) < 0.5 * scene_guard_steps, "{steps} steps");
+    // rtol 1e-6 on a 6 m path: a few µm (measured 6.7e-6 m).
+    assert!(path_err < 2e-5, "ball off its parabola by {path_err:e} m");
+    // The bead's static penetration is ~8e-8 m (Hertz, 0.32 N on a 1 cm radius).
+    assert!(bead_dev < 1e-6, "bead moved {bead_dev:e} m");
 }

@@ -771,7 +771,7 @@ impl Simulation {
                 let speeds: Vec<(f64, f64)> = dae.body_speeds().collect();
                 let guard = dae
                     .max_safe_step()
-                    .and_then(|g| dae.guard_body(g).map(|b| (g, b)));
+                    .and_then(|g| dae.guard_body().map(|b| (g, b)));
                 let run = self.segments.solver_base + self.ida.stats();
                 let plan = &self.model.plan;
                 let ill = (run.nonlinear_convergence_failures > run.error_test_failures)

@@ -163,13 +163,13 @@ impl MultibodyDae {
             .step_guard
             .max_step(&self.ws, &self.plan.gravity)
     }
-    /// The body that sets the tunnelling guard's step `h` \[s\]
-    /// (`StepGuard::fastest_body`), if any (for diagnoses).
-    pub(crate) fn guard_body(&self, h: f64) -> Option<BodyId> {
+    /// The body that sets the tunnelling guard's step (`StepGuard::limiting_body`), if any
+    /// (for diagnoses).
+    pub(crate) fn guard_body(&self) -> Option<BodyId> {
         self.contact_plan
             .as_ref()?
             .step_guard
-            .fastest_body(&self.ws, &self.plan.gravity, h)
+            .limiting_body(&self.ws, &self.plan.gravity)
     }
     /// Speed of the origin [m/s] and angular speed [rad/s] of every body at the last
     /// evaluation, in body order (for diagnoses).
