@@ -4,7 +4,9 @@
 //! sizes 1e-3…1 m, masses 1e-3…1e3 kg, random poses including overlaps, velocities up to
 //! 10 m/s, free, revolute, prismatic and fixed joints, rigid attachments and chains, every
 //! force element of `scene/desc.rs` (spring-dampers, joint spring-dampers, object-force
-//! closures), the built-in materials, contact on and off, rtol 1e-3…1e-9, 0.05–1 s simulated,
+//! closures) and inputs with loads relative to the body they act on (forces 0.01…100 times its
+//! weight, torques that times 0.001…10 of its size, spring periods 2 ms…6 s, drag time
+//! constants 10 ms…100 s), the built-in materials, contact on and off, rtol 1e-3…1e-9, 0.05–1 s simulated,
 //! and for some scenes the step-wise API (`Simulation::new` / `advance_to` / `set_input`).
 //!
 //! A scene is plain data ([`SceneSpec`], serialisable to JSON for reproducers); [`generate`]
@@ -344,6 +346,39 @@ pub fn shape_size(s: &ShapeSpec) -> f64 {
     }
 }
 
+/// Volume of a shape \[m³\] (a hull by a third of its bounding box: for load scales only).
+fn shape_volume(s: &ShapeSpec) -> f64 {
+    use std::f64::consts::PI;
+    match s {
+        ShapeSpec::Sphere(d) => PI / 6.0 * d * d * d,
+        ShapeSpec::Box(l) => l[0] * l[1] * l[2],
+        ShapeSpec::Ellipsoid(l) => PI / 6.0 * l[0] * l[1] * l[2],
+        ShapeSpec::Cylinder(_, d, l) => PI / 4.0 * d * d * l,
+        ShapeSpec::Capsule(_, d, l) => PI / 4.0 * d * d * l + PI / 6.0 * d * d * d,
+        ShapeSpec::Cone(_, d, l, t) => PI / 12.0 * l * (d * d + d * t + t * t),
+        ShapeSpec::Hull(p) => {
+            let ext = |i: usize| {
+                let (lo, hi) = p
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                        (a.min(x[i]), b.max(x[i]))
+                    });
+                hi - lo
+            };
+            ext(0) * ext(1) * ext(2) / 3.0
+        }
+    }
+}
+
+/// A body's mass \[kg\]: as given, or from its material's density (for load scales only).
+fn mass_estimate(b: &BodySpec) -> f64 {
+    b.mass.unwrap_or_else(|| {
+        let rho =
+            modia3d::core::scene::builtin_solid_material(&b.material).map_or(1000.0, |m| m.density);
+        rho * shape_volume(&b.shape)
+    })
+}
+
 /// Materials a scene draws from: mostly one family with a built-in pair, sometimes mixed.
 const FAMILIES: &[&[&str]] = &[
     &["Steel"],
@@ -542,31 +577,79 @@ pub fn generate(seed: u64) -> SceneSpec {
             )
         })
         .collect();
+    // Loads are drawn relative to the body they act on (its weight, size and mass), over
+    // log-wide ranges: a user who had not tuned anything still writes a 10 N force for a
+    // kilogram, not for a 14 mg bead (absolute loads gave millimetre scenes 1e5 g, bodies at
+    // km/s and spins of 1e8 rad/s: physics no integrator follows cheaply, not library faults).
+    let mass: Vec<f64> = bodies.iter().map(mass_estimate).collect();
+    let size: Vec<f64> = bodies.iter().map(|b| shape_size(&b.shape)).collect();
+    let weight = |k: usize| mass[k] * 9.81;
+    let revolute = |k: usize| matches!(bodies[k].joint, JointSpec::Revolute { .. });
+    // A scalar joint's inertia: mass, or a rotational inertia estimate m L² / 10.
+    let joint_inertia = |k: usize| {
+        if revolute(k) {
+            0.1 * mass[k] * size[k] * size[k]
+        } else {
+            mass[k]
+        }
+    };
+    // A scalar joint's load unit: the weight, or the weight times the size for a torque.
+    let joint_load = |k: usize| {
+        if revolute(k) {
+            weight(k) * size[k]
+        } else {
+            weight(k)
+        }
+    };
     let mut forces = vec![];
     for _ in 0..r.below(4) {
         let b = r.below(n);
+        // Natural angular frequency [rad/s] (periods 2 ms…6 s) and damping ratio of a spring.
+        let omega = r.log_uniform(1.0, 3e3);
+        let zeta = r.pick(&[0.0, 0.05, 1.0]);
         let f = match r.below(4) {
-            0 => ForceSpec::Spring {
-                a: (r.chance(0.5) && b > 0).then(|| r.below(b)),
-                b,
-                stiffness: r.log_uniform(1e-2, 1e6),
-                damping: r.pick(&[0.0, 0.1, 10.0]),
-                length0: r.uniform(0.0, 2.0 * scale),
-            },
-            1 if !scalar.is_empty() => ForceSpec::JointSpring {
-                body: r.pick(&scalar),
-                stiffness: r.log_uniform(1e-2, 1e8),
-                damping: r.pick(&[0.0, 0.01, 1.0]),
-                offset: r.uniform(-1.0, 1.0),
-            },
-            2 => ForceSpec::Constant {
-                body: b,
-                force: r.vec3(10.0),
-                torque: r.vec3(0.1),
-            },
+            0 => {
+                let a = (r.chance(0.5) && b > 0).then(|| r.below(b));
+                let m = a.map_or(mass[b], |a| mass[a].min(mass[b]));
+                let k = m * omega * omega;
+                ForceSpec::Spring {
+                    a,
+                    b,
+                    stiffness: k,
+                    damping: 2.0 * zeta * (k * m).sqrt(),
+                    length0: r.uniform(0.0, 2.0 * scale),
+                }
+            }
+            1 if !scalar.is_empty() => {
+                let body = r.pick(&scalar);
+                let i = joint_inertia(body);
+                let k = i * omega * omega;
+                ForceSpec::JointSpring {
+                    body,
+                    stiffness: k,
+                    damping: 2.0 * zeta * (k * i).sqrt(),
+                    offset: r.uniform(-1.0, 1.0)
+                        * if revolute(body) {
+                            1.0
+                        } else {
+                            2.0 * size[body]
+                        },
+                }
+            }
+            2 => {
+                let (f, t) = (unit(r), unit(r));
+                let f_abs = weight(b) * r.log_uniform(1e-2, 1e2);
+                let t_abs = weight(b) * size[b] * r.log_uniform(1e-3, 1e1);
+                ForceSpec::Constant {
+                    body: b,
+                    force: f.map(|x| x * f_abs),
+                    torque: t.map(|x| x * t_abs),
+                }
+            }
             _ => ForceSpec::Drag {
                 body: b,
-                c: r.log_uniform(1e-3, 10.0),
+                // Time constants m/c of 10 ms…100 s.
+                c: mass[b] * r.log_uniform(1e-2, 1e2),
             },
         };
         forces.push(f);
@@ -591,12 +674,20 @@ pub fn generate(seed: u64) -> SceneSpec {
                 let mut set = vec![];
                 for (i, inp) in inputs.iter().enumerate() {
                     if r.chance(0.7) {
-                        let len = if matches!(inp, InputSpec::Wrench(_)) {
-                            6
-                        } else {
-                            1
+                        // Values in units of the body's weight (and size, for torques),
+                        // as the force elements above.
+                        let units: Vec<f64> = match *inp {
+                            InputSpec::Wrench(k) => {
+                                let (w, l) = (weight(k), size[k]);
+                                vec![w, w, w, w * l, w * l, w * l]
+                            }
+                            InputSpec::JointForce(k) => vec![joint_load(k)],
+                            InputSpec::JointAcceleration(_) => vec![1.0],
                         };
-                        set.push((i, (0..len).map(|_| r.uniform(-1.0, 1.0)).collect()));
+                        set.push((
+                            i,
+                            units.iter().map(|u| u * r.uniform(-10.0, 10.0)).collect(),
+                        ));
                     }
                 }
                 StepSpec {
