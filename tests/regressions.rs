@@ -15,6 +15,16 @@ mod fuzz;
 use fuzz::run::run_scene;
 use fuzz::SceneSpec;
 
+/// The scene of reproducer `tests/regressions/<file>`.
+fn reproducer(file: &str) -> SceneSpec {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/regressions")
+        .join(file);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    SceneSpec::from_json(&v["scene"].to_string()).unwrap()
+}
+
 #[test]
 fn every_recorded_failure_has_its_expected_outcome() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions");
@@ -76,11 +86,7 @@ fn every_recorded_failure_has_its_expected_outcome() {
 #[test]
 fn relaxed_contact_tightening_loses_no_energy() {
     use modia3d::prelude::*;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/regressions/error_test_fails_under_contact_tightening.json");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let s = SceneSpec::from_json(&v["scene"].to_string()).unwrap();
+    let s = reproducer("error_test_fails_under_contact_tightening.json");
     let model = fuzz::build::scene(&s).build().unwrap();
     let opts = fuzz::build::options(&s)
         .interval(s.run.stop_time / 2000.0)
@@ -181,11 +187,7 @@ fn relaxed_contact_tightening_loses_no_energy() {
 #[test]
 fn a_damping_limited_contact_is_named_when_the_solver_fails() {
     use modia3d::prelude::*;
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/regressions/conv_fail_is_diagnosed.json");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-    let s = SceneSpec::from_json(&v["scene"].to_string()).unwrap();
+    let s = reproducer("conv_fail_is_diagnosed.json");
     let model = fuzz::build::scene(&s).build().unwrap();
     let opts = fuzz::build::options(&s)
         .output_steps(true)
@@ -211,4 +213,80 @@ fn a_damping_limited_contact_is_named_when_the_solver_fails() {
     let k0 = t.iter().position(|&x| x >= t[n - 1] - 0.02).unwrap();
     let rate = (p.at(k0).unwrap()[0] - last) / (t[n - 1] - t[k0]);
     assert!((rate - speed).abs() < 1e-2 * speed, "{rate} vs {speed}");
+}
+
+/// `tests/regressions/rolling_resistance_stalls_newton.json`: a 0.65 g steel cylinder rocking
+/// on its side on a steel table under ~300 N (the non-spheres' linear law at `k_red = 1`).
+/// IDA's corrector fails, and the diagnosis names the rolling resistance as the damper whose
+/// time constant the steps fell to. Checked independently of the diagnosis' own numbers:
+/// - its time constant is `I·w_min/(3 μ_r μ_geo f_n)` with the cylinder's smallest inertia from
+///   its geometry (`m r²/2` about its axis, which is smaller than `m(3r² + L²)/12` here), the
+///   Steel–Steel palette's `μ_r = 0.001`, `μ_geo = 1` m and `w_min = 0.01` rad/s (1e-9
+///   relative: the same formula on independently computed inputs);
+/// - the step IDA failed at (from its message) is within 1…100 time constants;
+/// - with `μ_r = 0` and every other value the same, the run ends: the rolling resistance is
+///   the cause, not a bystander.
+#[test]
+fn a_stiff_rolling_resistance_is_named_when_the_solver_fails() {
+    use modia3d::prelude::*;
+    let mut s = reproducer("rolling_resistance_stalls_newton.json");
+    let model = fuzz::build::scene(&s).build().unwrap();
+    let e = model
+        .simulate(&fuzz::build::options(&s))
+        .expect_err("the corrector fails");
+    let SimErrorKind::SolverStalled { error, cause, .. } = &e.kind else {
+        panic!("{}", e.kind);
+    };
+    let modia3d::core::SlowCause::StiffFriction {
+        pair,
+        law,
+        object,
+        time_constant,
+        force,
+    } = &**cause
+    else {
+        panic!("cause {cause:?}");
+    };
+    assert_eq!(
+        (pair.as_str(), law.as_str(), object.as_str()),
+        ("table|b0", "rolling resistance", "b0")
+    );
+    let fuzz::ShapeSpec::Cylinder(_, d, l) = s.bodies[0].shape else {
+        panic!("the reproducer is a cylinder");
+    };
+    let (r, rho) = (0.5 * d, 8000.0); // Steel's density in the built-in palette
+    let m = rho * std::f64::consts::PI * r * r * l;
+    let i_min = (0.5 * m * r * r).min(m * (3.0 * r * r + l * l) / 12.0);
+    let tau = i_min * 0.01 / (3.0 * 0.001 * 1.0 * force);
+    println!("{error}\ntime constant {time_constant:.4e} s (from geometry {tau:.4e} s), normal force {force:.3e} N");
+    assert!(
+        (time_constant - tau).abs() < 1e-9 * tau,
+        "{time_constant} vs {tau}"
+    );
+    let msg = error.to_string();
+    let h: f64 = msg
+        .split("h = ")
+        .nth(1)
+        .and_then(|x| x.split(',').next())
+        .and_then(|x| x.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no step in {msg}"));
+    assert!(
+        h >= tau && h <= 100.0 * tau,
+        "failed at h = {h:e} s, time constant {tau:e} s"
+    );
+    // The same scene without rolling resistance runs to the end.
+    s.pairs = vec![("Steel".into(), "Steel".into(), [0.7, 0.5, 0.0])];
+    let p = modia3d::core::scene::builtin_contact_pair("Steel", "Steel").unwrap();
+    assert_eq!(
+        (p.cor, p.mu_k),
+        (0.7, 0.5),
+        "the palette's Steel–Steel pair"
+    );
+    let model = fuzz::build::scene(&s).build().unwrap();
+    let r = model.simulate(&fuzz::build::options(&s));
+    assert!(
+        r.is_ok(),
+        "without rolling resistance: {:?}",
+        r.err().map(|e| e.kind.to_string())
+    );
 }

@@ -701,7 +701,7 @@ impl Simulation {
     /// does; and the limiting state.
     fn diagnose(&mut self, budget: Budget, steps: u64) -> SimErrorKind {
         let t = self.time();
-        let cause = self.slow_cause(steps);
+        let cause = self.slow_cause(steps, self.ida.stats().last_step);
         let run = self.segments.solver_base + self.ida.stats();
         let limiting_state = self.limiting_state();
         SimErrorKind::WorkBudget(Box::new(WorkDiagnosis {
@@ -733,7 +733,12 @@ impl Simulation {
         if !error.is_stall() {
             return SimErrorKind::Solver(error);
         }
-        let cause = self.slow_cause(self.run_steps());
+        // The step IDA gave up at, not the last one it took: that one can be orders of
+        // magnitude longer (a run that stepped at the tunnelling guard's 3e-5 s and then failed
+        // to converge at 2e-10 s is not limited by the guard).
+        let last = self.ida.stats().last_step;
+        let h = self.ida.current_step().map_or(last, |h| h.min(last));
+        let cause = self.slow_cause(self.run_steps(), h);
         let limiting_state = self.limiting_state();
         SimErrorKind::SolverStalled {
             error: Box::new(error),
@@ -742,9 +747,9 @@ impl Simulation {
         }
     }
 
-    /// What limited the steps of the run so far, after `steps` steps (see
-    /// [`Simulation::diagnose`]).
-    fn slow_cause(&mut self, steps: u64) -> SlowCause {
+    /// What limited the steps of the run so far, after `steps` steps, the last of size
+    /// `h_last` \[s\] (see [`Simulation::diagnose`]).
+    fn slow_cause(&mut self, steps: u64, h_last: f64) -> SlowCause {
         let (t0, t1) = (self.opts.start_time, self.opts.stop_time);
         let t = self.time();
         let h_budget = (t1 - t0) / self.opts.max_steps.unwrap_or(DEFAULT_MAX_STEPS) as f64;
@@ -759,7 +764,6 @@ impl Simulation {
                 }
             }
             _ => {
-                let h_last = self.ida.stats().last_step;
                 let dae = self.ida.system();
                 let stiffest = diagnosis::stiffest(
                     &self.model.plan,
@@ -797,6 +801,14 @@ impl Simulation {
                                     dae.contact_plan(),
                                     dae.contact(),
                                     dae.workspace(),
+                                )
+                            })
+                            .or_else(|| {
+                                diagnosis::stiff_friction(
+                                    plan,
+                                    dae.contact_plan(),
+                                    dae.contact(),
+                                    h_last,
                                 )
                             })
                             .unwrap_or(cause)

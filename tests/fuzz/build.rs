@@ -299,6 +299,9 @@ pub fn options(s: &SceneSpec) -> SimOptions {
     if let Some(dt) = r.interval {
         o = o.interval(dt);
     }
+    if r.max_steps.is_some() {
+        o = o.max_steps(r.max_steps);
+    }
     if let Some(k) = std::env::var("MODIA3D_FUZZ_TIGHTENING")
         .ok()
         .and_then(|k| k.parse().ok())

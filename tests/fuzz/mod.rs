@@ -275,6 +275,11 @@ pub struct RunSpec {
     pub rtol: f64,
     /// `SimOptions::max_wall_time` \[s\].
     pub max_wall_time: f64,
+    /// `SimOptions::max_steps` (`None`: the default budget). Reproducers of work-budget
+    /// outcomes set it below the steps their wall budget reaches, so that they end at the same
+    /// step, with the same diagnosis, however loaded the machine (the generator leaves it out).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<u64>,
     /// Output interval \[s\] (`None` = default).
     pub interval: Option<f64>,
     /// `SimOptions::contact_results`.
@@ -730,6 +735,7 @@ pub fn generate(seed: u64) -> SceneSpec {
             stop_time,
             rtol: r.log_uniform(1e-9, 1e-3),
             max_wall_time: 2.0,
+            max_steps: None,
             interval: r
                 .chance(0.2)
                 .then(|| stop_time / r.log_uniform(10.0, 5000.0)),

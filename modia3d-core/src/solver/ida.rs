@@ -682,6 +682,19 @@ impl<S: DaeSystem> Ida<S> {
         }
     }
 
+    /// The step size \[s\] IDA will attempt next (`IDAGetCurrentStep`): after a failed step,
+    /// the reduced size it failed at or will retry with (the `h` of its error message), where
+    /// [`IdaStats::last_step`] is still the last step it took. `None` before IDA is set up.
+    pub fn current_step(&self) -> Option<f64> {
+        if self.mem.is_null() {
+            return None;
+        }
+        let mut h = 0.0;
+        // SAFETY: mem is valid.
+        let flag = unsafe { sys::IDAGetCurrentStep(self.mem, &mut h) };
+        (flag == 0 && h.is_finite() && h > 0.0).then_some(h)
+    }
+
     /// Statistics of the whole run, accumulated across [`Ida::reinit`].
     pub fn stats(&self) -> IdaStats {
         self.base_stats + self.segment_stats()
