@@ -169,7 +169,7 @@ pub enum SlowCause {
     /// (`contact/response.rs`: viscous below `v_min` or `w_min`, Coulomb above) acts on the
     /// body as a damper with a time constant (`m·v_min/(3 μ_k f_n)`, or `I·w_min/(3 μ_r μ_geo
     /// f_n)` with the body's smallest principal inertia `I`; `reg ≥ v_min/3`) of at most
-    /// [`FRICTION_RATIO`] last steps and at least a thousandth of one. Newton's method does
+    /// 10 (`FRICTION_RATIO`) last steps and at least a thousandth of one. Newton's method does
     /// not cross the law's band from slip to stick (where the slope jumps from ~0 to
     /// `3 μ f_n / v_min`) unless the body's inertia over the step outweighs that slope, so the
     /// steps fall to a few time constants. Found in random scenes: a 0.65 g steel cylinder 3.5
