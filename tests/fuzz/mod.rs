@@ -5,8 +5,9 @@
 //! 10 m/s, free, revolute, prismatic and fixed joints, rigid attachments and chains, every
 //! force element of `scene/desc.rs` (spring-dampers, joint spring-dampers, object-force
 //! closures) and inputs with loads relative to the body they act on (forces 0.01…100 times its
-//! weight, torques that times 0.001…10 of its size, spring periods 2 ms…6 s, drag time
-//! constants 10 ms…100 s), the built-in materials, contact on and off, rtol 1e-3…1e-9, 0.05–1 s simulated,
+//! weight, torques that times 0.001…10 of its size, spring periods 2 ms…6 s and long enough
+//! that the initial stretch gives no more than 10 m/s, drag time constants 10 ms…100 s), the
+//! built-in materials, contact on and off, rtol 1e-3…1e-9, 0.05–1 s simulated,
 //! and for some scenes the step-wise API (`Simulation::new` / `advance_to` / `set_input`).
 //!
 //! A scene is plain data ([`SceneSpec`], serialisable to JSON for reproducers); [`generate`]
@@ -609,14 +610,20 @@ pub fn generate(seed: u64) -> SceneSpec {
     let mut forces = vec![];
     for _ in 0..r.below(4) {
         let b = r.below(n);
-        // Natural angular frequency [rad/s] (periods 2 ms…6 s) and damping ratio of a spring.
-        let omega = r.log_uniform(1.0, 3e3);
+        // Natural angular frequency [rad/s] of a spring, log-uniform from 1 up to 3e3 (a 2 ms
+        // period) or to the bound that keeps the speeds its initial stretch can give within
+        // the 10 m/s of the drawn velocities (ω · stretch ≤ 10 m/s: a 1.4e6 N/m spring
+        // stretched 0.7 m flung a 0.35 kg box into a sphere at ~200 m/s), and a damping ratio.
+        let u = r.unit();
+        let omega = |stretch: f64| (10.0 / stretch).clamp(1.0, 3e3).powf(u);
         let zeta = r.pick(&[0.0, 0.05, 1.0]);
         let f = match r.below(4) {
             0 => {
                 let a = (r.chance(0.5) && b > 0).then(|| r.below(b));
                 let m = a.map_or(mass[b], |a| mass[a].min(mass[b]));
-                let k = m * omega * omega;
+                // Bodies lie within the placement box of half-width `spread`.
+                let w = omega(2.0 * spread);
+                let k = m * w * w;
                 ForceSpec::Spring {
                     a,
                     b,
@@ -628,7 +635,10 @@ pub fn generate(seed: u64) -> SceneSpec {
             1 if !scalar.is_empty() => {
                 let body = r.pick(&scalar);
                 let i = joint_inertia(body);
-                let k = i * omega * omega;
+                // Offset and initial coordinate together: up to ~4 rad times the size for a
+                // revolute joint, ~3 sizes for a prismatic one.
+                let w = omega(if revolute(body) { 4.0 } else { 3.0 } * size[body]);
+                let k = i * w * w;
                 ForceSpec::JointSpring {
                     body,
                     stiffness: k,
