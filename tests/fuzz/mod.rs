@@ -4,9 +4,10 @@
 //! sizes 1e-3…1 m, masses 1e-3…1e3 kg, random poses including overlaps, velocities up to
 //! 10 m/s, free, revolute, prismatic and fixed joints, rigid attachments and chains, every
 //! force element of `scene/desc.rs` (spring-dampers, joint spring-dampers, object-force
-//! closures) and inputs with loads relative to the body they act on (forces 0.01…100 times its
-//! weight, torques that times 0.001…10 of its size, spring periods 2 ms…6 s and long enough
-//! that the initial stretch gives no more than 10 m/s, drag time constants 10 ms…100 s), the
+//! closures) and inputs with loads relative to the body they act on (forces and torques that,
+//! held over the run, bring a free body or its surface to 0.01…10 m/s, spring periods
+//! 2 ms…6 s and long enough that the initial stretch gives no more than 10 m/s, drag time
+//! constants 10 ms…100 s), the
 //! built-in materials, contact on and off, rtol 1e-3…1e-9, 0.05–1 s simulated,
 //! and for some scenes the step-wise API (`Simulation::new` / `advance_to` / `set_input`).
 //!
@@ -583,13 +584,20 @@ pub fn generate(seed: u64) -> SceneSpec {
             )
         })
         .collect();
-    // Loads are drawn relative to the body they act on (its weight, size and mass), over
+    // Loads are drawn relative to the body they act on (its mass and size), over
     // log-wide ranges: a user who had not tuned anything still writes a 10 N force for a
     // kilogram, not for a 14 mg bead (absolute loads gave millimetre scenes 1e5 g, bodies at
     // km/s and spins of 1e8 rad/s: physics no integrator follows cheaply, not library faults).
+    // A load held over the whole run brings a free body to at most the 10 m/s of the drawn
+    // velocities (its surface, for a torque): forces up to `m · 10 m/s / T`, torques up to
+    // `(m L²/10) · (10 m/s / L) / T` (a constant torque of 10 times the weight times the size
+    // spun a 1 mm body to 1e7 rad/s in a second).
+    let stop_time = r.uniform(0.05, 1.0);
+    let accel = 10.0 / stop_time;
     let mass: Vec<f64> = bodies.iter().map(mass_estimate).collect();
     let size: Vec<f64> = bodies.iter().map(|b| shape_size(&b.shape)).collect();
-    let weight = |k: usize| mass[k] * 9.81;
+    let force_unit = |k: usize| mass[k] * accel;
+    let torque_unit = |k: usize| 0.1 * mass[k] * size[k] * accel;
     let revolute = |k: usize| matches!(bodies[k].joint, JointSpec::Revolute { .. });
     // A scalar joint's inertia: mass, or a rotational inertia estimate m L² / 10.
     let joint_inertia = |k: usize| {
@@ -599,12 +607,12 @@ pub fn generate(seed: u64) -> SceneSpec {
             mass[k]
         }
     };
-    // A scalar joint's load unit: the weight, or the weight times the size for a torque.
+    // A scalar joint's load unit: a torque or a force.
     let joint_load = |k: usize| {
         if revolute(k) {
-            weight(k) * size[k]
+            torque_unit(k)
         } else {
-            weight(k)
+            force_unit(k)
         }
     };
     let mut forces = vec![];
@@ -653,8 +661,8 @@ pub fn generate(seed: u64) -> SceneSpec {
             }
             2 => {
                 let (f, t) = (unit(r), unit(r));
-                let f_abs = weight(b) * r.log_uniform(1e-2, 1e2);
-                let t_abs = weight(b) * size[b] * r.log_uniform(1e-3, 1e1);
+                let f_abs = force_unit(b) * r.log_uniform(1e-3, 1.0);
+                let t_abs = torque_unit(b) * r.log_uniform(1e-3, 1.0);
                 ForceSpec::Constant {
                     body: b,
                     force: f.map(|x| x * f_abs),
@@ -669,7 +677,6 @@ pub fn generate(seed: u64) -> SceneSpec {
         };
         forces.push(f);
     }
-    let stop_time = r.uniform(0.05, 1.0);
     let mut inputs = vec![];
     let steps = r.chance(0.2).then(|| {
         if !scalar.is_empty() && r.chance(0.6) {
@@ -689,20 +696,19 @@ pub fn generate(seed: u64) -> SceneSpec {
                 let mut set = vec![];
                 for (i, inp) in inputs.iter().enumerate() {
                     if r.chance(0.7) {
-                        // Values in units of the body's weight (and size, for torques),
-                        // as the force elements above.
+                        // Values in the load units of the force elements above (and up to
+                        // the same 10 m/s over the run for a prescribed acceleration).
                         let units: Vec<f64> = match *inp {
                             InputSpec::Wrench(k) => {
-                                let (w, l) = (weight(k), size[k]);
-                                vec![w, w, w, w * l, w * l, w * l]
+                                let (f, t) = (force_unit(k), torque_unit(k));
+                                vec![f, f, f, t, t, t]
                             }
                             InputSpec::JointForce(k) => vec![joint_load(k)],
-                            InputSpec::JointAcceleration(_) => vec![1.0],
+                            InputSpec::JointAcceleration(k) => {
+                                vec![if revolute(k) { accel / size[k] } else { accel }]
+                            }
                         };
-                        set.push((
-                            i,
-                            units.iter().map(|u| u * r.uniform(-10.0, 10.0)).collect(),
-                        ));
+                        set.push((i, units.iter().map(|u| u * r.uniform(-1.0, 1.0)).collect()));
                     }
                 }
                 StepSpec {
