@@ -773,9 +773,7 @@ impl Simulation {
                 );
                 let cause = diagnosis::limiting(stiffest, h_last, h_budget);
                 let speeds: Vec<(f64, f64)> = dae.body_speeds().collect();
-                let guard = dae
-                    .max_safe_step()
-                    .and_then(|g| dae.guard_body().map(|b| (g, b)));
+                let guard = dae.guard_limit();
                 let run = self.segments.solver_base + self.ida.stats();
                 let plan = &self.model.plan;
                 let ill = (run.nonlinear_convergence_failures > run.error_test_failures)

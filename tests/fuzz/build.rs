@@ -299,8 +299,8 @@ pub fn options(s: &SceneSpec) -> SimOptions {
     if let Some(dt) = r.interval {
         o = o.interval(dt);
     }
-    if r.max_steps.is_some() {
-        o = o.max_steps(r.max_steps);
+    if let Some(n) = r.max_steps {
+        o = o.max_steps(Some(n));
     }
     if let Some(k) = std::env::var("MODIA3D_FUZZ_TIGHTENING")
         .ok()

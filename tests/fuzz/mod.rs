@@ -7,9 +7,9 @@
 //! closures) and inputs with loads relative to the body they act on (forces and torques that,
 //! held over the run, bring a free body or its surface to 0.01…10 m/s, spring periods
 //! 2 ms…6 s and long enough that the initial stretch gives no more than 10 m/s, drag time
-//! constants 10 ms…100 s), the
-//! built-in materials, contact on and off, rtol 1e-3…1e-9, 0.05–1 s simulated,
-//! and for some scenes the step-wise API (`Simulation::new` / `advance_to` / `set_input`).
+//! constants 10 ms…100 s), the built-in materials, contact on and off, rtol 1e-3…1e-9,
+//! 0.05–1 s simulated, and for some scenes the step-wise API (`Simulation::new` /
+//! `advance_to` / `set_input`).
 //!
 //! A scene is plain data ([`SceneSpec`], serialisable to JSON for reproducers); [`generate`]
 //! draws one from a seed with its own PRNG (splitmix64), `build.rs` turns it into a
@@ -599,7 +599,9 @@ pub fn generate(seed: u64) -> SceneSpec {
     let force_unit = |k: usize| mass[k] * accel;
     let torque_unit = |k: usize| 0.1 * mass[k] * size[k] * accel;
     let revolute = |k: usize| matches!(bodies[k].joint, JointSpec::Revolute { .. });
-    // A scalar joint's inertia: mass, or a rotational inertia estimate m L² / 10.
+    // A scalar joint's inertia (mass, or a rotational inertia estimate m L² / 10) and its
+    // acceleration unit (that of its surface for a rotation); their product is its load unit,
+    // `torque_unit` or `force_unit`.
     let joint_inertia = |k: usize| {
         if revolute(k) {
             0.1 * mass[k] * size[k] * size[k]
@@ -607,14 +609,7 @@ pub fn generate(seed: u64) -> SceneSpec {
             mass[k]
         }
     };
-    // A scalar joint's load unit: a torque or a force.
-    let joint_load = |k: usize| {
-        if revolute(k) {
-            torque_unit(k)
-        } else {
-            force_unit(k)
-        }
-    };
+    let joint_accel = |k: usize| if revolute(k) { accel / size[k] } else { accel };
     let mut forces = vec![];
     for _ in 0..r.below(4) {
         let b = r.below(n);
@@ -703,10 +698,8 @@ pub fn generate(seed: u64) -> SceneSpec {
                                 let (f, t) = (force_unit(k), torque_unit(k));
                                 vec![f, f, f, t, t, t]
                             }
-                            InputSpec::JointForce(k) => vec![joint_load(k)],
-                            InputSpec::JointAcceleration(k) => {
-                                vec![if revolute(k) { accel / size[k] } else { accel }]
-                            }
+                            InputSpec::JointForce(k) => vec![joint_inertia(k) * joint_accel(k)],
+                            InputSpec::JointAcceleration(k) => vec![joint_accel(k)],
                         };
                         set.push((i, units.iter().map(|u| u * r.uniform(-1.0, 1.0)).collect()));
                     }

@@ -97,36 +97,23 @@ impl StepGuard {
         2.0 * d / (s + (s * s + 2.0 * a * d).sqrt())
     }
 
-    /// The largest safe step \[s\] at the body velocities and accelerations of the last
-    /// evaluation in `ws` (accelerations as the residual's inverse dynamics left them, which
-    /// include the world's `−g`: adding `g` gives the body's own; `gravity` resolved in world
-    /// [m/s²]). Every shape point of a body moves by at most `s h + ½ a h²` in a step h, with
-    /// `s = |v| + |ω| R` and `a = |a_o| + |ω| |v| + |ω̇| R`; h is the largest step for which that
-    /// is ¼ of the thinnest pair the body takes part in, for every body (two bodies approaching
-    /// each other move by at most ½ of their pair's sum relative to each other). `None` when
-    /// nothing moves.
-    pub(crate) fn max_step(&self, ws: &Workspace, gravity: &Vector3<f64>) -> Option<f64> {
-        let h = self
-            .bodies
-            .iter()
-            .map(|g| Self::body_step(g, ws, gravity))
-            .fold(f64::INFINITY, f64::min);
-        (h.is_finite() && h > 0.0).then_some(h)
-    }
-
-    /// The body whose own step ([`Self::max_step`]) is the shortest: the one that sets the
-    /// guard. For diagnoses (a run whose steps the guard limits); `None` when no body with a
-    /// collision shape moves.
-    pub(crate) fn limiting_body(
+    /// The body that sets the guard and its largest safe step \[s\], at the body velocities
+    /// and accelerations of the last evaluation in `ws` (accelerations as the residual's
+    /// inverse dynamics left them, which include the world's `−g`: adding `g` gives the body's
+    /// own; `gravity` resolved in world [m/s²]). Every shape point of a body moves by at most
+    /// `s h + ½ a h²` in a step h, with `s = |v| + |ω| R` and `a = |a_o| + |ω| |v| + |ω̇| R`;
+    /// h is the largest step for which that is ¼ of the thinnest pair the body takes part in,
+    /// for every body (two bodies approaching each other move by at most ½ of their pair's sum
+    /// relative to each other). `None` when nothing moves.
+    pub(crate) fn limit(
         &self,
         ws: &Workspace,
         gravity: &Vector3<f64>,
-    ) -> Option<crate::dynamics::BodyId> {
+    ) -> Option<(crate::dynamics::BodyId, f64)> {
         self.bodies
             .iter()
             .map(|g| (g.body, Self::body_step(g, ws, gravity)))
-            .filter(|(_, h)| h.is_finite())
+            .filter(|&(_, h)| h.is_finite() && h > 0.0)
             .min_by(|x, y| x.1.total_cmp(&y.1))
-            .map(|(b, _)| b)
     }
 }

@@ -158,18 +158,16 @@ impl MultibodyDae {
     /// (`contact/step_guard.rs`); `None` without candidate pairs or when nothing that can
     /// collide moves.
     pub fn max_safe_step(&self) -> Option<f64> {
-        self.contact_plan
-            .as_ref()?
-            .step_guard
-            .max_step(&self.ws, &self.plan.gravity)
+        self.guard_limit().map(|(h, _)| h)
     }
-    /// The body that sets the tunnelling guard's step (`StepGuard::limiting_body`), if any
-    /// (for diagnoses).
-    pub(crate) fn guard_body(&self) -> Option<BodyId> {
-        self.contact_plan
+    /// [`Self::max_safe_step`] with the body that sets it (`StepGuard::limit`).
+    pub(crate) fn guard_limit(&self) -> Option<(f64, BodyId)> {
+        let (b, h) = self
+            .contact_plan
             .as_ref()?
             .step_guard
-            .limiting_body(&self.ws, &self.plan.gravity)
+            .limit(&self.ws, &self.plan.gravity)?;
+        Some((h, b))
     }
     /// Speed of the origin [m/s] and angular speed [rad/s] of every body at the last
     /// evaluation, in body order (for diagnoses).

@@ -279,7 +279,8 @@ pub(crate) fn stiff_friction(
     h_last: f64,
 ) -> Option<SlowCause> {
     let (cp, cs) = (cp?, cs?);
-    let mut best: Option<(f64, SlowCause)> = None;
+    // (time constant, law, pair, body, normal force) of the stiffest damper so far.
+    let mut best: Option<(f64, &str, _, BodyId, f64)> = None;
     for (_, pp, ps) in cs.active_pairs() {
         let f_n = ps.response.f_n;
         if f_n.is_nan() || f_n <= 0.0 {
@@ -292,33 +293,33 @@ pub(crate) fn stiff_friction(
             let Some(body) = plan.bodies.get(b) else {
                 continue;
             };
-            let m = body.inertia.mass;
             let i_min = body.inertia.inertia_com.symmetric_eigenvalues().min();
             let laws = [
-                ("friction", m * pp.v_min / (3.0 * pp.mu_k * f_n)),
+                (
+                    "friction",
+                    body.inertia.mass * pp.v_min / (3.0 * pp.mu_k * f_n),
+                ),
                 (
                     "rolling resistance",
                     i_min * pp.w_min / (3.0 * pp.mu_r * pp.mu_geo * f_n),
                 ),
             ];
             for (law, tau) in laws {
-                if tau.is_finite() && tau > 0.0 && best.as_ref().is_none_or(|(t, _)| tau < *t) {
-                    best = Some((
-                        tau,
-                        SlowCause::StiffFriction {
-                            pair: cp.pair_name(&plan.scene, pp),
-                            law: law.to_string(),
-                            object: body_name(plan, b),
-                            time_constant: tau,
-                            force: f_n,
-                        },
-                    ));
+                if tau.is_finite() && tau > 0.0 && best.is_none_or(|x| tau < x.0) {
+                    best = Some((tau, law, pp, b, f_n));
                 }
             }
         }
     }
-    best.filter(|(tau, _)| *tau <= FRICTION_RATIO * h_last && *tau >= 1e-3 * h_last)
-        .map(|(_, c)| c)
+    let (tau, law, pp, b, force) =
+        best.filter(|x| x.0 <= FRICTION_RATIO * h_last && x.0 >= 1e-3 * h_last)?;
+    Some(SlowCause::StiffFriction {
+        pair: cp.pair_name(&plan.scene, pp),
+        law: law.to_string(),
+        object: body_name(plan, b),
+        time_constant: tau,
+        force,
+    })
 }
 
 /// Penetration, as a fraction of the thinner shape's smallest extent, above which a contact
