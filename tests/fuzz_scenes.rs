@@ -14,7 +14,8 @@
 //! `catch_unwind` around it: a panic is an outcome, an abort kills only the worker (the driver
 //! records it and starts a new worker behind that scene).
 //!
-//! `cargo test --release --test fuzz_scenes -- --ignored` runs 10,000 scenes and prints the
+//! `cargo test --release --test fuzz_scenes -- --ignored` runs 10,000 scenes (20 s wall budget
+//! each, the issue's yardstick; `MODIA3D_FUZZ_WALL` sets another) and prints the
 //! class table with the median and 99th-percentile wall time per run.
 
 mod fuzz;
@@ -33,6 +34,8 @@ use std::time::{Duration, Instant};
 const CI_SCENES: u64 = 300;
 /// Scenes of the ignored long batch.
 const LONG_SCENES: u64 = 10_000;
+/// Wall budget per scene of the long batch \[s\] (issue 15's yardstick).
+const LONG_WALL: f64 = 20.0;
 
 fn parse_seed(s: &str) -> Option<u64> {
     let s = s.trim();
@@ -103,16 +106,30 @@ fn fuzz_worker() {
         panic!("MODIA3D_FUZZ_WORKER = {spec}: expected base:first:step:count");
     };
     std::panic::set_hook(Box::new(|_| {})); // panics are outcomes, reported below
+    let wall = wall_budget();
     let mut out = std::io::stdout();
     for k in 0..count {
         let i = first + k * step;
         let _ = writeln!(out, "FUZZ|start|{i}");
         let _ = out.flush();
-        let o = run_scene(&generate(scene_seed(base, i)));
+        let mut s = generate(scene_seed(base, i));
+        if let Some(w) = wall {
+            s.run.max_wall_time = w;
+        }
+        let o = run_scene(&s);
         let detail = o.detail.replace(['\n', '|'], " ");
         let _ = writeln!(out, "FUZZ|done|{i}|{}|{}|{detail}", o.class, o.wall);
         let _ = out.flush();
     }
+}
+
+/// `MODIA3D_FUZZ_WALL=<s>`: every scene's wall budget (`SimOptions::max_wall_time`) in place
+/// of the generator's 2 s; the driver passes it on to its workers.
+fn wall_budget() -> Option<f64> {
+    std::env::var("MODIA3D_FUZZ_WALL")
+        .ok()
+        .and_then(|w| w.parse::<f64>().ok())
+        .filter(|w| w.is_finite() && *w > 0.0)
 }
 
 /// Results of a batch: the outcome of every scene index.
@@ -129,16 +146,21 @@ fn run_worker_share(
     step: u64,
     count: u64,
     hang_after: Duration,
+    wall: Option<f64>,
 ) -> Vec<(u64, Outcome)> {
     let mut done = vec![];
     let mut next = 0; // index into the share
     while next < count {
-        let mut child = Command::new(std::env::current_exe().expect("test binary"))
-            .args(["fuzz_worker", "--exact", "--nocapture", "--test-threads=1"])
+        let mut cmd = Command::new(std::env::current_exe().expect("test binary"));
+        cmd.args(["fuzz_worker", "--exact", "--nocapture", "--test-threads=1"])
             .env(
                 "MODIA3D_FUZZ_WORKER",
                 format!("{base}:{}:{step}:{}", first + next * step, count - next),
-            )
+            );
+        if let Some(w) = wall {
+            cmd.env("MODIA3D_FUZZ_WALL", w.to_string());
+        }
+        let mut child = cmd
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
@@ -221,12 +243,13 @@ fn run_worker_share(
 }
 
 /// Runs `count` scenes of base seed `base` on `jobs` worker processes.
-fn run_batch(base: u64, count: u64, jobs: u64) -> Batch {
-    let hang_after = Duration::from_secs(60);
+fn run_batch(base: u64, count: u64, jobs: u64, wall: Option<f64>) -> Batch {
+    // A worker silent for three wall budgets (at least a minute) is hung.
+    let hang_after = Duration::from_secs_f64(wall.map_or(60.0, |w| (3.0 * w).max(60.0)));
     let handles: Vec<_> = (0..jobs.min(count))
         .map(|w| {
             let share = (count - w).div_ceil(jobs);
-            std::thread::spawn(move || run_worker_share(base, w, jobs, share, hang_after))
+            std::thread::spawn(move || run_worker_share(base, w, jobs, share, hang_after, wall))
         })
         .collect();
     let mut outcomes = BTreeMap::new();
@@ -274,6 +297,23 @@ fn report(b: &Batch, wall: f64) -> Vec<(u64, &Outcome)> {
     for (c, n) in &classes {
         println!("  {n:>6}  {c}");
     }
+    // Issue 15's acceptance counts as finished a run that reached its stop time and a scene
+    // refused at build time with a typed error (an invalid scene is answered, not simulated).
+    let n = b.outcomes.len().max(1) as f64;
+    let count = |p: &dyn Fn(&str) -> bool| b.outcomes.values().filter(|o| p(&o.class)).count();
+    let ok = count(&|c| c == "ok");
+    let built = count(&|c| c.starts_with("build:"));
+    let slow_ok = b
+        .outcomes
+        .values()
+        .filter(|o| o.class == "ok" && o.wall > 2.0)
+        .count();
+    println!(
+        "  finished: {:.1} % (ran to the end {:.1} %, typed build error {:.1} %); {slow_ok} runs to the end took over 2 s",
+        100.0 * (ok + built) as f64 / n,
+        100.0 * ok as f64 / n,
+        100.0 * built as f64 / n
+    );
     if std::env::var_os("MODIA3D_FUZZ_VERBOSE").is_some() {
         for (i, o) in &b.outcomes {
             let seed = scene_seed(b.base, *i);
@@ -302,10 +342,12 @@ fn report(b: &Batch, wall: f64) -> Vec<(u64, &Outcome)> {
     failures
 }
 
-fn batch_test(count: u64) {
+/// Runs `count` scenes, each with the wall budget `MODIA3D_FUZZ_WALL` or else `wall` (`None`:
+/// the generator's 2 s), and fails on any failure class.
+fn batch_test(count: u64, wall: Option<f64>) {
     let base = base_seed();
     let started = Instant::now();
-    let b = run_batch(base, count, jobs());
+    let b = run_batch(base, count, jobs(), wall_budget().or(wall));
     let failures = report(&b, started.elapsed().as_secs_f64());
     assert_eq!(b.outcomes.len() as u64, count, "every scene has an outcome");
     assert!(
@@ -322,14 +364,16 @@ fn random_scenes_end_fast_or_with_a_typed_error() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(CI_SCENES);
-    batch_test(count);
+    batch_test(count, None);
 }
 
-/// The long batch (issue 15 acceptance): 10,000 scenes.
+/// The long batch (issue 15 acceptance): 10,000 scenes with a 20 s wall budget each, the
+/// yardstick of the issue ("0 runs over 20 s wall without a typed error"); the CI batch keeps
+/// the generator's 2 s to stay within CI's time. `MODIA3D_FUZZ_WALL=2` reproduces the 2 s table.
 #[test]
 #[ignore = "long: 10,000 scenes; cargo test --release --test fuzz_scenes -- --ignored"]
 fn ten_thousand_random_scenes() {
-    batch_test(LONG_SCENES);
+    batch_test(LONG_SCENES, Some(LONG_WALL));
 }
 
 /// Replays one scene (`MODIA3D_FUZZ_SCENE=<scene seed>`, optionally `MODIA3D_FUZZ_WALL=<s>` for
@@ -347,10 +391,7 @@ fn replay_one_scene() {
     };
     let mut s = generate(seed);
     // A smaller wall budget for the reproducer (minimising runs the scene many times).
-    if let Some(w) = std::env::var("MODIA3D_FUZZ_WALL")
-        .ok()
-        .and_then(|w| w.parse().ok())
-    {
+    if let Some(w) = wall_budget() {
         s.run.max_wall_time = w;
     }
     println!("scene {seed:#x}: {}", s.to_json());
@@ -387,9 +428,7 @@ fn replay_scenes() {
     let Ok(list) = std::env::var("MODIA3D_FUZZ_SCENES") else {
         return;
     };
-    let wall = std::env::var("MODIA3D_FUZZ_WALL")
-        .ok()
-        .and_then(|w| w.parse::<f64>().ok());
+    let wall = wall_budget();
     for seed in list.split([',', ' ', '\n']).filter_map(parse_seed) {
         let mut s = generate(seed);
         if let Some(w) = wall {
