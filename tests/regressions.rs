@@ -290,3 +290,58 @@ fn a_stiff_rolling_resistance_is_named_when_the_solver_fails() {
         r.err().map(|e| e.kind.to_string())
     );
 }
+
+/// A body sliding on one contact decelerates at `μ_k·g` (Coulomb: the normal force is its
+/// weight once the bounces are over, the friction force `μ_k·f_n` above the regularisation
+/// speed `v_min`, opposite to the contact point's velocity; the rocking damping of the patch
+/// adds a torque, no force). Checked on the cylinder that lands on its side and slides
+/// (`tests/regressions/cylinder_slides_on_its_side.json`), whose run stalled before the
+/// quaternion increments of the pair-local quotients were capped: the deceleration of its centre of mass
+/// over 10 ms windows of the sliding phase (after the last event, while it is faster than
+/// `2·v_min`, so that the contact point, whose speed differs from the centre's by the yaw rate
+/// times its distance, ≤ 6 mm/s, slides faster than `v_min`) within 1e-3 of `μ_k·g`. The bound:
+/// the windowed secant of a deceleration whose direction turns with the yaw rate (~0.04 rad/s,
+/// 4e-4 rad per window, a cosine error of 2e-8) and the velocities' error at rtol 3.7e-6
+/// (~1e-7 m/s against the 2.6e-3 m/s change per window: 4e-5) are far below it.
+#[test]
+fn a_cylinder_sliding_on_its_side_decelerates_at_mu_g() {
+    let s = reproducer("cylinder_slides_on_its_side.json");
+    let mu_k = s.pairs[0].2[1];
+    let g = -s.gravity[2];
+    let model = fuzz::build::scene(&s).build().unwrap();
+    let res = model.simulate(&fuzz::build::options(&s)).unwrap();
+    let t_end = *res.time().last().unwrap();
+    let t_last = res.events.last().expect("it lands").t;
+    let v_at = |t: f64| {
+        let v = res.signal_at("b0.v_abs", t).unwrap();
+        nalgebra::Vector3::new(v[0], v[1], v[2])
+    };
+    let v_min = 0.01; // SceneOptions' default [m/s]: the scene sets none
+    let (dt, mut windows) = (0.01, 0);
+    let mut t = t_last + dt;
+    while t + dt <= t_end {
+        let (v0, v1) = (v_at(t), v_at(t + dt));
+        if v1.xy().norm() < 2.0 * v_min {
+            break;
+        }
+        let a = (v1 - v0) / dt;
+        println!(
+            "t {t:.3} s: speed {:.4e} m/s, deceleration {:.6e} m/s² (μ_k g = {:.6e})",
+            v0.xy().norm(),
+            a.norm(),
+            mu_k * g
+        );
+        assert!(
+            (a.norm() / (mu_k * g) - 1.0).abs() < 1e-3,
+            "t = {t}: deceleration {} m/s², μ_k g = {} m/s²",
+            a.norm(),
+            mu_k * g
+        );
+        windows += 1;
+        t += dt;
+    }
+    assert!(
+        windows >= 5,
+        "only {windows} sliding windows after t = {t_last} s"
+    );
+}

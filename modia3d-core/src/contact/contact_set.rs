@@ -573,6 +573,11 @@ impl ContactState {
         self.active.len()
     }
 
+    /// The shapes (indices into `ContactPlan::shapes`) of the `k`-th pair in the contact set.
+    pub(crate) fn active_shapes(&self, k: usize) -> (usize, usize) {
+        self.shapes_of(self.active[k] as usize)
+    }
+
     /// Bodies (`None` = fixed to the world) of shape a and shape b of the `k`-th pair in the
     /// contact set.
     pub fn active_bodies(
