@@ -30,13 +30,14 @@
 //! (`MultibodyDae::jacobian_structure`).
 //! Allocation-free.
 
+use super::increment_caps::{rotation_cap, DEPTH_FRACTION};
 use super::MultibodyDae;
 use crate::contact::{pair_wrench_jacobian, ContactPlan, ContactState, PER_BODY};
 use crate::dynamics::spatial::{quat_to_matrix, Force, Inertia, Motion};
 use crate::dynamics::{kinematics, BodyId, InputTarget, Plan, Workspace};
 use crate::joints::JointCoord;
 use crate::scene::ValidForce;
-use crate::solver::{JacobianArgs, JacobianSink, ResidualError};
+use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
 use nalgebra::{Matrix3, Matrix4, SMatrix, Vector3, Vector4};
 
 /// A joint tree that is one body on a FreeMotion joint to the world (or to an object fixed to
@@ -419,14 +420,22 @@ impl ContactColumns<'_> {
                 // A centred sphere's geometry does not turn with its body: the quaternion
                 // columns then reuse the unperturbed narrow phase, like the velocity columns.
                 let round = cs.rotation_free(cp, k, b);
-                let cap_q = rotation_cap(cp, cs, k, b, &geo0, &ws.world[b].pos);
+                let cap_q = rotation_cap(
+                    cp,
+                    cs,
+                    k,
+                    b,
+                    -geo0.0.distance,
+                    &geo0.1.point,
+                    &ws.world[b].pos,
+                );
                 let mut q = [0.0; 7];
                 let mut v = [0.0; 6];
                 for c in 0..13 {
                     let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
                     let inc = if (3..7).contains(&c) {
                         let moved = DEPTH_FRACTION * (args.h * args.yp[j]).abs();
-                        capped(args.increment(j), cap_q.max(moved), args.y[j])
+                        capped_increment(args.increment(j), cap_q.max(moved), args.y[j])
                     } else {
                         args.increment(j)
                     };
@@ -477,67 +486,6 @@ impl ContactColumns<'_> {
         }
         Ok(())
     }
-}
-
-/// Largest increment of a pair-local quotient's quaternion columns, as a fraction of the
-/// contact's penetration depth (see [`rotation_cap`]).
-const DEPTH_FRACTION: f64 = 1e-3;
-/// Smallest such increment in units of the narrow phase's stopping length
-/// (`mpr_tolerance · size`, `geometry/narrow_phase/mod.rs`).
-const NOISE_MULTIPLE: f64 = 1.0;
-
-/// Cap on the increments of body `b`'s quaternion columns \[-\] in the quotients of active
-/// pair `k` with unperturbed geometry `geo` and `b`'s origin `origin` \[m, world\].
-///
-/// Why: the solver's rule (`solver::dq_increment`, `√ε` times the unknown's size) turns a body
-/// by ~3e-10 rad, but the centre of pressure of a flat or line contact (`contact_patch`)
-/// crosses the whole patch when a tilt lifts one side by the depth δ, i.e. within `δ/L` rad
-/// for a patch of length L: 8e-9 rad for a resting 0.3 m steel body 2.4 nm deep. The quotient
-/// then spanned a good part of that sweep, the Newton matrix was wrong and the steps
-/// collapsed (measured: a 26 kg steel cylinder or cone sliding on its side on a steel table
-/// stalled at 2e-7 s steps with 10,000 Newton failures, reaching 0.19 s of 0.34 s; with every
-/// pair increment scaled by 1e-1…1e-3 it ran to its end, with 1e-4 it stalled again, the
-/// narrow phase's noise then dominating). So a quaternion column turns the shape's farthest
-/// point (`lever` from the origin) by at most `DEPTH_FRACTION · δ` (`δθ ≈ 2 δq`), but never by
-/// less than `NOISE_MULTIPLE` narrow-phase stopping lengths, nor less than `DEPTH_FRACTION`
-/// of what the unknown moves in the step (`h·q̇`: Newton's corrections are of that size, and
-/// an impact's must see the law's secant over them).
-///
-/// The position columns keep the solver's rule: capping them the same way (at `1e-3·δ`) made
-/// the 0.65 g cylinder of `tests/regressions/rolling_resistance_stalls_newton.json`, without
-/// its rolling resistance, chatter on the table (1,683 events and 240,000 steps in 10 s
-/// instead of ending in 0.05 s); a translation does not move the centre of pressure.
-fn rotation_cap(
-    cp: &ContactPlan,
-    cs: &ContactState,
-    k: usize,
-    b: BodyId,
-    geo: &(
-        crate::geometry::SignedDistance,
-        crate::geometry::ContactPatch,
-    ),
-    origin: &Vector3<f64>,
-) -> f64 {
-    let (sa, sb) = cs.active_shapes(k);
-    let (ra, rb) = (
-        cp.shapes[sa].shape.bounding_radius(),
-        cp.shapes[sb].shape.bounding_radius(),
-    );
-    let noise = NOISE_MULTIPLE * cp.narrow.mpr_tolerance * (ra + rb);
-    let own = if cp.shapes[sa].body == Some(b) {
-        ra
-    } else {
-        rb
-    };
-    let lever = (geo.1.point.coords - origin).norm() + own;
-    (DEPTH_FRACTION * (-geo.0.distance).max(0.0)).max(noise) / (2.0 * lever)
-}
-
-/// The increment `inc` limited to `cap` in size (sign kept), not below the rounding floor of
-/// `solver::dq_increment` (`1e3·ε·|y|`), and rounded so that `y + inc` is exact.
-fn capped(inc: f64, cap: f64, y: f64) -> f64 {
-    let size = inc.abs().min(cap).max(1e3 * f64::EPSILON * y.abs());
-    (y + size.copysign(inc)) - y
 }
 
 impl MultibodyDae {

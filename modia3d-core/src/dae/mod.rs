@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 #[cfg(test)]
 pub(crate) mod alloc_tests;
+mod increment_caps;
 mod jacobian;
 
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
@@ -492,5 +493,9 @@ impl DaeSystem for MultibodyDae {
         out: &mut dyn crate::solver::JacobianSink,
     ) -> Result<(), ResidualError> {
         self.analytic_jacobian(args, out)
+    }
+
+    fn increment_caps(&mut self, args: &crate::solver::JacobianArgs<'_>, caps: &mut [f64]) -> bool {
+        self.position_caps(args, caps)
     }
 }

@@ -409,6 +409,34 @@ impl JointCoord {
     pub(crate) fn coordinates(&self) -> &'static [Coordinate] {
         info(self.name()).map_or(&[], |i| i.coordinates)
     }
+    /// Calls `f(i, rad_per_unit)` for every position `q[i]` of the joint that turns its child
+    /// body: the quaternion's components of FreeMotion and Spherical joints (a change `δq`
+    /// turns by up to `2 δq` rad) and the angles of the others (`"rad"` coordinates, 1 rad per
+    /// unit). Translations are not passed.
+    pub(crate) fn for_each_turning_position(&self, mut f: impl FnMut(usize, f64)) {
+        match self {
+            JointCoord::Free => (3..7).for_each(|i| f(i, 2.0)),
+            JointCoord::Spherical => (0..4).for_each(|i| f(i, 2.0)),
+            _ => {
+                for c in self.coordinates().iter().filter(|c| c.unit == "rad") {
+                    f(c.q, 1.0);
+                }
+            }
+        }
+    }
+    /// Calls `f(i)` for every position `q[i]` of the joint that shifts its child body: the
+    /// translation of a FreeMotion joint and the `"m"` coordinates of the others.
+    pub(crate) fn for_each_shifting_position(&self, mut f: impl FnMut(usize)) {
+        match self {
+            JointCoord::Free => (0..3).for_each(&mut f),
+            JointCoord::Spherical => {}
+            _ => {
+                for c in self.coordinates().iter().filter(|c| c.unit == "m") {
+                    f(c.q);
+                }
+            }
+        }
+    }
     /// Whether `S` depends on `q` (then the bias `c_J = Ṡ q̇` is not zero).
     #[inline]
     pub fn has_bias(&self) -> bool {

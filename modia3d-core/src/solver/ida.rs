@@ -33,8 +33,8 @@ use super::block_lu::BlockLu;
 use super::colouring::Colouring;
 use super::error::flag_hint;
 use super::{
-    dq_increment, Atol, DaeSystem, IdaError, IdaOptions, IdaStats, JacobianArgs, JacobianSink,
-    ResidualError, SolveStatus,
+    capped_increment, dq_increment, Atol, DaeSystem, IdaError, IdaOptions, IdaStats, JacobianArgs,
+    JacobianSink, ResidualError, SolveStatus,
 };
 
 mod callbacks;
@@ -64,6 +64,8 @@ struct CallbackState<S> {
     jac_residuals: u64,
     /// Saved `(y_j, y'_j, increment)` of the perturbed unknowns (len n once used).
     jac_saved: Vec<(f64, f64, f64)>,
+    /// Bounds on the quotients' increments from `DaeSystem::increment_caps` (len n).
+    jac_caps: Vec<f64>,
     /// `atol_j / rtol` [unit of y_j] per unknown: the size below which it counts as zero,
     /// which sets the difference-quotient increments (`ida/linear.rs`).
     zero_size: Vec<f64>,
@@ -150,6 +152,7 @@ impl<S: DaeSystem> Ida<S> {
             colouring: None,
             jac_residuals: 0,
             jac_saved: Vec::new(),
+            jac_caps: Vec::new(),
             zero_size: Vec::new(),
             rtol: 0.0,
             ewt_factor: Vec::new(),

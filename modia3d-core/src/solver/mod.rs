@@ -116,6 +116,18 @@ pub trait DaeSystem {
     ) -> Result<(), ResidualError> {
         Ok(())
     }
+
+    /// Upper bounds on the sizes of the difference-quotient increments of the solver's
+    /// coloured Jacobian, per unknown, at the point of `args` (called once per Jacobian, after
+    /// [`DaeSystem::jacobian`]): `caps` (len n) arrives filled with `+∞` (no bound); the
+    /// system lowers the entries it must and returns whether it lowered any. The solver then
+    /// uses [`capped_increment`] of its rule's increment. For unknowns the residual depends on
+    /// through a feature much finer than the unknown's own scale (a contact's centre of
+    /// pressure under a tilt, see `dae/increment_caps.rs`). Default: no bound. Must not
+    /// allocate.
+    fn increment_caps(&mut self, _args: &JacobianArgs<'_>, _caps: &mut [f64]) -> bool {
+        false
+    }
 }
 
 /// Receives the columns of [`DaeSystem::jacobian`] in runs of consecutive rows.
@@ -169,13 +181,25 @@ impl JacobianArgs<'_> {
 #[inline]
 pub fn dq_increment(yj: f64, ypj: f64, h: f64, zero_size: f64) -> f64 {
     let srur = f64::EPSILON.sqrt();
-    let floor = 1e3 * f64::EPSILON;
-    let mut inc = (srur * (h * ypj).abs().max(zero_size)).max(floor * yj.abs());
+    let mut inc = (srur * (h * ypj).abs().max(zero_size)).max(DQ_FLOOR * yj.abs());
     if h * ypj < 0.0 {
         inc = -inc;
     }
     (yj + inc) - yj
 }
+
+/// The difference-quotient increment `inc` of an unknown `y_j` limited to `cap` in size (sign
+/// kept), never below the rounding floor of [`dq_increment`] (`1e3·ε·|y_j|`), and rounded so
+/// that `y_j + inc` is exact.
+#[inline]
+pub fn capped_increment(inc: f64, cap: f64, yj: f64) -> f64 {
+    let size = inc.abs().min(cap).max(DQ_FLOOR * yj.abs());
+    (yj + size.copysign(inc)) - yj
+}
+
+/// The smallest difference-quotient increment relative to the unknown's size: a thousand
+/// roundings (see [`dq_increment`]).
+const DQ_FLOOR: f64 = 1e3 * f64::EPSILON;
 
 /// The sparsity of a DAE's iteration matrix as blocks of unknowns: the residual rows of a block
 /// depend only on the unknowns of that block and of the blocks it is coupled with. Rows and

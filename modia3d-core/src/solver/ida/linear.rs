@@ -104,6 +104,21 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 }
             }
         }
+        // The system's bounds on the increments (allocation only at the first Jacobian).
+        let caps = &mut st.jac_caps;
+        caps.clear();
+        caps.resize(n, f64::INFINITY);
+        let any_cap = st.system.increment_caps(
+            &JacobianArgs {
+                t,
+                c_j,
+                h: hh,
+                y,
+                yp: ypv,
+                zero_size: &st.zero_size,
+            },
+            caps,
+        );
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
         for c in 0..col.n_colours() {
@@ -111,7 +126,10 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 for &b in col.blocks_of_colour(c) {
                     if let Some(&j) = col.members(b).get(k) {
                         let (yj, ypj) = (y[j], ypv[j]);
-                        let inc = dq_increment(yj, ypj, hh, st.zero_size[j]);
+                        let mut inc = dq_increment(yj, ypj, hh, st.zero_size[j]);
+                        if any_cap {
+                            inc = capped_increment(inc, st.jac_caps[j], yj);
+                        }
                         saved[j] = (yj, ypj, inc);
                         y[j] += inc;
                         ypv[j] += c_j * inc;
