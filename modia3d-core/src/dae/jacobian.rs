@@ -30,7 +30,7 @@
 //! (`MultibodyDae::jacobian_structure`).
 //! Allocation-free.
 
-use super::increment_caps::{rotation_cap, DEPTH_FRACTION};
+use super::increment_caps::{rotation_cap, with_step_floor};
 use super::MultibodyDae;
 use crate::contact::{pair_wrench_jacobian, ContactPlan, ContactState, PER_BODY};
 use crate::dynamics::spatial::{quat_to_matrix, Force, Inertia, Motion};
@@ -434,8 +434,8 @@ impl ContactColumns<'_> {
                 for c in 0..13 {
                     let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
                     let inc = if (3..7).contains(&c) {
-                        let moved = DEPTH_FRACTION * (args.h * args.yp[j]).abs();
-                        capped_increment(args.increment(j), cap_q.max(moved), args.y[j])
+                        let cap = with_step_floor(cap_q, args, j);
+                        capped_increment(args.increment(j), cap, args.y[j])
                     } else {
                         args.increment(j)
                     };
