@@ -318,8 +318,11 @@ fn report(b: &Batch, wall: f64) -> Vec<(u64, &Outcome)> {
         for (i, o) in &b.outcomes {
             let seed = scene_seed(b.base, *i);
             println!(
-                "scene {i} {seed:#x}: {} {:.3} s: {}",
-                o.class, o.wall, o.detail
+                "scene {i} {seed:#x} (rtol {:.1e}): {} {:.3} s: {}",
+                generate(seed).run.rtol,
+                o.class,
+                o.wall,
+                o.detail
             );
         }
     }

@@ -81,7 +81,7 @@ fn every_recorded_failure_has_its_expected_outcome() {
 /// mechanical energy (kinetic + gravity + spring) can only fall from one output point out of
 /// contact to the next. Tolerance 1e-6 of the energy turned over (the largest kinetic energy): the soft clamp
 /// of the damping (`contact/regularise.rs`) adds at most an impulse of order 1e-8 of the
-/// contact's, and IDA's error at rtol 1.4e-9 is far below; a run whose relaxed restart lost
+/// contact's, and IDA's error at rtol 5e-10 is far below; a run whose relaxed restart lost
 /// consistency (a jump of the state) would show as a rise of the energy.
 #[test]
 fn relaxed_contact_tightening_loses_no_energy() {

@@ -250,7 +250,10 @@ fn add_force(d: &mut SceneDesc, i: usize, f: &ForceSpec) {
 /// The scene description of `s`.
 pub fn scene(s: &SceneSpec) -> SceneDesc {
     let mut d = SceneDesc::new();
-    let mut opts = if s.later_profile {
+    // `MODIA3D_FUZZ_LATER=1` replays scenes with the later Modia3D profile (Hertz for every
+    // pair) in place of the drawn one, to tell the paper's linear law apart from the rest.
+    let later = std::env::var("MODIA3D_FUZZ_LATER").is_ok_and(|v| v == "1");
+    let mut opts = if s.later_profile || later {
         SceneOptions::modia3d_later()
     } else {
         SceneOptions::default()

@@ -1,8 +1,9 @@
 //! DAE stage: the columns of the iteration matrix `∂F/∂y + c_j ∂F/∂y'` that the DAE computes
 //! itself ([`crate::solver::DaeSystem::jacobian`]) instead of the solver's coloured difference
 //! quotients: those of every joint tree that is one body on a FreeMotion joint to the world
-//! (or to an object fixed to it) with nothing but uniform gravity and contacts acting on it
-//! ([`FreeBody`]). Such a block costs 13 full residual evaluations by quotients; here
+//! (or to an object fixed to it) with nothing but uniform gravity, contacts and its own force
+//! elements acting on it ([`FreeBody`]). Such a block costs 13 full residual evaluations by
+//! quotients; here
 //!
 //! - its own 13 × 13 block is exact: the kinematic residual of `joints/free.rs`
 //!   (`ṙ − R(q̂) v`, the quaternion rate with its norm-restoring term; `q̂ = q/|q|` because
@@ -22,7 +23,9 @@
 //!   (position columns only: the geometry does not depend on velocities, nor a centred
 //!   sphere's on its quaternion) and force law evaluated again
 //!   (`ContactState::pair_geometry`, `pair_wrenches`, which touch no pair state), with the
-//!   solver's increment rule (`solver::dq_increment`; central where `h·y'_j = 0`).
+//!   solver's increment rule (`solver::dq_increment`; central where `h·y'_j = 0`);
+//! - its own force elements (a user law has no formula to differentiate) by quotients of those
+//!   elements alone, with the same increments ([`own_force_columns`]).
 //!
 //! A block is computed here only if every body it touches through a contact is such a body
 //! too (its column's rows are then all single-body rows) and none of its pairs' narrow phases
@@ -41,7 +44,10 @@ use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError}
 use nalgebra::{Matrix3, Matrix4, SMatrix, Vector3, Vector4};
 
 /// A joint tree that is one body on a FreeMotion joint to the world (or to an object fixed to
-/// it), with no force element, input, loop, prescribed motion or point gravity acting on it.
+/// it), with no input, loop, prescribed motion or point gravity acting on it, and no force
+/// element but its own ones: force elements that act on this body alone and depend on its
+/// state alone (an `ObjectForce` or world force/torque on one of its objects, a spring-damper
+/// or bushing to the world).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct FreeBody {
     /// The body.
@@ -50,40 +56,64 @@ pub(super) struct FreeBody {
     pub q: usize,
     /// Index in `y` of its first velocity (`ω`, then `v` at +3).
     pub v: usize,
+    /// Its own force elements: `own_forces[forces.0..forces.1]` of [`free_bodies`]' second
+    /// result (indices into the scene's force elements).
+    pub forces: (usize, usize),
+}
+
+/// The one body a force element acts on and depends on, if there is exactly one: `Ok(body)`;
+/// `Err(bodies)` with the bodies it touches otherwise (a joint spring-damper is never one
+/// body's own: it acts on joint coordinates, not on `f_ext`).
+fn own_body(plan: &Plan, f: &ValidForce) -> Result<BodyId, [Option<BodyId>; 2]> {
+    let body = |o: usize| {
+        plan.objects
+            .get(crate::dynamics::ObjectId(o))
+            .and_then(|op| op.body)
+    };
+    let objects = match f {
+        ValidForce::SpringDamper { obj1, obj2, .. } | ValidForce::Bushing { obj1, obj2, .. } => {
+            [Some(*obj1), Some(*obj2)]
+        }
+        ValidForce::ObjectForce { object, .. } => [Some(*object), None],
+        ValidForce::WorldVector {
+            object,
+            resolved_in,
+            ..
+        } => [Some(*object), *resolved_in],
+        ValidForce::JointSpringDamper { joint, .. } => {
+            let b = plan
+                .tree_joint_of
+                .get(*joint)
+                .copied()
+                .flatten()
+                .map(|tj| plan.joints[tj].body);
+            return Err([b, None]);
+        }
+    };
+    let [a, b] = objects.map(|o| o.and_then(body));
+    match (a, b) {
+        (Some(x), None) | (None, Some(x)) => Ok(x),
+        (Some(x), Some(y)) if x == y => Ok(x),
+        _ => Err([a, b]),
+    }
 }
 
 /// For each joint tree (`of_body`: tree of each body, `n_trees` trees), the [`FreeBody`] it is,
-/// if it is one.
-pub(super) fn free_bodies(plan: &Plan, of_body: &[usize], n_trees: usize) -> Vec<Option<FreeBody>> {
+/// if it is one, and the list its own force elements index.
+pub(super) fn free_bodies(
+    plan: &Plan,
+    of_body: &[usize],
+    n_trees: usize,
+) -> (Vec<Option<FreeBody>>, Vec<usize>) {
     let nb = plan.bodies.len();
     let mut touched = vec![plan.point_gravity.is_some(); nb];
-    let touch = |touched: &mut Vec<bool>, o: usize| {
-        let body = plan.objects.get(crate::dynamics::ObjectId(o));
-        if let Some(b) = body.and_then(|op| op.body) {
-            touched[b.index()] = true;
-        }
-    };
-    for f in &plan.scene.forces {
-        match f {
-            ValidForce::SpringDamper { obj1, obj2, .. }
-            | ValidForce::Bushing { obj1, obj2, .. } => {
-                touch(&mut touched, *obj1);
-                touch(&mut touched, *obj2);
-            }
-            ValidForce::ObjectForce { object, .. } => touch(&mut touched, *object),
-            ValidForce::WorldVector {
-                object,
-                resolved_in,
-                ..
-            } => {
-                touch(&mut touched, *object);
-                if let Some(r) = resolved_in {
-                    touch(&mut touched, *r);
-                }
-            }
-            ValidForce::JointSpringDamper { joint, .. } => {
-                if let Some(Some(tj)) = plan.tree_joint_of.get(*joint) {
-                    touched[plan.joints[*tj].body.index()] = true;
+    let mut owner = vec![None; plan.scene.forces.len()];
+    for (e, f) in plan.scene.forces.iter().enumerate() {
+        match own_body(plan, f) {
+            Ok(b) => owner[e] = Some(b),
+            Err(bodies) => {
+                for b in bodies.into_iter().flatten() {
+                    touched[b.index()] = true;
                 }
             }
         }
@@ -111,6 +141,7 @@ pub(super) fn free_bodies(plan: &Plan, of_body: &[usize], n_trees: usize) -> Vec
         count[t] += 1;
     }
     let mut out = vec![None; n_trees];
+    let mut own_forces = vec![];
     for (i, body) in plan.bodies.iter().enumerate() {
         let j = &plan.joints[body.joint];
         let prescribed = plan.prescribed[j.v_offset..j.v_offset + j.coord.nv()]
@@ -122,14 +153,17 @@ pub(super) fn free_bodies(plan: &Plan, of_body: &[usize], n_trees: usize) -> Vec
             && !touched[i]
             && !prescribed
         {
+            let first = own_forces.len();
+            own_forces.extend((0..owner.len()).filter(|&e| owner[e] == Some(BodyId(i))));
             out[of_body[i]] = Some(FreeBody {
                 body: BodyId(i),
                 q: j.q_offset,
                 v: plan.nq + j.v_offset,
+                forces: (first, own_forces.len()),
             });
         }
     }
-    out
+    (out, own_forces)
 }
 
 /// `∂(R(u) a)/∂u` (3 × 4) of the rotation matrix formula of `quat_to_matrix` taken at `u`
@@ -304,6 +338,75 @@ fn place_root_body(plan: &Plan, ws: &mut Workspace, b: BodyId, q: &[f64], v: &[f
     ws.vel[b] = j.coord.motion(q, v);
 }
 
+/// Adds the derivatives of free body `fb`'s own force elements (`elements`, see [`FreeBody`])
+/// to its dynamic rows, by difference quotients of those elements alone: each of the body's 13
+/// states perturbed by the solver's increment (central where `h·y'_j = 0`, as the pair-local
+/// quotients), its placement and velocity recomputed, the elements evaluated again. A user
+/// law has no formula to differentiate; evaluating only the body's own elements costs a few
+/// law calls instead of the whole residual, and keeps the body's exact block (a coloured
+/// quotient of the whole residual perturbs its contacts too). `ws` is left as it was; a law
+/// that fails at a perturbed state makes the step be retried (`Recoverable`).
+fn own_force_columns(
+    plan: &Plan,
+    ws: &mut Workspace,
+    fb: &FreeBody,
+    elements: &[usize],
+    args: &JacobianArgs<'_>,
+    out: &mut dyn JacobianSink,
+) -> Result<(), ResidualError> {
+    let b = fb.body;
+    let (nq, nv) = (plan.nq, plan.nv);
+    let (yq, yv) = (&args.y[..nq], &args.y[nq..nq + nv]);
+    let saved = (ws.x[b], ws.world[b], ws.vel[b], ws.f_ext[b]);
+    let eval = |ws: &mut Workspace, c: usize, step: f64| {
+        place_perturbed(plan, ws, fb, args.y, c, step);
+        ws.f_ext[b] = Force::default();
+        for &e in elements {
+            crate::dynamics::forces::apply_element(plan, ws, args.t, yq, yv, e);
+        }
+        ws.f_ext[b]
+    };
+    let base = eval(ws, 0, 0.0);
+    for c in 0..13 {
+        let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
+        let inc = args.increment(j);
+        let plus = eval(ws, c, inc);
+        let (minus, inv) = if args.h * args.yp[j] == 0.0 {
+            let y0 = args.y[j];
+            let back = (y0 - inc) - y0;
+            (eval(ws, c, back), 1.0 / (inc - back))
+        } else {
+            (base, 1.0 / inc)
+        };
+        // The residual has − f_ext.
+        let mut d = [0.0; 6];
+        for (i, di) in d.iter_mut().enumerate() {
+            *di = (force_component(&minus, i) - force_component(&plus, i)) * inv;
+        }
+        out.add(fb.v, j, &d);
+    }
+    (ws.x[b], ws.world[b], ws.vel[b], ws.f_ext[b]) = saved;
+    if ws.fault.take().is_some() {
+        return Err(ResidualError::Recoverable);
+    }
+    Ok(())
+}
+
+/// Places free body `fb` in `ws` at the states `y` with its `c`-th state (local order: `r`,
+/// quaternion, `ω`, `v`) moved by `step`.
+fn place_perturbed(plan: &Plan, ws: &mut Workspace, fb: &FreeBody, y: &[f64], c: usize, step: f64) {
+    let mut q = [0.0; 7];
+    let mut v = [0.0; 6];
+    q.copy_from_slice(&y[fb.q..fb.q + 7]);
+    v.copy_from_slice(&y[fb.v..fb.v + 6]);
+    if c < 7 {
+        q[c] += step;
+    } else {
+        v[c - 7] += step;
+    }
+    place_root_body(plan, ws, fb.body, &q, &v);
+}
+
 /// What the contact columns need of the DAE.
 pub(super) struct ContactColumns<'a> {
     pub plan: &'a Plan,
@@ -429,8 +532,6 @@ impl ContactColumns<'_> {
                     &geo0.1.point,
                     &ws.world[b].pos,
                 );
-                let mut q = [0.0; 7];
-                let mut v = [0.0; 6];
                 for c in 0..13 {
                     let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
                     let inc = if (3..7).contains(&c) {
@@ -440,14 +541,7 @@ impl ContactColumns<'_> {
                         args.increment(j)
                     };
                     let mut eval = |step: f64| {
-                        q.copy_from_slice(&args.y[fb.q..fb.q + 7]);
-                        v.copy_from_slice(&args.y[fb.v..fb.v + 6]);
-                        if c < 7 {
-                            q[c] += step;
-                        } else {
-                            v[c - 7] += step;
-                        }
-                        place_root_body(plan, ws, b, &q, &v);
+                        place_perturbed(plan, ws, &fb, args.y, c, step);
                         let pert = if c < 3 || (c < 7 && !round) {
                             cs.pair_geometry(plan, cp, ws, k, args.t)
                                 .map(|g| cs.pair_wrenches(cp, ws, k, &g))
@@ -503,6 +597,10 @@ impl MultibodyDae {
         for (t, fb) in tb.free.iter().enumerate() {
             if let (Some(fb), true) = (fb, self.analytic.get(t).copied().unwrap_or(false)) {
                 own_block(plan, fb, args, out);
+                let elements = &tb.own_forces[fb.forces.0..fb.forces.1];
+                if !elements.is_empty() {
+                    own_force_columns(plan, &mut self.ws, fb, elements, args, out)?;
+                }
             }
         }
         let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) else {
@@ -936,21 +1034,14 @@ mod tests {
         }
     }
 
-    /// A mixed scene: the cube hangs on a spring-damper (a force element: its block keeps the
-    /// difference quotients) and b0 presses against it, so b0's columns, whose contact rows
-    /// include the cube's, are quotients too; b1, b2, b3 stay analytic and match central
-    /// differences as in [`analytic_columns_match_central_differences`].
+    /// A mixed scene: the cube is driven by an input wrench (its block keeps the difference
+    /// quotients) and b0 presses against it, so b0's columns, whose contact rows include the
+    /// cube's, are quotients too; b1, b2, b3 stay analytic and match central differences as
+    /// in [`analytic_columns_match_central_differences`].
     #[test]
     fn a_contact_with_a_quotient_block_keeps_quotients() {
         let mut desc = scene();
-        desc.add_force(crate::ForceElement::SpringDamper {
-            name: "hang".into(),
-            obj1: "world".into(),
-            obj2: "cube".into(),
-            stiffness: 10.0,
-            damping: 1.0,
-            length0: 0.5,
-        });
+        desc.add_input(crate::scene::Input::object_wrench("push", "cube"));
         let model = desc.build().unwrap();
         let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
         let n = dae.len();
@@ -982,6 +1073,57 @@ mod tests {
                 assert!(
                     (a[i][j] - r[j][i]).abs() <= 1e-3 * scale + 1e-9,
                     "entry ({i}, {j}): analytic {:e}, central {:e}",
+                    a[i][j],
+                    r[j][i]
+                );
+            }
+        }
+    }
+
+    /// A free body's own force elements (`own_force_columns`): the cube hangs on a
+    /// spring-damper to the world and feels a user drag law (an `ObjectForce` closure of its
+    /// velocity and a `WorldForce` closure of its position), all of which act on it alone, so
+    /// every block stays analytic; the columns match central differences of the whole residual
+    /// to the tolerance of [`analytic_columns_match_central_differences`] (the elements'
+    /// quotients use the solver's increment, as the pair-local ones).
+    #[test]
+    fn own_force_elements_keep_a_free_body_analytic() {
+        let mut desc = scene();
+        desc.add_force(crate::ForceElement::SpringDamper {
+            name: "hang".into(),
+            obj1: "world".into(),
+            obj2: "cube".into(),
+            stiffness: 1e3,
+            damping: 5.0,
+            length0: 0.2,
+        });
+        desc.add_force(crate::ForceElement::ObjectForce {
+            object: "cube".into(),
+            law: crate::ForceFn::new(|_, m| crate::Wrench {
+                force: -3.0 * m.v_abs * m.v_abs.norm(),
+                torque: -0.2 * m.w_abs,
+            }),
+        });
+        let model = desc.build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let c_j = 2.5e3;
+        let y = state(&dae, 3, false);
+        dae.handle_event(0.0, &y).unwrap();
+        let mut rnd = rng(103);
+        let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
+        let (a, cols) = analytic_columns(&mut dae, &y, &yp, c_j);
+        assert!(cols.iter().all(|&c| c), "every block is a free body");
+        let tb = dae.blocks.as_ref().unwrap();
+        let with_forces = tb.free.iter().flatten().filter(|f| f.forces.1 > f.forces.0);
+        assert_eq!(with_forces.count(), 1, "the cube has its own elements");
+        let r: Vec<Vec<f64>> = (0..n).map(|j| central(&mut dae, &y, &yp, c_j, j)).collect();
+        for i in 0..n {
+            let scale = (0..n).map(|j| r[j][i].abs()).fold(0.0, f64::max);
+            for j in 0..n {
+                assert!(
+                    (a[i][j] - r[j][i]).abs() <= 1e-3 * scale + 1e-9,
+                    "entry ({i}, {j}): analytic {:e}, central {:e}, row scale {scale:e}",
                     a[i][j],
                     r[j][i]
                 );

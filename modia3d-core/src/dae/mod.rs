@@ -59,6 +59,8 @@ struct TreeBlocks {
     /// The trees that are one free body (`dae/jacobian.rs`): their columns can be computed
     /// analytically.
     free: Vec<Option<jacobian::FreeBody>>,
+    /// The free bodies' own force elements (`FreeBody::forces` ranges index it).
+    own_forces: Vec<usize>,
 }
 
 impl TreeBlocks {
@@ -101,7 +103,7 @@ impl TreeBlocks {
                 }
             }
         }
-        let free = jacobian::free_bodies(plan, &of_body, n_blocks);
+        let (free, own_forces) = jacobian::free_bodies(plan, &of_body, n_blocks);
         Some(TreeBlocks {
             of_body,
             fixed: BlockStructure {
@@ -111,6 +113,7 @@ impl TreeBlocks {
                 analytic: vec![],
             },
             free,
+            own_forces,
         })
     }
 }

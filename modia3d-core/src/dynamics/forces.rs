@@ -304,103 +304,8 @@ fn record(ws: &mut Workspace, fault: impl FnOnce() -> UserFault) {
 pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
     ws.f_ext.fill(Force::default());
     ws.tau_applied.fill(0.0);
-    let zero = Vector3::zeros();
-    for (e, f) in plan.scene.forces.iter().enumerate() {
-        let fault = |object: &str, what, kind| UserFault {
-            object: object.to_string(),
-            what,
-            element: Some(e),
-            t,
-            kind,
-        };
-        match f {
-            ValidForce::SpringDamper {
-                name,
-                obj1,
-                obj2,
-                spring,
-                damper,
-                length0,
-            } => match ptp_state(plan, ws, (*obj1, *obj2), (spring, damper), *length0) {
-                Ok(s) => {
-                    let f2 = -s.dir * s.tension; // on obj2, towards obj1 when stretched
-                    add_world_wrench(ws, plan.objects[*obj2].body, &s.r2, &f2, &zero);
-                    add_world_wrench(ws, plan.objects[*obj1].body, &s.r1, &-f2, &zero);
-                }
-                Err(k) => record(ws, || fault(name, "spring-damper", k)),
-            },
-            ValidForce::Bushing { obj1, obj2, spec } => {
-                match bushing_state(plan, ws, *obj1, *obj2, spec) {
-                    Ok((s, at, r1)) => {
-                        // On obj2 at its origin; the opposite on obj1 at the same point, so
-                        // the pair exerts no net moment.
-                        let (f2, t2) = (r1 * s.force, r1 * s.torque);
-                        add_world_wrench(ws, plan.objects[*obj2].body, &at, &f2, &t2);
-                        add_world_wrench(ws, plan.objects[*obj1].body, &at, &-f2, &-t2);
-                    }
-                    Err(k) => record(ws, || fault(&spec.name, "bushing", k)),
-                }
-            }
-            ValidForce::WorldVector {
-                object,
-                value,
-                resolved_in,
-                torque,
-                ..
-            } => match world_vector(plan, ws, t, (*object, *resolved_in), value) {
-                Ok((x, m)) => {
-                    let (f, n) = if *torque { (zero, x) } else { (x, zero) };
-                    add_world_wrench(ws, plan.objects[*object].body, &m.r_abs, &f, &n);
-                }
-                Err(k) => {
-                    let what = if *torque {
-                        "WorldTorque on"
-                    } else {
-                        "WorldForce on"
-                    };
-                    record(ws, || fault(&plan.objects[*object].name, what, k))
-                }
-            },
-            ValidForce::JointSpringDamper {
-                joint,
-                coordinate,
-                stiffness,
-                damping,
-                offset,
-            } => {
-                // Validation admits only joints with scalar coordinates, which are in the tree.
-                let Some(tj) = plan.tree_joint_of[*joint] else {
-                    continue;
-                };
-                let j = &plan.joints[tj];
-                let c = &j.coord.coordinates()[*coordinate];
-                let (qi, vi) = (j.q_offset + c.q, j.v_offset + c.v);
-                ws.tau_applied[vi] += -stiffness * (q[qi] - offset) - damping * v[vi];
-            }
-            ValidForce::ObjectForce { object, law } => {
-                let m = object_motion(plan, ws, *object);
-                // User code: a panic is caught here, at the call, whichever stage called
-                // (residual, consistent derivatives, restarts), and never unwinds further.
-                let outcome = catch_unwind(AssertUnwindSafe(|| (law.0)(t, &m)));
-                let kind = match outcome {
-                    Ok(Wrench { force, torque })
-                        if force.iter().chain(torque.iter()).all(|x| x.is_finite()) =>
-                    {
-                        let body = plan.objects[*object].body;
-                        add_world_wrench(ws, body, &m.r_abs, &force, &torque);
-                        continue;
-                    }
-                    Ok(w) => FaultKind::NonFinite {
-                        force: [w.force.x, w.force.y, w.force.z],
-                        torque: [w.torque.x, w.torque.y, w.torque.z],
-                    },
-                    Err(payload) => FaultKind::Panic(panic_text(payload.as_ref())),
-                };
-                record(ws, || {
-                    fault(&plan.objects[*object].name, "ObjectForce on", kind)
-                });
-            }
-        }
+    for e in 0..plan.scene.forces.len() {
+        apply_element(plan, ws, t, q, v, e);
     }
     if let Some((mu, centre)) = plan.point_gravity {
         point_gravity(plan, ws, t, mu, &centre);
@@ -421,6 +326,108 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
                 let at = object_in_world(plan, ws, object).pos;
                 add_world_wrench(ws, plan.objects[object].body, &at, &force, &torque);
             }
+        }
+    }
+}
+
+/// Adds force element `e`'s (index in the scene's force elements) wrenches at time `t` \[s\] to
+/// `ws.f_ext` and `ws.tau_applied`; a failure of its law is recorded in `ws.fault`.
+pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], e: usize) {
+    let zero = Vector3::zeros();
+    let f = &plan.scene.forces[e];
+    let fault = |object: &str, what, kind| UserFault {
+        object: object.to_string(),
+        what,
+        element: Some(e),
+        t,
+        kind,
+    };
+    match f {
+        ValidForce::SpringDamper {
+            name,
+            obj1,
+            obj2,
+            spring,
+            damper,
+            length0,
+        } => match ptp_state(plan, ws, (*obj1, *obj2), (spring, damper), *length0) {
+            Ok(s) => {
+                let f2 = -s.dir * s.tension; // on obj2, towards obj1 when stretched
+                add_world_wrench(ws, plan.objects[*obj2].body, &s.r2, &f2, &zero);
+                add_world_wrench(ws, plan.objects[*obj1].body, &s.r1, &-f2, &zero);
+            }
+            Err(k) => record(ws, || fault(name, "spring-damper", k)),
+        },
+        ValidForce::Bushing { obj1, obj2, spec } => {
+            match bushing_state(plan, ws, *obj1, *obj2, spec) {
+                Ok((s, at, r1)) => {
+                    // On obj2 at its origin; the opposite on obj1 at the same point, so
+                    // the pair exerts no net moment.
+                    let (f2, t2) = (r1 * s.force, r1 * s.torque);
+                    add_world_wrench(ws, plan.objects[*obj2].body, &at, &f2, &t2);
+                    add_world_wrench(ws, plan.objects[*obj1].body, &at, &-f2, &-t2);
+                }
+                Err(k) => record(ws, || fault(&spec.name, "bushing", k)),
+            }
+        }
+        ValidForce::WorldVector {
+            object,
+            value,
+            resolved_in,
+            torque,
+            ..
+        } => match world_vector(plan, ws, t, (*object, *resolved_in), value) {
+            Ok((x, m)) => {
+                let (f, n) = if *torque { (zero, x) } else { (x, zero) };
+                add_world_wrench(ws, plan.objects[*object].body, &m.r_abs, &f, &n);
+            }
+            Err(k) => {
+                let what = if *torque {
+                    "WorldTorque on"
+                } else {
+                    "WorldForce on"
+                };
+                record(ws, || fault(&plan.objects[*object].name, what, k))
+            }
+        },
+        ValidForce::JointSpringDamper {
+            joint,
+            coordinate,
+            stiffness,
+            damping,
+            offset,
+        } => {
+            // Validation admits only joints with scalar coordinates, which are in the tree.
+            let Some(tj) = plan.tree_joint_of[*joint] else {
+                return;
+            };
+            let j = &plan.joints[tj];
+            let c = &j.coord.coordinates()[*coordinate];
+            let (qi, vi) = (j.q_offset + c.q, j.v_offset + c.v);
+            ws.tau_applied[vi] += -stiffness * (q[qi] - offset) - damping * v[vi];
+        }
+        ValidForce::ObjectForce { object, law } => {
+            let m = object_motion(plan, ws, *object);
+            // User code: a panic is caught here, at the call, whichever stage called
+            // (residual, consistent derivatives, restarts), and never unwinds further.
+            let outcome = catch_unwind(AssertUnwindSafe(|| (law.0)(t, &m)));
+            let kind = match outcome {
+                Ok(Wrench { force, torque })
+                    if force.iter().chain(torque.iter()).all(|x| x.is_finite()) =>
+                {
+                    let body = plan.objects[*object].body;
+                    add_world_wrench(ws, body, &m.r_abs, &force, &torque);
+                    return;
+                }
+                Ok(w) => FaultKind::NonFinite {
+                    force: [w.force.x, w.force.y, w.force.z],
+                    torque: [w.torque.x, w.torque.y, w.torque.z],
+                },
+                Err(payload) => FaultKind::Panic(panic_text(payload.as_ref())),
+            };
+            record(ws, || {
+                fault(&plan.objects[*object].name, "ObjectForce on", kind)
+            });
         }
     }
 }
