@@ -809,6 +809,14 @@ impl Simulation {
                                     h_last,
                                 )
                             })
+                            .or_else(|| {
+                                diagnosis::linear_law_at_touch(
+                                    plan,
+                                    dae.contact_plan(),
+                                    dae.contact(),
+                                    h_last,
+                                )
+                            })
                             .unwrap_or(cause)
                     }
                     cause => cause,
