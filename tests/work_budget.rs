@@ -127,9 +127,11 @@ fn steel_bead_at_k_red_one_names_the_contact() {
         pair,
         period,
         suggested_k_red,
+        linear_law,
     } = &d.cause
     {
         assert_eq!(pair, "bead|table");
+        assert!(!linear_law, "a sphere pair has the Hertz law");
         let target = 50.0 * 1.0 / budget as f64;
         let expect = (period / target).powi(2);
         assert!(*suggested_k_red < 1.0 && (suggested_k_red - expect).abs() < 1e-9 * expect);
