@@ -23,7 +23,9 @@
 //!   (position columns only: the geometry does not depend on velocities, nor a centred
 //!   sphere's on its quaternion) and force law evaluated again
 //!   (`ContactState::pair_geometry`, `pair_wrenches`, which touch no pair state), with the
-//!   solver's increment rule (`solver::dq_increment`; central where `h·y'_j = 0`);
+//!   solver's increment rule (`solver::dq_increment`; central where `h·y'_j = 0`); a pair whose
+//!   shapes are apart (in the set by its hysteresis) adds nothing: its force is zero around
+//!   the state, where a quotient across the touch found the linear law's full stiffness;
 //! - its own force elements (a user law has no formula to differentiate) by quotients of those
 //!   elements alone, with the same increments ([`own_force_columns`]).
 //!
@@ -510,6 +512,12 @@ impl ContactColumns<'_> {
                 continue;
             }
             let geo0 = cs.pair_geometry(plan, cp, ws, k, args.t).map_err(fatal)?;
+            // Apart (within the set's hysteresis), the pair exerts no force on a whole
+            // neighbourhood of the state, so its derivatives are zero; a quotient whose
+            // increment crossed the touch found the law's full stiffness instead.
+            if geo0.0.distance > 0.0 {
+                continue;
+            }
             let base = cs.pair_wrenches(cp, ws, k, &geo0);
             for col_body in [ba, bb] {
                 if !self.is_analytic(col_body) {
@@ -1127,6 +1135,62 @@ mod tests {
                     a[i][j],
                     r[j][i]
                 );
+            }
+        }
+    }
+
+    /// A pair of the contact set whose shapes are apart (within the hysteresis) exerts no force
+    /// on a neighbourhood of the state, so it adds nothing to the columns: the cube lifted
+    /// 5e-11 m off the table and falling (the quotient's increment of its height, −1.5e-10 m,
+    /// would cross the touch and find the linear law's full stiffness, ~1e10 N/m on the
+    /// cube's rows). Its dynamic rows then get nothing from its position columns `r` (its own
+    /// block has none there: gravity turns with the quaternion only).
+    #[test]
+    fn a_pair_apart_in_the_set_adds_no_stiffness() {
+        let model = scene().build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let mut y = state(&dae, 3, false);
+        dae.handle_event(0.0, &y).unwrap();
+        let n_set = dae.contact().unwrap().n_in_contact();
+        let (cube, body) = dae
+            .plan()
+            .joints
+            .iter()
+            .find(|j| j.name == "cube.free")
+            .map(|j| ((j.q_offset, dae.plan().nq + j.v_offset), j.body))
+            .unwrap();
+        // The cube–table pair's signed distance [m] and the size of the set.
+        let distance = |dae: &mut MultibodyDae, y: &[f64]| {
+            let mut r = vec![0.0; n];
+            dae.residual(0.0, y, &vec![0.0; n], &mut r).unwrap();
+            let (cs, cp) = (dae.contact().unwrap(), dae.contact_plan().unwrap());
+            let d = cs
+                .active_pairs()
+                .find(|(_, pp, _)| {
+                    [pp.a, pp.b]
+                        .iter()
+                        .any(|&s| cp.shapes[s].body == Some(body))
+                })
+                .map(|(_, _, ps)| ps.geometry.distance)
+                .unwrap();
+            (d, cs.n_in_contact())
+        };
+        let (d0, _) = distance(&mut dae, &y);
+        y[cube.0 + 2] += -d0 + 5e-11;
+        let (d, in_set) = distance(&mut dae, &y);
+        assert_eq!(in_set, n_set, "the lifted cube stays in the set");
+        assert!(
+            d > 0.0 && d < 1e-10,
+            "the cube is apart by less than the increment: {d:e}"
+        );
+        let mut yp = vec![0.0; n];
+        yp[cube.0 + 2] = -1.0;
+        let (a, cols) = analytic_columns(&mut dae, &y, &yp, 2.5e3);
+        assert!(cols[cube.0], "the cube's block is analytic");
+        for (i, row) in a.iter().enumerate().skip(cube.1).take(6) {
+            for (j, x) in row.iter().enumerate().skip(cube.0).take(3) {
+                assert!(*x == 0.0, "entry ({i}, {j}) = {x:e}");
             }
         }
     }
