@@ -131,6 +131,14 @@ struct PairMaterial {
 }
 
 impl ContactPlan {
+    /// The narrow phase's stopping length \[m\] for shapes `a` and `b`: `mpr_tolerance` times
+    /// the sum of their bounding radii (`geometry/narrow_phase/mod.rs`), the precision to
+    /// which their signed distance is known.
+    pub fn stopping_length(&self, a: usize, b: usize) -> f64 {
+        self.narrow.mpr_tolerance
+            * (self.shapes[a].shape.bounding_radius() + self.shapes[b].shape.bounding_radius())
+    }
+
     /// Display name of pair `pp`: `"<object a>|<object b>"` (the owner part of its signals).
     pub fn pair_name(&self, scene: &ValidScene, pp: &PairPlan) -> String {
         format!(

@@ -62,8 +62,7 @@ const NOISE_MULTIPLE: f64 = 1.0;
 /// `NOISE_MULTIPLE` stopping lengths of the pair's narrow phase.
 fn tip_allowance(cp: &ContactPlan, cs: &ContactState, k: usize, fraction: f64, depth: f64) -> f64 {
     let (sa, sb) = cs.active_shapes(k);
-    let size = cp.shapes[sa].shape.bounding_radius() + cp.shapes[sb].shape.bounding_radius();
-    let noise = NOISE_MULTIPLE * cp.narrow.mpr_tolerance * size;
+    let noise = NOISE_MULTIPLE * cp.stopping_length(sa, sb);
     (fraction * depth.max(0.0)).max(noise)
 }
 

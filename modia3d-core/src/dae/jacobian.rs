@@ -373,25 +373,34 @@ fn own_force_columns(
         let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
         let inc = args.increment(j);
         let plus = eval(ws, c, inc);
-        let (minus, inv) = if args.h * args.yp[j] == 0.0 {
-            let y0 = args.y[j];
-            let back = (y0 - inc) - y0;
-            (eval(ws, c, back), 1.0 / (inc - back))
-        } else {
-            (base, 1.0 / inc)
+        let (minus, inv) = match central_back(args, j, inc) {
+            Some(back) => (eval(ws, c, back), 1.0 / (inc - back)),
+            None => (base, 1.0 / inc),
         };
-        // The residual has − f_ext.
-        let mut d = [0.0; 6];
-        for (i, di) in d.iter_mut().enumerate() {
-            *di = (force_component(&minus, i) - force_component(&plus, i)) * inv;
-        }
-        out.add(fb.v, j, &d);
+        out.add(fb.v, j, &residual_quotient(&plus, &minus, inv));
     }
     (ws.x[b], ws.world[b], ws.vel[b], ws.f_ext[b]) = saved;
     if ws.fault.take().is_some() {
         return Err(ResidualError::Recoverable);
     }
     Ok(())
+}
+
+/// The backward increment of a central quotient of unknown `j` whose forward increment is
+/// `inc`, where `h·y'_j = 0` (there the one-sided increment's sign is arbitrary, so
+/// mirror-image states would get a forward and a backward quotient); `None` where the quotient
+/// is one-sided.
+fn central_back(args: &JacobianArgs<'_>, j: usize, inc: f64) -> Option<f64> {
+    (args.h * args.yp[j] == 0.0).then(|| {
+        let y0 = args.y[j];
+        (y0 - inc) - y0
+    })
+}
+
+/// The quotient `(plus − minus)·inv` of a body's external wrench, as the residual's dynamic
+/// rows see it (they have `− f_ext`).
+fn residual_quotient(plus: &Force, minus: &Force, inv: f64) -> [f64; 6] {
+    std::array::from_fn(|i| (force_component(minus, i) - force_component(plus, i)) * inv)
 }
 
 /// Places free body `fb` in `ws` at the states `y` with its `c`-th state (local order: `r`,
@@ -565,23 +574,15 @@ impl ContactColumns<'_> {
                     // the quotient is central (e.g. the rack's resting balls at the start).
                     // Measured: billiards16 (tests/contact_billiards.rs) ends 9.0e-5 m from
                     // mirror-symmetric at 5 s with this, 1.4e-4 m without (main: 6.9e-5 m).
-                    let (minus, inv) = if args.h * args.yp[j] == 0.0 {
-                        let y0 = args.y[j];
-                        let back = (y0 - inc) - y0;
-                        (eval(back)?, 1.0 / (inc - back))
-                    } else {
-                        (base, 1.0 / inc)
+                    let (minus, inv) = match central_back(args, j, inc) {
+                        Some(back) => (eval(back)?, 1.0 / (inc - back)),
+                        None => (base, 1.0 / inc),
                     };
                     for (row_body, f, f0) in [(ba, plus.0, minus.0), (bb, plus.1, minus.1)] {
                         let (Some(rb), Some(f), Some(f0)) = (self.free_of(row_body), f, f0) else {
                             continue;
                         };
-                        // The residual has − f_ext.
-                        let mut d = [0.0; 6];
-                        for (i, di) in d.iter_mut().enumerate() {
-                            *di = (force_component(&f0, i) - force_component(&f, i)) * inv;
-                        }
-                        out.add(rb.v, j, &d);
+                        out.add(rb.v, j, &residual_quotient(&f, &f0, inv));
                     }
                 }
             }

@@ -243,11 +243,9 @@ pub(crate) fn linear_law_at_touch(
         let (Some(sa), Some(sb)) = (cp.shapes.get(pp.a), cp.shapes.get(pp.b)) else {
             continue;
         };
-        let stopping =
-            cp.narrow.mpr_tolerance * (sa.shape.bounding_radius() + sb.shape.bounding_radius());
         let depth = ps.response.penetration;
         // A NaN depth is not at the touch either.
-        if depth.is_nan() || depth > KINK_BAND * stopping {
+        if depth.is_nan() || depth > KINK_BAND * cp.stopping_length(pp.a, pp.b) {
             continue;
         }
         let k = cp.k_red * pp.c_res * pp.c_geo;
