@@ -698,7 +698,18 @@ impl SparseComp {
 /// LU with partial pivoting of the column-major `m × m` matrix `a` in place (unit lower `L`
 /// below the diagonal, `U` on and above); `piv[k]` = row swapped with row k at step k.
 /// Err(k) when column k has no non-zero pivot.
+///
+/// Sizes 13 and 26 (see [`lu_solve`]) take [`lu_in_place_fixed`].
 fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> {
+    match m {
+        13 => lu_in_place_fixed::<13>(a, piv),
+        26 => lu_in_place_fixed::<26>(a, piv),
+        _ => lu_in_place_general(a, m, piv),
+    }
+}
+
+/// The loops of [`lu_in_place`] for any size.
+fn lu_in_place_general(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> {
     for k in 0..m {
         let col_k = k * m;
         let p = (k..m)
@@ -732,18 +743,117 @@ fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> 
     Ok(())
 }
 
+/// [`lu_in_place`] for an `M × M` matrix, its columns as `[f64; M]` arrays (the same operations
+/// in the same order: the pivot is the last of equal largest magnitudes, as `Iterator::max_by`
+/// picks it there).
+fn lu_in_place_fixed<const M: usize>(a: &mut [f64], piv: &mut [usize]) -> Result<(), usize> {
+    let a = &mut a[..M * M];
+    let piv = &mut piv[..M];
+    for k in 0..M {
+        let (left, right) = a.split_at_mut((k + 1) * M);
+        let Ok(ck) = <&mut [f64; M]>::try_from(&mut left[k * M..]) else {
+            return Err(k);
+        };
+        let mut p = k;
+        for i in k + 1..M {
+            if ck[p].abs().total_cmp(&ck[i].abs()) != std::cmp::Ordering::Greater {
+                p = i;
+            }
+        }
+        piv[k] = p;
+        if ck[p] == 0.0 {
+            return Err(k);
+        }
+        if p != k {
+            for col in left.chunks_exact_mut(M).chain(right.chunks_exact_mut(M)) {
+                col.swap(k, p);
+            }
+        }
+        let Ok(ck) = <&mut [f64; M]>::try_from(&mut left[k * M..]) else {
+            return Err(k);
+        };
+        let inv = 1.0 / ck[k];
+        for x in &mut ck[k + 1..] {
+            *x *= inv;
+        }
+        let lcol: &[f64; M] = ck;
+        for ucol in right.chunks_exact_mut(M) {
+            let Ok(ucol) = <&mut [f64; M]>::try_from(ucol) else {
+                continue;
+            };
+            let akj = ucol[k];
+            if akj != 0.0 {
+                for i in k + 1..M {
+                    ucol[i] -= lcol[i] * akj;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Solves with the factors of [`lu_in_place`], `b` overwritten by `x`. The inner loops run
 /// over column slices zipped with `b` (no index arithmetic or bounds check per entry): with
 /// indexed loops the block solves took 1.005e9 of billiards16's 4.50e9 instructions, now
 /// 0.860e9 (callgrind, BENCHMARKS.md "Where the time goes"). Most of it is the rack's balls
 /// touching each other: one component of up to 15 × 13 unknowns, solved densely.
+///
+/// A free body's block (13 unknowns) and two bodies in contact (26) are what nearly every
+/// contact scene solves with, several times per step: for them [`lu_solve_fixed`] runs the
+/// same operations in the same order (so the same bits) with the size a constant.
 fn lu_solve(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
+    match m {
+        13 => lu_solve_fixed::<13>(a, piv, b),
+        26 => lu_solve_fixed::<26>(a, piv, b),
+        _ => lu_solve_general(a, m, piv, b),
+    }
+}
+
+/// The loops of [`lu_solve`] for any size.
+fn lu_solve_general(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
     let b = &mut b[..m];
     for (k, &p) in piv.iter().enumerate().take(m) {
         b.swap(k, p);
     }
     unit_lower_solve(a, m, b);
     upper_solve(a, m, b);
+}
+
+/// [`lu_solve`] for `M × M` factors: with the columns as `[f64; M]` arrays the compiler knows
+/// every bound, drops the checks and unrolls the short loops (the general loops' iterator
+/// bookkeeping was three quarters of the instructions of a 13 × 13 solve: 1,880 per solve in
+/// billiards16, of which 339 multiply-adds and divisions).
+fn lu_solve_fixed<const M: usize>(a: &[f64], piv: &[usize], b: &mut [f64]) {
+    let Ok(b) = <&mut [f64; M]>::try_from(&mut b[..M]) else {
+        return;
+    };
+    for (k, &p) in piv.iter().enumerate().take(M) {
+        b.swap(k, p);
+    }
+    let cols = a[..M * M].chunks_exact(M);
+    for (j, col) in cols.clone().enumerate() {
+        let Ok(col) = <&[f64; M]>::try_from(col) else {
+            return;
+        };
+        let bj = b[j];
+        if bj != 0.0 {
+            for i in j + 1..M {
+                b[i] -= col[i] * bj;
+            }
+        }
+    }
+    for (j, col) in cols.enumerate().rev() {
+        let Ok(col) = <&[f64; M]>::try_from(col) else {
+            return;
+        };
+        b[j] /= col[j];
+        let bj = b[j];
+        if bj != 0.0 {
+            for i in 0..j {
+                b[i] -= col[i] * bj;
+            }
+        }
+    }
 }
 
 /// `b ← L⁻¹ b` with the unit lower triangle of the column-major `m × m` factors `a`.
@@ -781,6 +891,60 @@ mod tests {
     use super::*;
     use crate::solver::BlockStructure;
     use nalgebra::{DMatrix, DVector};
+
+    /// The fixed-size kernels (13 and 26 unknowns) give the general loops' factors, pivots,
+    /// solutions and zero-pivot index to the last bit: they promise the same operations in the
+    /// same order. Matrices with ties of magnitude in a pivot column (the last one is taken),
+    /// exact zeros (skipped updates), small diagonals (row swaps) and a singular column.
+    #[test]
+    fn fixed_size_kernels_match_the_general_loops_bit_for_bit() {
+        let mut x: u64 = 0x9e3779b97f4a7c15;
+        let mut rnd = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for m in [13usize, 26] {
+            for trial in 0..20 {
+                let mut a: Vec<f64> = (0..m * m)
+                    .map(|e| {
+                        let (i, j) = (e % m, e / m);
+                        let v = rnd();
+                        match (i * 7 + j * 3 + trial) % 5 {
+                            0 => 0.0,
+                            1 => 0.25,
+                            _ if i == j && i % 4 == 0 => v * 1e-9,
+                            _ => v,
+                        }
+                    })
+                    .collect();
+                if trial % 7 == 6 {
+                    // A zero column: both must report the same step.
+                    let c = trial % m;
+                    a[c * m..(c + 1) * m].fill(0.0);
+                }
+                let b: Vec<f64> = (0..m)
+                    .map(|i| if i % 6 == 0 { 0.0 } else { rnd() })
+                    .collect();
+                let (mut fa, mut ga) = (a.clone(), a.clone());
+                let (mut fp, mut gp) = (vec![0; m], vec![0; m]);
+                let fr = lu_in_place(&mut fa, m, &mut fp);
+                let gr = lu_in_place_general(&mut ga, m, &mut gp);
+                assert_eq!(fr, gr, "m {m} trial {trial}");
+                assert_eq!(fp, gp, "m {m} trial {trial}");
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&fa), bits(&ga), "factors, m {m} trial {trial}");
+                if fr.is_ok() {
+                    let (mut fx, mut gx) = (b.clone(), b.clone());
+                    lu_solve(&fa, m, &fp, &mut fx);
+                    lu_solve_general(&ga, m, &gp, &mut gx);
+                    assert_eq!(bits(&fx), bits(&gx), "solution, m {m} trial {trial}");
+                    assert!(fx.iter().all(|v| v.is_finite()));
+                }
+            }
+        }
+    }
 
     /// A random block-sparse matrix solved blockwise agrees with nalgebra's dense LU of the
     /// whole matrix to round-off (well-conditioned: diagonally weighted).
