@@ -60,6 +60,12 @@ pub(crate) struct BlockLu {
     n_sparse: usize,
     /// Gathered right-hand side.
     work: Vec<f64>,
+    /// Runs of consecutive unknowns of component k (`runs[run_start[k]..run_start[k + 1]]`):
+    /// `(global first, local first, length)`, so that the right-hand side is gathered and
+    /// scattered by slice copies (a free body's block is two runs, its positions and its
+    /// velocities) instead of entry by entry.
+    runs: Vec<(usize, usize, usize)>,
+    run_start: Vec<usize>,
     /// Layout scratch: blocks by component, block → local block index, ordering scratch.
     comp_blocks: Vec<usize>,
     comp_block_start: Vec<usize>,
@@ -216,6 +222,20 @@ impl BlockLu {
         self.piv.clear();
         self.piv.resize(self.index.len(), 0);
         self.work.resize(n, 0.0);
+        self.runs.clear();
+        self.run_start.clear();
+        self.run_start.push(0);
+        for k in 0..self.start.len() - 1 {
+            let idx = &self.index[self.start[k]..self.start[k + 1]];
+            let first = self.runs.len();
+            for (l, &i) in idx.iter().enumerate() {
+                match self.runs[first..].last_mut() {
+                    Some((g, _, len)) if *g + *len == i => *len += 1,
+                    _ => self.runs.push((i, l, 1)),
+                }
+            }
+            self.run_start.push(self.runs.len());
+        }
     }
 
     /// Number of components factored block-sparse in the current layout.
@@ -318,8 +338,9 @@ impl BlockLu {
             let idx = &self.index[self.start[k]..self.start[k + 1]];
             let m = idx.len();
             let w = &mut self.work[..m];
-            for (l, &i) in idx.iter().enumerate() {
-                w[l] = x[i];
+            let runs = &self.runs[self.run_start[k]..self.run_start[k + 1]];
+            for &(g, l, len) in runs {
+                w[l..l + len].copy_from_slice(&x[g..g + len]);
             }
             let s = self.kind[k];
             if s == usize::MAX {
@@ -329,8 +350,8 @@ impl BlockLu {
             } else {
                 self.sparse[s].solve(m, w);
             }
-            for (l, &i) in idx.iter().enumerate() {
-                x[i] = w[l];
+            for &(g, l, len) in runs {
+                x[g..g + len].copy_from_slice(&w[l..l + len]);
             }
         }
     }
