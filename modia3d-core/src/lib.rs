@@ -41,6 +41,28 @@ mod sweep;
 #[cfg_attr(not(test), allow(dead_code))]
 mod solver;
 
+/// Test builds only: the unit tests' deterministic pseudo-random numbers (xorshift64, the
+/// same sequences the tests used when each had its own copy).
+#[cfg(test)]
+pub(crate) mod test_rng {
+    /// The raw xorshift64 sequence from `seed` (non-zero).
+    pub(crate) fn bits(seed: u64) -> impl FnMut() -> u64 {
+        let mut x = seed;
+        move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x
+        }
+    }
+
+    /// Uniform numbers in [−0.5, 0.5) from the top 53 bits of [`bits`].
+    pub(crate) fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut next = bits(seed);
+        move || (next() >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}
+
 // Test builds only: counts allocations per thread, for the "hot path allocates nothing" tests.
 #[cfg(test)]
 #[allow(unsafe_code)]

@@ -721,13 +721,9 @@ mod tests {
 
     /// Deterministic pseudo-random numbers in [−1, 1) (xorshift).
     fn rng(seed: u64) -> impl FnMut() -> f64 {
-        let mut x = seed;
-        move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        }
+        // Twice a number in [−0.5, 0.5): exact, the same sequence as before the shared helper.
+        let mut u = crate::test_rng::uniform(seed);
+        move || 2.0 * u()
     }
 
     /// A state of [`scene`]: `b0` in flight; `b1` and `b2` on the table and pressed into each

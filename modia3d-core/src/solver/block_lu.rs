@@ -919,13 +919,7 @@ mod tests {
     /// exact zeros (skipped updates), small diagonals (row swaps) and a singular column.
     #[test]
     fn fixed_size_kernels_match_the_general_loops_bit_for_bit() {
-        let mut x: u64 = 0x9e3779b97f4a7c15;
-        let mut rnd = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = crate::test_rng::uniform(0x9e3779b97f4a7c15);
         for m in [13usize, 26] {
             for trial in 0..20 {
                 let mut a: Vec<f64> = (0..m * m)
@@ -971,13 +965,7 @@ mod tests {
     /// whole matrix to round-off (well-conditioned: diagonally weighted).
     #[test]
     fn blockwise_solve_matches_dense_lu() {
-        let mut x: u64 = 0x2545f4914f6cdd1d;
-        let mut rnd = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = crate::test_rng::uniform(0x2545f4914f6cdd1d);
         let n = 23;
         let nb = 7;
         let block_of: Vec<usize> = (0..n).map(|i| (i * 5 + 3) % nb).collect();
@@ -1057,13 +1045,7 @@ mod tests {
         diag: f64,
         seed: u64,
     ) -> (DMatrix<f64>, Colouring, Vec<usize>) {
-        let mut x = seed;
-        let mut rnd = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rnd = crate::test_rng::uniform(seed);
         // Unknowns of the blocks interleaved (block of unknown i round-robin over the blocks
         // that still have unknowns), so that a block's unknowns are not consecutive.
         let mut left = sizes.to_vec();

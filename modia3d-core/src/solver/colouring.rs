@@ -353,13 +353,8 @@ mod tests {
     #[test]
     fn random_structures_are_coloured_validly() {
         // Deterministic pseudo-random graphs (xorshift), blocks of mixed sizes, interleaved.
-        let mut x: u64 = 0x9e3779b97f4a7c15;
-        let mut rnd = move |m: usize| {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x % m as u64) as usize
-        };
+        let mut next = crate::test_rng::bits(0x9e3779b97f4a7c15);
+        let mut rnd = move |m: usize| (next() % m as u64) as usize;
         for _ in 0..200 {
             let nb = 1 + rnd(20);
             let n = nb + rnd(60);
