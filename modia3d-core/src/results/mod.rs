@@ -954,9 +954,12 @@ impl SimulationResult {
         };
         let mut ws = Workspace::new(plan);
         let mut data = Vec::with_capacity(dim * nt);
+        // Only the object's body and its ancestors: an export of every object of N free bodies
+        // cost N² body placements per output point when each signal placed the whole scene.
+        let chain = kinematics::ancestor_chain(plan, body);
         for y in states {
             let (q, v) = y.split_at(nq);
-            kinematics::position_velocity(plan, &mut ws, q, v);
+            kinematics::chain_position_velocity(plan, &mut ws, &chain, q, v);
             let x = kinematics::object_in_world(plan, &ws, o);
             match quantity {
                 Quantity::Pos => data.extend_from_slice(x.pos.as_slice()),
