@@ -28,22 +28,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for n in sizes {
         let model = demo::ball_pit(n).build()?;
         let opts = SimOptions::new(0.5).tolerance(1e-5).interval(0.05);
-        let mut walls = [Vec::new(), Vec::new()];
-        let mut last = [None, None];
-        for _ in 0..3 {
-            for (k, dense) in [false, true].into_iter().enumerate() {
-                // Read when the solver is created (`solver/block_lu.rs`).
-                std::env::set_var("MODIA3D_DENSE_LU", if dense { "1" } else { "0" });
-                let t0 = std::time::Instant::now();
-                let res = model.simulate(&opts)?;
-                walls[k].push(t0.elapsed().as_secs_f64());
-                last[k] = Some(res);
-            }
-        }
-        std::env::remove_var("MODIA3D_DENSE_LU");
-        let [Some(chosen), Some(dense)] = last else {
-            unreachable!("three runs each")
-        };
+        // `MODIA3D_DENSE_LU` is read when the solver is created (`solver/block_lu.rs`).
+        let modia3d::core::bench::Alternated {
+            mut walls,
+            last: [chosen, dense],
+        } = modia3d::core::bench::alternate_env_switch(&model, &opts, "MODIA3D_DENSE_LU", 3)?;
         // The whole state: positions [m], quaternions, angular and linear velocities.
         let diff = match (chosen.final_state(), dense.final_state()) {
             (Some(a), Some(d)) => a

@@ -38,22 +38,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("billiards16 with air drag on every ball, 5 s, rtol {rtol:e}");
     println!("| Jacobian of the balls | wall [s] (median of 5) | steps | residuals | residuals for Jacobians | Jacobians | events |");
     println!("|---|---:|---:|---:|---:|---:|---:|");
-    let mut walls = [Vec::new(), Vec::new()];
-    let mut last = [None, None];
-    for _ in 0..5 {
-        for (k, dq) in [false, true].into_iter().enumerate() {
-            // Read when the DAE is created (`dae/mod.rs`).
-            std::env::set_var("MODIA3D_DQ_JACOBIAN", if dq { "1" } else { "0" });
-            let t0 = std::time::Instant::now();
-            let res = model.simulate(&opts)?;
-            walls[k].push(t0.elapsed().as_secs_f64());
-            last[k] = Some(res);
-        }
-    }
-    std::env::remove_var("MODIA3D_DQ_JACOBIAN");
-    let [Some(own), Some(dq)] = last else {
-        unreachable!("five runs each")
-    };
+    // `MODIA3D_DQ_JACOBIAN` is read when the DAE is created (`dae/mod.rs`).
+    let modia3d::core::bench::Alternated {
+        mut walls,
+        last: [own, dq],
+    } = modia3d::core::bench::alternate_env_switch(&model, &opts, "MODIA3D_DQ_JACOBIAN", 5)?;
     for (k, (label, res)) in [
         ("analytic, own elements by quotients", &own),
         ("coloured quotients (MODIA3D_DQ_JACOBIAN=1)", &dq),

@@ -222,3 +222,43 @@ pub fn chunk_args(evaluations: usize, repeats: usize) -> (usize, usize) {
         args.get(1).copied().unwrap_or(repeats),
     )
 }
+
+/// Wall times and last results of an A/B comparison in one process ([`alternate_env_switch`]):
+/// index 0 with the switch off, 1 with it on.
+pub struct Alternated {
+    /// Wall time \[s\] of each run of each setting, in run order.
+    pub walls: [Vec<f64>; 2],
+    /// The last run's result of each setting.
+    pub last: [crate::SimulationResult; 2],
+}
+
+/// Runs `model` with `opts` `rounds` times (at least once) for each setting of the environment
+/// switch `var` — `"0"`, then `"1"`, alternately, so that a change of the machine's load hits
+/// both alike — and removes `var` afterwards. For switches read when a run creates its DAE or
+/// solver (`MODIA3D_DQ_JACOBIAN`, `MODIA3D_DENSE_LU`).
+pub fn alternate_env_switch(
+    model: &Model,
+    opts: &crate::SimOptions,
+    var: &str,
+    rounds: usize,
+) -> Result<Alternated, crate::SimError> {
+    let timed = |on: &str, walls: &mut Vec<f64>| {
+        std::env::set_var(var, on);
+        let t0 = Instant::now();
+        let res = model.simulate(opts);
+        walls.push(t0.elapsed().as_secs_f64());
+        res
+    };
+    let mut walls = [Vec::new(), Vec::new()];
+    let [w_off, w_on] = &mut walls;
+    let mut runs = || -> Result<[crate::SimulationResult; 2], crate::SimError> {
+        let mut last = [timed("0", w_off)?, timed("1", w_on)?];
+        for _ in 1..rounds {
+            last = [timed("0", w_off)?, timed("1", w_on)?];
+        }
+        Ok(last)
+    };
+    let last = runs();
+    std::env::remove_var(var);
+    Ok(Alternated { walls, last: last? })
+}

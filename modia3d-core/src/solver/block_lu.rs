@@ -816,8 +816,7 @@ fn lu_in_place_fixed<const M: usize>(a: &mut [f64], piv: &mut [usize]) -> Result
 /// Solves with the factors of [`lu_in_place`], `b` overwritten by `x`. The inner loops run
 /// over column slices zipped with `b` (no index arithmetic or bounds check per entry): with
 /// indexed loops the block solves took 1.005e9 of billiards16's 4.50e9 instructions, now
-/// 0.860e9 (callgrind, BENCHMARKS.md "Where the time goes"). Most of it is the rack's balls
-/// touching each other: one component of up to 15 × 13 unknowns, solved densely.
+/// 0.860e9 (callgrind, BENCHMARKS.md "Where the time goes").
 ///
 /// A free body's block (13 unknowns) and two bodies in contact (26) are what nearly every
 /// contact scene solves with, several times per step: for them [`lu_solve_fixed`] runs the
@@ -841,9 +840,9 @@ fn lu_solve_general(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
 }
 
 /// [`lu_solve`] for `M × M` factors: with the columns as `[f64; M]` arrays the compiler knows
-/// every bound, drops the checks and unrolls the short loops (the general loops' iterator
-/// bookkeeping was three quarters of the instructions of a 13 × 13 solve: 1,880 per solve in
-/// billiards16, of which 339 multiply-adds and divisions).
+/// every bound and drops the checks and most of the loop bookkeeping (the general loops spent
+/// ~1,880 instructions on a 13 × 13 solve in billiards16, of which 339 multiply-adds and
+/// divisions; these ~1,250, BENCHMARKS.md "Fixed-size LU kernels").
 fn lu_solve_fixed<const M: usize>(a: &[f64], piv: &[usize], b: &mut [f64]) {
     let Ok(b) = <&mut [f64; M]>::try_from(&mut b[..M]) else {
         return;
