@@ -133,6 +133,10 @@ pub struct ContactState {
     /// Scratch of continuous mode: the contact patch of each pair in `active` (resized with
     /// `active` at events, so residuals do not allocate).
     patches: Vec<ContactPatch>,
+    /// The narrow phase and patch of each pair in `active` at the point of the last
+    /// [`Self::begin_quotients`]: what the Jacobian's quotient residuals reuse for the pairs
+    /// whose bodies their perturbation does not move (sized with `patches`).
+    base: Vec<(SignedDistance, ContactPatch)>,
 }
 
 fn to_isometry(t: &Transform) -> Isometry3<f64> {
@@ -189,6 +193,7 @@ impl ContactState {
             near_shapes: Vec::with_capacity(ns),
             near: Vec::with_capacity(ns),
             patches: Vec::with_capacity(ns),
+            base: Vec::with_capacity(ns),
         };
         // Shapes fixed to the world: pose and boxes once (the evaluations update moving ones).
         for (s, sp) in cp.shapes.iter().enumerate() {
@@ -327,26 +332,7 @@ impl ContactState {
         t: f64,
     ) -> Result<(), ContactError> {
         match mode {
-            Mode::Continuous => {
-                // Two passes: the geometry of every pair, then the responses and wrenches
-                // (added in the same pair order, so the same bits as one pass). One pair's
-                // work in one pass is ~900 instructions with long chains of square roots and
-                // divisions, more than the processor's reorder window: in two shorter loops
-                // consecutive pairs' chains overlap (BENCHMARKS.md, "Cost per active contact").
-                if self.patches.len() < self.active.len() {
-                    // Only if an evaluation comes before any event sized it.
-                    self.patches.resize(self.active.len(), EMPTY_PATCH);
-                }
-                for k in 0..self.active.len() {
-                    let p = self.active[k] as usize;
-                    self.patches[k] = self.continuous_geometry(plan, cp, ws, p, t)?;
-                }
-                for (&p, patch) in self.active.iter().zip(&self.patches) {
-                    let sl = &mut self.slots[p as usize];
-                    apply(cp, &sl.plan, &mut sl.state, patch, ws);
-                }
-                Ok(())
-            }
+            Mode::Continuous => self.continuous(plan, cp, ws, t, None),
             Mode::ZeroCrossing | Mode::Event => {
                 for &s in &cp.moving {
                     self.poses[s] = shape_pose(cp, ws, s);
@@ -401,6 +387,89 @@ impl ContactState {
                 Ok(())
             }
         }
+    }
+
+    /// Continuous mode: the contact forces of the pairs in the set, added to `ws.f_ext`. With
+    /// `moved` (a flag per body), the pairs none of whose bodies is flagged take the geometry
+    /// of the last [`Self::begin_quotients`] instead of a new narrow phase: the Jacobian's
+    /// quotient residuals, whose perturbation leaves those bodies where they were (the same
+    /// poses, so the same bits: the narrow phase is a function of the two poses alone).
+    fn continuous(
+        &mut self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        ws: &mut Workspace,
+        t: f64,
+        moved: Option<&[bool]>,
+    ) -> Result<(), ContactError> {
+        // Two passes: the geometry of every pair, then the responses and wrenches (added in
+        // the same pair order, so the same bits as one pass). One pair's work in one pass is
+        // ~900 instructions with long chains of square roots and divisions, more than the
+        // processor's reorder window: in two shorter loops consecutive pairs' chains overlap
+        // (BENCHMARKS.md, "Cost per active contact").
+        if self.patches.len() < self.active.len() {
+            // Only if an evaluation comes before any event sized it.
+            self.patches.resize(self.active.len(), EMPTY_PATCH);
+        }
+        for k in 0..self.active.len() {
+            let p = self.active[k] as usize;
+            if let Some(moved) = moved.filter(|_| self.base.len() >= self.active.len()) {
+                let (a, b) = self.shapes_of(p);
+                let moves = |s: usize| cp.shapes[s].body.is_some_and(|x| moved[x.index()]);
+                if !moves(a) && !moves(b) {
+                    let (sd, patch) = self.base[k];
+                    let st = &mut self.slots[p].state;
+                    st.geometry = sd;
+                    st.z = sd.distance;
+                    self.patches[k] = patch;
+                    continue;
+                }
+            }
+            self.patches[k] = self.continuous_geometry(plan, cp, ws, p, t)?;
+        }
+        for (&p, patch) in self.active.iter().zip(&self.patches) {
+            let sl = &mut self.slots[p as usize];
+            apply(cp, &sl.plan, &mut sl.state, patch, ws);
+        }
+        Ok(())
+    }
+
+    /// Keeps the narrow phase and patch of every pair in the set at the workspace poses
+    /// (`position_velocity` done at the point of a Jacobian), for the quotient residuals of
+    /// [`Self::evaluate_moved`]. Touches the pairs' geometry as a continuous evaluation does.
+    pub fn begin_quotients(
+        &mut self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        ws: &Workspace,
+        t: f64,
+    ) -> Result<(), ContactError> {
+        if self.base.len() < self.active.len() {
+            self.base
+                .resize(self.active.len(), (PairState::APART.geometry, EMPTY_PATCH));
+        }
+        for k in 0..self.active.len() {
+            let p = self.active[k] as usize;
+            let patch = self.continuous_geometry(plan, cp, ws, p, t)?;
+            self.base[k] = (self.slots[p].state.geometry, patch);
+        }
+        Ok(())
+    }
+
+    /// Continuous mode for a quotient residual of the Jacobian: as [`Self::evaluate`] in
+    /// [`Mode::Continuous`], at a point whose positions differ from those of the last
+    /// [`Self::begin_quotients`] only for the bodies flagged in `moved` (indexed by body):
+    /// the pairs of unflagged bodies reuse that call's narrow phase. The same forces, to the
+    /// last bit.
+    pub fn evaluate_moved(
+        &mut self,
+        plan: &Plan,
+        cp: &ContactPlan,
+        ws: &mut Workspace,
+        t: f64,
+        moved: &[bool],
+    ) -> Result<(), ContactError> {
+        self.continuous(plan, cp, ws, t, Some(moved))
     }
 
     /// Continuous mode's geometry of the pair in slot `p` (in the contact set): poses of its
@@ -532,6 +601,8 @@ impl ContactState {
             }
         }
         self.patches.resize(self.active.len(), EMPTY_PATCH);
+        self.base
+            .resize(self.active.len(), (PairState::APART.geometry, EMPTY_PATCH));
     }
 
     /// Penetration velocity `δ̇ = −(v_b − v_a)·n` \[m/s\] of slot `p`'s pair at its contact

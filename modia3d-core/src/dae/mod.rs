@@ -47,6 +47,15 @@ pub struct MultibodyDae {
     /// `MODIA3D_DQ_JACOBIAN=1`, read when the DAE is built: every block by difference
     /// quotients, as before `dae/jacobian.rs`, for comparisons).
     analytic_enabled: bool,
+    /// The body each position coordinate places (the body of its joint), for
+    /// [`DaeSystem::quotient_residual`].
+    body_of_q: Vec<BodyId>,
+    /// Per body: whether the current quotient residual's perturbation moves it (its joint's
+    /// position or an ancestor's was perturbed).
+    moved: Vec<bool>,
+    /// Whether the contact stage holds the geometry of a [`DaeSystem::begin_quotients`] for
+    /// the current contact set (cleared when an event may change the set).
+    quotient_base: bool,
 }
 
 /// The static part of the Jacobian's block structure (one block per joint tree).
@@ -127,7 +136,17 @@ impl MultibodyDae {
         let contact = contact_plan.as_deref().map(ContactState::new);
         let blocks = TreeBlocks::new(&plan);
         let lw = LoopWork::new(&plan);
+        let mut body_of_q = Vec::with_capacity(plan.nq);
+        for j in &plan.joints {
+            // Joints come in the order of their coordinates (`Plan::nq` counts them so).
+            debug_assert_eq!(j.q_offset, body_of_q.len());
+            body_of_q.extend(std::iter::repeat_n(j.body, j.coord.nq()));
+        }
+        let moved = vec![false; plan.bodies.len()];
         MultibodyDae {
+            body_of_q,
+            moved,
+            quotient_base: false,
             plan,
             contact_plan,
             ws,
@@ -226,6 +245,7 @@ impl MultibodyDae {
         };
         let (q, v) = y.split_at(plan.nq);
         kinematics::position_velocity(plan, &mut self.ws, q, v);
+        self.quotient_base = false;
         cs.evaluate(plan, cp, &mut self.ws, Mode::Event, t)?;
         Ok(!cs.started.is_empty() || !cs.ended.is_empty())
     }
@@ -330,58 +350,54 @@ impl DaeSystem for MultibodyDae {
         yp: &[f64],
         res: &mut [f64],
     ) -> Result<(), ResidualError> {
+        self.residual_with(t, y, yp, res, false)
+    }
+
+    fn begin_quotients(&mut self, t: f64, y: &[f64], _yp: &[f64]) -> Result<(), ResidualError> {
+        self.quotient_base = false;
         let plan = &*self.plan;
-        let nq = plan.nq;
-        if nq + plan.nv == 0 {
-            res[0] = yp[0];
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
+            return Ok(());
+        };
+        if cs.n_in_contact() == 0 {
             return Ok(());
         }
-        let (nv, m) = (plan.nv, plan.loops.m());
-        let (q, rest) = y.split_at(nq);
-        let (v, mult) = rest.split_at(nv);
-        let (qd, rest) = yp.split_at(nq);
-        let vd = &rest[..nv];
-        let (res_q, rest) = res.split_at_mut(nq);
-        let (res_v, res_c) = rest.split_at_mut(nv);
-        kinematics::position_velocity(plan, &mut self.ws, q, v);
-        forces::applied_forces(plan, &mut self.ws, t, q, v);
-        if let Some(f) = &self.ws.fault {
-            // The driver takes the fault (with the element's name) when IDA stops.
-            return Err(ResidualError::Fatal(format!(
-                "{} failed at t = {} s",
-                f.element_name(),
-                f.t
-            )));
+        let (q, rest) = y.split_at(plan.nq);
+        kinematics::position_velocity(plan, &mut self.ws, q, &rest[..plan.nv]);
+        cs.begin_quotients(plan, cp, &self.ws, t)
+            .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        self.quotient_base = true;
+        Ok(())
+    }
+
+    fn quotient_residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        res: &mut [f64],
+        changed: &[usize],
+    ) -> Result<(), ResidualError> {
+        if !self.quotient_base {
+            return self.residual_with(t, y, yp, res, false);
         }
-        if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
-            cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
-                .map_err(|e| ResidualError::Fatal(e.to_string()))?;
-        }
-        if m > 0 {
-            // Stabilised index 2 (dynamics/loops.rs): kinematics at v + Gᵀμ, constraint
-            // wrenches of λ as external forces, then g(q) = 0 and G v = 0.
-            let (lambda, mu) = mult.split_at(m);
-            self.lw.evaluate(plan, &self.ws);
-            self.lw.stabilised_velocity(plan, &self.ws, q, v, mu);
-            self.lw.apply_forces(plan, &mut self.ws, lambda);
-            kinematics::position_residual(plan, q, &self.lw.w, qd, res_q);
-            let (res_g, res_gv) = res_c.split_at_mut(m);
-            res_g.copy_from_slice(&self.lw.g);
-            res_gv.copy_from_slice(&self.lw.gv);
-        } else {
-            kinematics::position_residual(plan, q, v, qd, res_q);
-        }
-        rnea::residual_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
-        for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
-            *r -= tau;
-        }
-        // Prescribed motion: the acceleration row becomes v̇ − a_input = 0.
-        for (k, p) in plan.prescribed.iter().enumerate() {
-            if let Some(i) = p {
-                res_v[k] = vd[k] - self.ws.inputs[*i];
+        // The bodies the perturbation moves: those whose joint's position coordinates changed,
+        // and their descendants (bodies come parents first). Velocities move nothing.
+        let plan = &*self.plan;
+        self.moved.fill(false);
+        for &j in changed {
+            if let Some(&b) = self.body_of_q.get(j) {
+                self.moved[b.index()] = true;
             }
         }
-        Ok(())
+        for (b, body) in plan.bodies.iter().enumerate() {
+            if let Some(p) = body.parent {
+                if self.moved[p.index()] {
+                    self.moved[b] = true;
+                }
+            }
+        }
+        self.residual_with(t, y, yp, res, true)
     }
 
     fn num_roots(&self) -> usize {
@@ -500,5 +516,76 @@ impl DaeSystem for MultibodyDae {
 
     fn increment_caps(&mut self, args: &crate::solver::JacobianArgs<'_>, caps: &mut [f64]) -> bool {
         self.position_caps(args, caps)
+    }
+}
+
+impl MultibodyDae {
+    /// [`DaeSystem::residual`]; with `moved`, a quotient residual whose contact stage reuses
+    /// the geometry of [`DaeSystem::begin_quotients`] for the pairs of bodies not flagged in
+    /// `self.moved`.
+    fn residual_with(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        res: &mut [f64],
+        moved: bool,
+    ) -> Result<(), ResidualError> {
+        let plan = &*self.plan;
+        let nq = plan.nq;
+        if nq + plan.nv == 0 {
+            res[0] = yp[0];
+            return Ok(());
+        }
+        let (nv, m) = (plan.nv, plan.loops.m());
+        let (q, rest) = y.split_at(nq);
+        let (v, mult) = rest.split_at(nv);
+        let (qd, rest) = yp.split_at(nq);
+        let vd = &rest[..nv];
+        let (res_q, rest) = res.split_at_mut(nq);
+        let (res_v, res_c) = rest.split_at_mut(nv);
+        kinematics::position_velocity(plan, &mut self.ws, q, v);
+        forces::applied_forces(plan, &mut self.ws, t, q, v);
+        if let Some(f) = &self.ws.fault {
+            // The driver takes the fault (with the element's name) when IDA stops.
+            return Err(ResidualError::Fatal(format!(
+                "{} failed at t = {} s",
+                f.element_name(),
+                f.t
+            )));
+        }
+        if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
+            if moved {
+                cs.evaluate_moved(plan, cp, &mut self.ws, t, &self.moved)
+            } else {
+                cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
+            }
+            .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        }
+        if m > 0 {
+            // Stabilised index 2 (dynamics/loops.rs): kinematics at v + Gᵀμ, constraint
+            // wrenches of λ as external forces, then g(q) = 0 and G v = 0.
+            let (lambda, mu) = mult.split_at(m);
+            self.lw.evaluate(plan, &self.ws);
+            self.lw.stabilised_velocity(plan, &self.ws, q, v, mu);
+            self.lw.apply_forces(plan, &mut self.ws, lambda);
+            kinematics::position_residual(plan, q, &self.lw.w, qd, res_q);
+            let (res_g, res_gv) = res_c.split_at_mut(m);
+            res_g.copy_from_slice(&self.lw.g);
+            res_gv.copy_from_slice(&self.lw.gv);
+        } else {
+            kinematics::position_residual(plan, q, v, qd, res_q);
+        }
+        rnea::residual_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
+        for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
+            *r -= tau;
+        }
+        // Prescribed motion: the acceleration row becomes v̇ − a_input = 0.
+        for (k, p) in plan.prescribed.iter().enumerate() {
+            if let Some(i) = p {
+                res_v[k] = vd[k] - self.ws.inputs[*i];
+            }
+        }
+        Ok(())
     }
 }

@@ -66,6 +66,9 @@ struct CallbackState<S> {
     jac_saved: Vec<(f64, f64, f64)>,
     /// Bounds on the quotients' increments from `DaeSystem::increment_caps` (len n).
     jac_caps: Vec<f64>,
+    /// The unknowns perturbed by the current difference quotient (capacity n after the
+    /// first Jacobian: no allocation afterwards).
+    jac_changed: Vec<usize>,
     /// `atol_j / rtol` [unit of y_j] per unknown: the size below which it counts as zero,
     /// which sets the difference-quotient increments (`ida/linear.rs`).
     zero_size: Vec<f64>,
@@ -153,6 +156,7 @@ impl<S: DaeSystem> Ida<S> {
             jac_residuals: 0,
             jac_saved: Vec::new(),
             jac_caps: Vec::new(),
+            jac_changed: Vec::new(),
             zero_size: Vec::new(),
             rtol: 0.0,
             ewt_factor: Vec::new(),

@@ -128,6 +128,30 @@ pub trait DaeSystem {
     fn increment_caps(&mut self, _args: &JacobianArgs<'_>, _caps: &mut [f64]) -> bool {
         false
     }
+
+    /// Called once per Jacobian before the difference quotients of the coloured blocks, at
+    /// the point `(t, y, y')` of the Jacobian (after [`DaeSystem::increment_caps`]), so that
+    /// [`DaeSystem::quotient_residual`] can keep what the perturbed unknowns do not change.
+    /// Default: nothing. `Err` as for [`DaeSystem::residual`]. Must not allocate.
+    fn begin_quotients(&mut self, _t: f64, _y: &[f64], _yp: &[f64]) -> Result<(), ResidualError> {
+        Ok(())
+    }
+
+    /// The residual at a point that differs from the one of the last
+    /// [`DaeSystem::begin_quotients`] only in the unknowns `changed` (in `y` and `y'`): one
+    /// difference quotient of the coloured Jacobian. It must give the same values, to the
+    /// last bit, as [`DaeSystem::residual`] at that point; a system may skip the work the
+    /// changed unknowns cannot affect. Default: [`DaeSystem::residual`].
+    fn quotient_residual(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        yp: &[f64],
+        res: &mut [f64],
+        _changed: &[usize],
+    ) -> Result<(), ResidualError> {
+        self.residual(t, y, yp, res)
+    }
 }
 
 /// Receives the columns of [`DaeSystem::jacobian`] in runs of consecutive rows.

@@ -95,13 +95,8 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 record_non_finite(&mut st.non_finite, i, t, d);
                 return 1;
             }
-            match outcome {
-                Ok(()) => {}
-                Err(ResidualError::Recoverable) => return 1,
-                Err(ResidualError::Fatal(msg)) => {
-                    st.fatal.get_or_insert((msg, t));
-                    return -1;
-                }
+            if let Err(flag) = callback_flag(&mut st.fatal, t, outcome) {
+                return flag;
             }
         }
         // The system's bounds on the increments (allocation only at the first Jacobian).
@@ -121,8 +116,17 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         );
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
+        if col.n_colours() > 0 {
+            let outcome = st.system.begin_quotients(t, y, ypv);
+            if let Err(flag) = callback_flag(&mut st.fatal, t, outcome) {
+                return flag;
+            }
+        }
+        let changed = &mut st.jac_changed;
+        changed.reserve(n.saturating_sub(changed.len()));
         for c in 0..col.n_colours() {
             for k in 0..col.width(c) {
+                changed.clear();
                 for &b in col.blocks_of_colour(c) {
                     if let Some(&j) = col.members(b).get(k) {
                         let (yj, ypj) = (y[j], ypv[j]);
@@ -133,22 +137,18 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                         saved[j] = (yj, ypj, inc);
                         y[j] += inc;
                         ypv[j] += c_j * inc;
+                        changed.push(j);
                     }
                 }
                 st.jac_residuals += 1;
-                let outcome = st.system.residual(t, y, ypv, rp);
+                let outcome = st.system.quotient_residual(t, y, ypv, rp, changed);
                 for &b in col.blocks_of_colour(c) {
                     if let Some(&j) = col.members(b).get(k) {
                         (y[j], ypv[j], _) = saved[j];
                     }
                 }
-                match outcome {
-                    Ok(()) => {}
-                    Err(ResidualError::Recoverable) => return 1,
-                    Err(ResidualError::Fatal(msg)) => {
-                        st.fatal.get_or_insert((msg, t));
-                        return -1;
-                    }
+                if let Err(flag) = callback_flag(&mut st.fatal, t, outcome) {
+                    return flag;
                 }
                 for &b in col.blocks_of_colour(c) {
                     let Some(&j) = col.members(b).get(k) else {
@@ -172,6 +172,23 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     }));
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// The Jacobian callback's return flag for an `Err` of the system: 1 (recoverable: IDA
+/// retries with a smaller step) or −1 with the message kept as the run's fatal error.
+fn callback_flag(
+    fatal: &mut Option<(String, f64)>,
+    t: f64,
+    outcome: Result<(), ResidualError>,
+) -> Result<(), c_int> {
+    match outcome {
+        Ok(()) => Ok(()),
+        Err(ResidualError::Recoverable) => Err(1),
+        Err(ResidualError::Fatal(msg)) => {
+            fatal.get_or_insert((msg, t));
+            Err(-1)
+        }
+    }
 }
 
 /// Writes the system's own Jacobian columns into the diagonal blocks, remembering the first
