@@ -434,26 +434,19 @@ impl ContactState {
         Ok(())
     }
 
-    /// Keeps the narrow phase and patch of every pair in the set at the workspace poses
-    /// (`position_velocity` done at the point of a Jacobian), for the quotient residuals of
-    /// [`Self::evaluate_moved`]. Touches the pairs' geometry as a continuous evaluation does.
-    pub fn begin_quotients(
-        &mut self,
-        plan: &Plan,
-        cp: &ContactPlan,
-        ws: &Workspace,
-        t: f64,
-    ) -> Result<(), ContactError> {
+    /// Keeps the narrow phase and patch of every pair in the set as the last continuous
+    /// evaluation left them (called right after the residual at the point of a Jacobian), for
+    /// the quotient residuals of [`Self::evaluate_moved`]. Allocation-free once the set has
+    /// been sized at an event.
+    pub fn begin_quotients(&mut self) {
         if self.base.len() < self.active.len() {
             self.base
                 .resize(self.active.len(), (PairState::APART.geometry, EMPTY_PATCH));
         }
         for k in 0..self.active.len() {
             let p = self.active[k] as usize;
-            let patch = self.continuous_geometry(plan, cp, ws, p, t)?;
-            self.base[k] = (self.slots[p].state.geometry, patch);
+            self.base[k] = (self.slots[p].state.geometry, self.patches[k]);
         }
-        Ok(())
     }
 
     /// Continuous mode for a quotient residual of the Jacobian: as [`Self::evaluate`] in

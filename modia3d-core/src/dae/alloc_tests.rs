@@ -118,8 +118,9 @@ fn beam_and_decomposed_mesh_do_not_allocate() {
     assert!(g[0] < 0.0, "in contact: {g:?}");
 }
 
-/// Runs residual, roots, event handling and the DAE's Jacobian columns (structure, own blocks
-/// and pair-local quotients, `dae/jacobian.rs`) 100 times on the built `scene` at its initial
+/// Runs residual, roots, event handling, the DAE's Jacobian columns (structure, own blocks
+/// and pair-local quotients, `dae/jacobian.rs`) and the solver's quotient residuals
+/// (`begin_quotients`, `quotient_residual`) 100 times on the built `scene` at its initial
 /// state after a warm-up, asserts that nothing was allocated and that the consistent
 /// derivative solves the residual; returns the root values.
 fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
@@ -150,10 +151,22 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
         dae.jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
             .unwrap();
     };
+    // The solver's quotient residuals: one per perturbed unknown (a position, a velocity).
+    let mut y2 = y.clone();
+    let mut res_q = vec![0.0; n];
+    let mut quotients = |dae: &mut MultibodyDae, res: &mut [f64]| {
+        dae.begin_quotients(0.0, &y, &yp).unwrap();
+        for j in [0, model.plan.nq] {
+            y2[j] += 1e-8;
+            dae.quotient_residual(0.0, &y2, &yp, res, &[j]).unwrap();
+            y2[j] = y[j];
+        }
+    };
     // Warm up.
     dae.residual(0.0, &y, &yp, &mut res).unwrap();
     dae.roots(0.0, &y, &yp, &mut g);
     jacobian(&mut dae, &mut s);
+    quotients(&mut dae, &mut res_q);
     let before = allocs();
     for k in 0..100 {
         let t = k as f64 * 1e-3;
@@ -162,6 +175,7 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
         dae.error_weight_factors(&y, &mut ewt);
         dae.handle_event(t, &y).unwrap();
         jacobian(&mut dae, &mut s);
+        quotients(&mut dae, &mut res_q);
     }
     let after = allocs();
     assert!(

@@ -1280,12 +1280,16 @@ mod tests {
     }
 
     /// `DaeSystem::quotient_residual` gives the bits of `residual` at every one-coordinate
-    /// perturbation of a state with eight contacts (the pairs of the bodies a perturbation
-    /// does not move reuse `begin_quotients`' narrow phase), and at perturbations of one
-    /// coordinate of every tree at once (a colour). The tip's pair must be recomputed when
-    /// the rod turns (its body is the rod's child): the test checks that the rod's angle
-    /// changes the tip's rows, so a reuse there would show. Exact equality: the narrow phase
-    /// is a function of the two poses, and the poses of unmoved bodies are the same bits.
+    /// perturbation of a state with eight contacts, and at perturbations of one coordinate of
+    /// every tree at once (a colour), called in a row after one `begin_quotients` as the
+    /// Jacobian calls them. A quotient places only the touched bodies (the others restored
+    /// from the Jacobian's point: the test fails without the restore), reuses the narrow
+    /// phase of pairs of unmoved bodies, and computes the dynamics rows of the trees touched
+    /// or coupled to them by a pair in the set (b1–b2) only (the test fails without the
+    /// contact couplings). The tip's pair must be recomputed when the rod turns (its body is
+    /// the rod's child): the rod's angle changes the tip's rows, so a reuse there would show.
+    /// Exact equality: every skipped quantity is a function of inputs the perturbation leaves
+    /// as they were, computed by the same operations.
     #[test]
     fn quotient_residuals_match_the_full_residual_bit_for_bit() {
         let model = scene_with_arm().build().unwrap();
@@ -1304,7 +1308,6 @@ mod tests {
             let c_j = 2.5e3;
             let mut base = vec![0.0; n];
             dae.residual(0.0, &y, &yp, &mut base).unwrap();
-            dae.begin_quotients(0.0, &y, &yp).unwrap();
             let mut sets: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
             // One coordinate of each joint at a time, as a colour perturbs them together.
             for k in 0..7 {
@@ -1319,15 +1322,31 @@ mod tests {
                 }
                 sets.push(set);
             }
-            let (mut full, mut quot) = (vec![0.0; n], vec![0.0; n]);
-            for set in &sets {
+            let perturbed = |set: &[usize]| {
                 let (mut y2, mut yp2) = (y.clone(), yp.clone());
                 for &j in set {
                     let inc = 1e-7 * (1.0 + y[j].abs());
                     y2[j] += inc;
                     yp2[j] += c_j * inc;
                 }
-                dae.residual(0.0, &y2, &yp2, &mut full).unwrap();
+                (y2, yp2)
+            };
+            // The full residuals first, then the quotients in a row after one
+            // `begin_quotients`, as the Jacobian calls them: each quotient must undo what the
+            // one before it perturbed.
+            let full: Vec<Vec<f64>> = sets
+                .iter()
+                .map(|set| {
+                    let (y2, yp2) = perturbed(set);
+                    let mut r = vec![0.0; n];
+                    dae.residual(0.0, &y2, &yp2, &mut r).unwrap();
+                    r
+                })
+                .collect();
+            dae.begin_quotients(0.0, &y, &yp).unwrap();
+            let mut quot = vec![0.0; n];
+            for (set, full) in sets.iter().zip(&full) {
+                let (y2, yp2) = perturbed(set);
                 dae.quotient_residual(0.0, &y2, &yp2, &mut quot, set)
                     .unwrap();
                 for i in 0..n {

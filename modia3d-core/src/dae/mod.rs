@@ -50,11 +50,26 @@ pub struct MultibodyDae {
     /// The body each position coordinate places (the body of its joint), for
     /// [`DaeSystem::quotient_residual`].
     body_of_q: Vec<BodyId>,
+    /// The body each velocity coordinate moves (the body of its joint).
+    body_of_v: Vec<BodyId>,
     /// Per body: whether the current quotient residual's perturbation moves it (its joint's
     /// position or an ancestor's was perturbed).
     moved: Vec<bool>,
-    /// Whether the contact stage holds the geometry of a [`DaeSystem::begin_quotients`] for
-    /// the current contact set (cleared when an event may change the set).
+    /// Per body: whether the perturbation changes its placement or velocity (`moved`, or its
+    /// joint's velocity or an ancestor's was perturbed).
+    touched: Vec<bool>,
+    /// Per body: whether its rows can change (its tree is touched, or coupled to a touched
+    /// tree by a force element or a pair in the contact set); per tree in `live_tree`.
+    live: Vec<bool>,
+    live_tree: Vec<bool>,
+    /// Per tree: whether one of its bodies is touched.
+    touched_tree: Vec<bool>,
+    /// Placements and velocities, and the residual, at the point of the last
+    /// [`DaeSystem::begin_quotients`].
+    base_states: kinematics::BodyStates,
+    base_res: Vec<f64>,
+    /// Whether the DAE holds a [`DaeSystem::begin_quotients`] for the current contact set
+    /// (cleared when an event may change the set).
     quotient_base: bool,
 }
 
@@ -142,10 +157,22 @@ impl MultibodyDae {
             debug_assert_eq!(j.q_offset, body_of_q.len());
             body_of_q.extend(std::iter::repeat_n(j.body, j.coord.nq()));
         }
-        let moved = vec![false; plan.bodies.len()];
+        let mut body_of_v = vec![BodyId(0); plan.nv];
+        for j in &plan.joints {
+            body_of_v[j.v_offset..j.v_offset + j.coord.nv()].fill(j.body);
+        }
+        let nb = plan.bodies.len();
+        let n_trees = blocks.as_ref().map_or(0, |b| b.fixed.n_blocks);
         MultibodyDae {
             body_of_q,
-            moved,
+            body_of_v,
+            moved: vec![false; nb],
+            touched: vec![false; nb],
+            live: vec![false; nb],
+            live_tree: vec![false; n_trees],
+            touched_tree: vec![false; n_trees],
+            base_states: kinematics::BodyStates::new(&plan),
+            base_res: vec![0.0; (plan.nq + plan.nv + 2 * plan.loops.m()).max(1)],
             quotient_base: false,
             plan,
             contact_plan,
@@ -353,19 +380,19 @@ impl DaeSystem for MultibodyDae {
         self.residual_with(t, y, yp, res, false)
     }
 
-    fn begin_quotients(&mut self, t: f64, y: &[f64], _yp: &[f64]) -> Result<(), ResidualError> {
+    fn begin_quotients(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), ResidualError> {
         self.quotient_base = false;
-        let plan = &*self.plan;
-        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
-            return Ok(());
-        };
-        if cs.n_in_contact() == 0 {
+        if self.blocks.is_none() {
             return Ok(());
         }
-        let (q, rest) = y.split_at(plan.nq);
-        kinematics::position_velocity(plan, &mut self.ws, q, &rest[..plan.nv]);
-        cs.begin_quotients(plan, cp, &self.ws, t)
-            .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        let mut base = std::mem::take(&mut self.base_res);
+        let outcome = self.residual_with(t, y, yp, &mut base, false);
+        self.base_res = base;
+        outcome?;
+        self.base_states.save(&self.ws);
+        if let Some(cs) = self.contact.as_mut() {
+            cs.begin_quotients();
+        }
         self.quotient_base = true;
         Ok(())
     }
@@ -378,24 +405,60 @@ impl DaeSystem for MultibodyDae {
         res: &mut [f64],
         changed: &[usize],
     ) -> Result<(), ResidualError> {
-        if !self.quotient_base {
+        let Some(tb) = self.blocks.as_ref().filter(|_| self.quotient_base) else {
             return self.residual_with(t, y, yp, res, false);
-        }
-        // The bodies the perturbation moves: those whose joint's position coordinates changed,
-        // and their descendants (bodies come parents first). Velocities move nothing.
+        };
+        // The bodies the perturbation moves (their joint's positions changed) and touches
+        // (positions or velocities), with their descendants (bodies come parents first).
         let plan = &*self.plan;
+        let nq = plan.nq;
         self.moved.fill(false);
+        self.touched.fill(false);
         for &j in changed {
             if let Some(&b) = self.body_of_q.get(j) {
                 self.moved[b.index()] = true;
+                self.touched[b.index()] = true;
+            } else if let Some(&b) = j.checked_sub(nq).and_then(|k| self.body_of_v.get(k)) {
+                self.touched[b.index()] = true;
             }
         }
         for (b, body) in plan.bodies.iter().enumerate() {
             if let Some(p) = body.parent {
-                if self.moved[p.index()] {
-                    self.moved[b] = true;
+                self.moved[b] |= self.moved[p.index()];
+                self.touched[b] |= self.touched[p.index()];
+            }
+        }
+        // The trees whose rows can change: the touched ones and those a force element or a
+        // pair in the contact set couples to them (the rows the quotients read are those of
+        // the perturbed trees and of their neighbours in `jacobian_structure`). With loops,
+        // every tree (a loop's rows depend on both ends).
+        self.touched_tree.fill(false);
+        for (b, &t) in self.touched.iter().enumerate() {
+            if t {
+                self.touched_tree[tb.of_body[b]] = true;
+            }
+        }
+        self.live_tree.copy_from_slice(&self.touched_tree);
+        if plan.loops.m() > 0 {
+            self.live_tree.fill(true);
+        }
+        let (touched, live) = (&self.touched_tree, &mut self.live_tree);
+        let mut couple = |a: usize, b: usize| {
+            live[b] |= touched[a];
+            live[a] |= touched[b];
+        };
+        for &(a, b) in &tb.fixed.couplings {
+            couple(a, b);
+        }
+        if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) {
+            for (_, pp, _) in cs.active_pairs() {
+                if let (Some(a), Some(b)) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body) {
+                    couple(tb.of_body[a.index()], tb.of_body[b.index()]);
                 }
             }
+        }
+        for (l, &t) in self.live.iter_mut().zip(&tb.of_body) {
+            *l = self.live_tree[t];
         }
         self.residual_with(t, y, yp, res, true)
     }
@@ -520,16 +583,18 @@ impl DaeSystem for MultibodyDae {
 }
 
 impl MultibodyDae {
-    /// [`DaeSystem::residual`]; with `moved`, a quotient residual whose contact stage reuses
-    /// the geometry of [`DaeSystem::begin_quotients`] for the pairs of bodies not flagged in
-    /// `self.moved`.
+    /// [`DaeSystem::residual`]; with `quotient`, a quotient residual after
+    /// [`DaeSystem::quotient_residual`] has flagged the bodies: only the touched bodies are
+    /// placed (the others restored from the Jacobian's point), the contact stage reuses the
+    /// geometry of the pairs of bodies not moved, the dynamics rows are computed for the live
+    /// trees and taken from the Jacobian's point for the others.
     fn residual_with(
         &mut self,
         t: f64,
         y: &[f64],
         yp: &[f64],
         res: &mut [f64],
-        moved: bool,
+        quotient: bool,
     ) -> Result<(), ResidualError> {
         let plan = &*self.plan;
         let nq = plan.nq;
@@ -544,7 +609,18 @@ impl MultibodyDae {
         let vd = &rest[..nv];
         let (res_q, rest) = res.split_at_mut(nq);
         let (res_v, res_c) = rest.split_at_mut(nv);
-        kinematics::position_velocity(plan, &mut self.ws, q, v);
+        if quotient {
+            kinematics::touched_position_velocity(
+                plan,
+                &mut self.ws,
+                &self.base_states,
+                &self.touched,
+                q,
+                v,
+            );
+        } else {
+            kinematics::position_velocity(plan, &mut self.ws, q, v);
+        }
         forces::applied_forces(plan, &mut self.ws, t, q, v);
         if let Some(f) = &self.ws.fault {
             // The driver takes the fault (with the element's name) when IDA stops.
@@ -555,7 +631,7 @@ impl MultibodyDae {
             )));
         }
         if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
-            if moved {
+            if quotient {
                 cs.evaluate_moved(plan, cp, &mut self.ws, t, &self.moved)
             } else {
                 cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
@@ -576,7 +652,8 @@ impl MultibodyDae {
         } else {
             kinematics::position_residual(plan, q, v, qd, res_q);
         }
-        rnea::residual_dynamics(plan, &mut self.ws, q, vd, &plan.gravity, res_v);
+        let live = quotient.then_some(&self.live[..]);
+        rnea::residual_dynamics(plan, &mut self.ws, (q, vd), &plan.gravity, res_v, live);
         for (r, tau) in res_v.iter_mut().zip(&self.ws.tau_applied) {
             *r -= tau;
         }
@@ -584,6 +661,16 @@ impl MultibodyDae {
         for (k, p) in plan.prescribed.iter().enumerate() {
             if let Some(i) = p {
                 res_v[k] = vd[k] - self.ws.inputs[*i];
+            }
+        }
+        if quotient {
+            // The rows of the trees the perturbation leaves alone: those of the Jacobian's
+            // point (the same bits: their inputs are the same).
+            for j in &plan.joints {
+                if !self.live[j.body.index()] {
+                    let (v0, n) = (nq + j.v_offset, j.coord.nv());
+                    res_v[j.v_offset..j.v_offset + n].copy_from_slice(&self.base_res[v0..v0 + n]);
+                }
             }
         }
         Ok(())

@@ -2,7 +2,7 @@
 //! (parents first), and the kinematic part of the residual `q̇ − q̇(q, v)`.
 
 use super::plan::BodyPlan;
-use super::spatial::Transform;
+use super::spatial::{Motion, Transform};
 use super::{BodyId, ObjectId, Plan, Workspace};
 use nalgebra::Vector3;
 
@@ -47,6 +47,70 @@ fn place_bodies<'p>(
             }
         }
     }
+}
+
+/// The placements and velocities of every body as [`position_velocity`] leaves them in the
+/// workspace (`x`, `world`, `vel`, `vj`, `cj`), kept to be restored: the state of a Jacobian's
+/// point, for its difference quotients ([`touched_position_velocity`]).
+#[derive(Clone, Debug)]
+pub struct BodyStates {
+    x: Vec<Transform>,
+    world: Vec<Transform>,
+    vel: Vec<Motion>,
+    vj: Vec<Motion>,
+    cj: Vec<Motion>,
+}
+
+impl BodyStates {
+    /// Storage for `plan`'s bodies (allocates; the values are set by [`BodyStates::save`]).
+    pub fn new(plan: &Plan) -> Self {
+        let nb = plan.bodies.len();
+        BodyStates {
+            x: vec![Transform::default(); nb],
+            world: vec![Transform::default(); nb],
+            vel: vec![Motion::zero(); nb],
+            vj: vec![Motion::zero(); nb],
+            cj: vec![Motion::zero(); nb],
+        }
+    }
+
+    /// Keeps the workspace's placements and velocities. Allocation-free.
+    pub fn save(&mut self, ws: &Workspace) {
+        for i in 0..self.x.len() {
+            self.x[i] = ws.x[i];
+            self.world[i] = ws.world[i];
+            self.vel[i] = ws.vel[i];
+            self.vj[i] = ws.vj[i];
+            self.cj[i] = ws.cj[i];
+        }
+    }
+}
+
+/// [`position_velocity`] at a point that differs from the one `base` was saved at only in
+/// the coordinates of the bodies flagged in `touched` (a flagged body's descendants must be
+/// flagged too): those bodies are placed as [`position_velocity`] places them (the same
+/// operations, so the same bits), every other body's entries are restored from `base`.
+/// Allocation-free.
+pub fn touched_position_velocity(
+    plan: &Plan,
+    ws: &mut Workspace,
+    base: &BodyStates,
+    touched: &[bool],
+    q: &[f64],
+    v: &[f64],
+) {
+    for (i, &t) in touched.iter().enumerate() {
+        if !t {
+            ws.x[i] = base.x[i];
+            ws.world[i] = base.world[i];
+            ws.vel[i] = base.vel[i];
+            ws.vj[i] = base.vj[i];
+            ws.cj[i] = base.cj[i];
+        }
+    }
+    // Parents come first, and an untouched parent has just been restored.
+    let bodies = plan.bodies.iter().enumerate().filter(|&(i, _)| touched[i]);
+    place_bodies(plan, ws, bodies, q, v);
 }
 
 /// Body `b` and its ancestors, root first: the bodies [`chain_position_velocity`] places.

@@ -222,7 +222,7 @@ fn row_operated_lu(
     for (c, &rc) in free.iter().enumerate() {
         e.fill(0.0);
         e[group[rc]] = 1.0;
-        super::rnea::residual_dynamics(plan, &mut w0, q, &e, &Vector3::zeros(), &mut rows);
+        super::rnea::residual_dynamics(plan, &mut w0, (q, &e), &Vector3::zeros(), &mut rows, None);
         for (r, &rr) in free.iter().enumerate() {
             mp[(r, c)] = rows[group[rr]];
         }
@@ -273,7 +273,7 @@ fn row_operated_accelerations(
         }
     }
     let mut rows = vec![0.0; plan.nv];
-    super::rnea::residual_dynamics(plan, ws, q, &vd0, &plan.gravity, &mut rows);
+    super::rnea::residual_dynamics(plan, ws, (q, &vd0), &plan.gravity, &mut rows, None);
     let rhs = nalgebra::DVector::from_iterator(
         free.len(),
         free.iter()

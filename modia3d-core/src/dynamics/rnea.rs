@@ -18,7 +18,7 @@ pub fn inverse_dynamics(
     gravity: &Vector3<f64>,
     tau: &mut [f64],
 ) {
-    newton_euler(plan, ws, q, vd, gravity, tau, false);
+    newton_euler(plan, ws, q, vd, gravity, tau, false, None);
 }
 
 /// The dynamic rows of the DAE residual: [`inverse_dynamics`] minus `τ_applied`, except that
@@ -36,20 +36,27 @@ pub fn inverse_dynamics(
 /// the force the joint transmits (plus `S τ_applied`): what the parent feels. The residual is
 /// still `τ − τ_applied` (`τ` into `tau` here, `τ_applied` subtracted by the caller), and the
 /// mass matrix (`mass_matrix.rs`), which must stay symmetric, uses [`inverse_dynamics`].
+///
+/// With `live`, only the bodies flagged there (whole joint trees: a flagged body's parent
+/// must be flagged too): their rows of `tau` get the same bits as without, the other rows are
+/// left as they were. For the quotient residuals of the Jacobian, whose perturbation changes
+/// the rows of a few trees only.
 pub fn residual_dynamics(
     plan: &Plan,
     ws: &mut Workspace,
-    q: &[f64],
-    vd: &[f64],
+    (q, vd): (&[f64], &[f64]),
     gravity: &Vector3<f64>,
     tau: &mut [f64],
+    live: Option<&[bool]>,
 ) {
-    newton_euler(plan, ws, q, vd, gravity, tau, true);
+    newton_euler(plan, ws, q, vd, gravity, tau, true, live);
 }
 
 /// [`inverse_dynamics`]; with `decouple`, each joint's residual rows are taken out of the
-/// force it passes to its parent ([`residual_dynamics`]).
+/// force it passes to its parent ([`residual_dynamics`]); with `live`, only the flagged bodies
+/// ([`residual_dynamics`]).
 #[inline]
+#[allow(clippy::too_many_arguments)] // the three entry points' options in one loop
 fn newton_euler(
     plan: &Plan,
     ws: &mut Workspace,
@@ -58,13 +65,18 @@ fn newton_euler(
     gravity: &Vector3<f64>,
     tau: &mut [f64],
     decouple: bool,
+    live: Option<&[bool]>,
 ) {
+    let skip = |i: usize| live.is_some_and(|l| !l[i]);
     // The world accelerates upwards at −g: gravity enters every body through this.
     let a_world = Motion {
         w: Vector3::zeros(),
         v: -gravity,
     };
     for (i, b) in plan.bodies.iter().enumerate() {
+        if skip(i) {
+            continue;
+        }
         let j = &plan.joints[b.joint];
         let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
         let s_qdd = j
@@ -84,6 +96,9 @@ fn newton_euler(
         ws.f[i] = inertia.mul_motion(&a) + inertia.bias_force(&vel) - ws.f_ext[i];
     }
     for (i, b) in plan.bodies.iter().enumerate().rev() {
+        if skip(i) {
+            continue;
+        }
         let j = &plan.joints[b.joint];
         let f = ws.f[i];
         let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
