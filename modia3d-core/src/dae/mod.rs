@@ -380,10 +380,10 @@ impl DaeSystem for MultibodyDae {
         self.residual_with(t, y, yp, res, false)
     }
 
-    fn begin_quotients(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), ResidualError> {
+    fn begin_quotients(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<bool, ResidualError> {
         self.quotient_base = false;
         if self.blocks.is_none() {
-            return Ok(());
+            return Ok(false);
         }
         let mut base = std::mem::take(&mut self.base_res);
         let outcome = self.residual_with(t, y, yp, &mut base, false);
@@ -394,7 +394,7 @@ impl DaeSystem for MultibodyDae {
             cs.begin_quotients();
         }
         self.quotient_base = true;
-        Ok(())
+        Ok(true)
     }
 
     fn quotient_residual(

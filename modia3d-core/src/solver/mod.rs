@@ -132,9 +132,11 @@ pub trait DaeSystem {
     /// Called once per Jacobian before the difference quotients of the coloured blocks, at
     /// the point `(t, y, y')` of the Jacobian (after [`DaeSystem::increment_caps`]), so that
     /// [`DaeSystem::quotient_residual`] can keep what the perturbed unknowns do not change.
-    /// Default: nothing. `Err` as for [`DaeSystem::residual`]. Must not allocate.
-    fn begin_quotients(&mut self, _t: f64, _y: &[f64], _yp: &[f64]) -> Result<(), ResidualError> {
-        Ok(())
+    /// Returns whether it evaluated the residual (counted in the solver's statistics as a
+    /// residual for the Jacobian). Default: nothing (`Ok(false)`). `Err` as for
+    /// [`DaeSystem::residual`]. Must not allocate.
+    fn begin_quotients(&mut self, _t: f64, _y: &[f64], _yp: &[f64]) -> Result<bool, ResidualError> {
+        Ok(false)
     }
 
     /// The residual at a point that differs from the one of the last

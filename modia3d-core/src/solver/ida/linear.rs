@@ -117,9 +117,13 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
         if col.n_colours() > 0 {
-            let outcome = st.system.begin_quotients(t, y, ypv);
-            if let Err(flag) = callback_flag(&mut st.fatal, t, outcome) {
-                return flag;
+            match st.system.begin_quotients(t, y, ypv) {
+                Ok(evaluated) => st.jac_residuals += u64::from(evaluated),
+                Err(e) => {
+                    if let Err(flag) = callback_flag(&mut st.fatal, t, Err(e)) {
+                        return flag;
+                    }
+                }
             }
         }
         let changed = &mut st.jac_changed;
