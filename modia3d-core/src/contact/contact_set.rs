@@ -411,9 +411,12 @@ impl ContactState {
             // Only if an evaluation comes before any event sized it.
             self.patches.resize(self.active.len(), EMPTY_PATCH);
         }
+        // `base` covers the set whenever `begin_quotients` came after the last event (the DAE
+        // asks for reuse only then); otherwise every pair is computed.
+        let moved = moved.filter(|_| self.base.len() >= self.active.len());
         for k in 0..self.active.len() {
             let p = self.active[k] as usize;
-            if let Some(moved) = moved.filter(|_| self.base.len() >= self.active.len()) {
+            if let Some(moved) = moved {
                 let (a, b) = self.shapes_of(p);
                 let moves = |s: usize| cp.shapes[s].body.is_some_and(|x| moved[x.index()]);
                 if !moves(a) && !moves(b) {

@@ -117,13 +117,9 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         let saved = &mut st.jac_saved;
         saved.resize(n, (0.0, 0.0, 0.0));
         if col.n_colours() > 0 {
-            match st.system.begin_quotients(t, y, ypv) {
+            match callback_flag(&mut st.fatal, t, st.system.begin_quotients(t, y, ypv)) {
                 Ok(evaluated) => st.jac_residuals += u64::from(evaluated),
-                Err(e) => {
-                    if let Err(flag) = callback_flag(&mut st.fatal, t, Err(e)) {
-                        return flag;
-                    }
-                }
+                Err(flag) => return flag,
             }
         }
         let changed = &mut st.jac_changed;
@@ -180,13 +176,13 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
 
 /// The Jacobian callback's return flag for an `Err` of the system: 1 (recoverable: IDA
 /// retries with a smaller step) or −1 with the message kept as the run's fatal error.
-fn callback_flag(
+fn callback_flag<T>(
     fatal: &mut Option<(String, f64)>,
     t: f64,
-    outcome: Result<(), ResidualError>,
-) -> Result<(), c_int> {
+    outcome: Result<T, ResidualError>,
+) -> Result<T, c_int> {
     match outcome {
-        Ok(()) => Ok(()),
+        Ok(x) => Ok(x),
         Err(ResidualError::Recoverable) => Err(1),
         Err(ResidualError::Fatal(msg)) => {
             fatal.get_or_insert((msg, t));
