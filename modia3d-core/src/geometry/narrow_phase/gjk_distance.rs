@@ -52,6 +52,125 @@ struct Simplex {
     n: usize,
 }
 
+/// The closest point of a segment or triangle to the origin: the vertices that carry it (as
+/// positions in the segment's or triangle's vertex list, increasing) and their weights.
+#[derive(Clone, Copy)]
+struct Pick {
+    idx: [usize; 3],
+    lambda: [f64; 3],
+    n: usize,
+}
+
+impl Pick {
+    fn one(i: usize) -> Pick {
+        Pick {
+            idx: [i, 0, 0],
+            lambda: [1.0, 0.0, 0.0],
+            n: 1,
+        }
+    }
+    fn two(i: usize, j: usize, li: f64, lj: f64) -> Pick {
+        Pick {
+            idx: [i, j, 0],
+            lambda: [li, lj, 0.0],
+            n: 2,
+        }
+    }
+    /// The point it picks of the vertices `w` (the same sum, in the same order, as
+    /// [`Simplex::point`] after keeping them).
+    fn point(&self, w: &[Vector3<f64>]) -> Vector3<f64> {
+        (0..self.n).map(|k| w[self.idx[k]] * self.lambda[k]).sum()
+    }
+}
+
+/// Closest point of segment `[a, b]` to the origin.
+fn segment_pick(a: &Vector3<f64>, b: &Vector3<f64>) -> Pick {
+    let ab = b - a;
+    let den = ab.norm_squared();
+    let t = if den > 0.0 {
+        (-a.dot(&ab) / den).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    if t <= 0.0 {
+        Pick::one(0)
+    } else if t >= 1.0 {
+        Pick::one(1)
+    } else {
+        Pick::two(0, 1, 1.0 - t, t)
+    }
+}
+
+/// Ericson's ClosestPtPointTriangle with the origin as the query point.
+fn triangle_pick(w: &[Vector3<f64>; 3]) -> Pick {
+    let [a, b, c] = w;
+    let (ab, ac, ap) = (b - a, c - a, -a);
+    let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return Pick::one(0);
+    }
+    let bp = -b;
+    let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return Pick::one(1);
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let v = d1 / (d1 - d3);
+        return Pick::two(0, 1, 1.0 - v, v);
+    }
+    let cp = -c;
+    let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return Pick::one(2);
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let w = d2 / (d2 - d6);
+        return Pick::two(0, 2, 1.0 - w, w);
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return Pick::two(1, 2, 1.0 - w, w);
+    }
+    let s = va + vb + vc;
+    if s.is_nan() || s <= 0.0 {
+        // Degenerate (collinear) triangle: the best of its edges.
+        let e = segment_pick(a, b);
+        let mut f = segment_pick(b, c);
+        for k in 0..f.n {
+            f.idx[k] += 1;
+        }
+        return if e.point(w).norm_squared() <= f.point(w).norm_squared() {
+            e
+        } else {
+            f
+        };
+    }
+    let (mut v, mut wk) = (vb / s, vc / s);
+    // One step of iterative refinement: the formulas above lose accuracy by cancellation on
+    // thin triangles (which GJK produces near curved features); the residual of the
+    // orthogonality conditions p·ab = p·ac = 0 is computed accurately and corrected for.
+    let (g00, g01, g11) = (ab.dot(&ab), ab.dot(&ac), ac.dot(&ac));
+    let det = g00 * g11 - g01 * g01;
+    if det > 0.0 {
+        let p = a + ab * v + ac * wk;
+        let (r0, r1) = (-p.dot(&ab), -p.dot(&ac));
+        let dv = (g11 * r0 - g01 * r1) / det;
+        let dw = (g00 * r1 - g01 * r0) / det;
+        let (v2, w2) = (v + dv, wk + dw);
+        if v2 >= 0.0 && w2 >= 0.0 && v2 + w2 <= 1.0 {
+            (v, wk) = (v2, w2);
+        }
+    }
+    Pick {
+        idx: [0, 1, 2],
+        lambda: [1.0 - v - wk, v, wk],
+        n: 3,
+    }
+}
+
 impl Simplex {
     /// Closest point of the simplex to the origin; keeps only the supporting vertices.
     /// Returns `None` when the origin is inside a full tetrahedron.
@@ -60,13 +179,19 @@ impl Simplex {
             1 => {
                 self.lambda[0] = 1.0;
             }
-            2 => self.segment(0, 1),
-            3 => self.triangle(0, 1, 2),
+            2 => {
+                let p = segment_pick(&self.v[0].w, &self.v[1].w);
+                self.keep([0, 1], &p);
+            }
+            3 => {
+                let p = triangle_pick(&[self.v[0].w, self.v[1].w, self.v[2].w]);
+                self.keep([0, 1, 2], &p);
+            }
             _ => {
                 // Tetrahedron: the origin is outside the faces whose plane separates it from
                 // the opposite vertex; the closest point lies on one of those faces.
                 let faces = [(0, 1, 2, 3), (0, 1, 3, 2), (0, 2, 3, 1), (1, 2, 3, 0)];
-                let mut best: Option<(f64, Simplex)> = None;
+                let mut best: Option<(f64, [usize; 3], Pick)> = None;
                 for (i, j, k, l) in faces {
                     let (p, q, r, s) = (self.v[i].w, self.v[j].w, self.v[k].w, self.v[l].w);
                     let nrm = (q - p).cross(&(r - p));
@@ -75,19 +200,15 @@ impl Simplex {
                     if so * ss >= 0.0 && ss != 0.0 {
                         continue; // origin on the inner side of this face
                     }
-                    let mut t = Simplex {
-                        v: [self.v[i], self.v[j], self.v[k], self.v[i]],
-                        lambda: [0.0; 4],
-                        n: 3,
-                    };
-                    t.triangle(0, 1, 2);
-                    let d = t.point().norm_squared();
-                    if best.as_ref().is_none_or(|(bd, _)| d < *bd) {
-                        best = Some((d, t));
+                    let w = [p, q, r];
+                    let t = triangle_pick(&w);
+                    let d = t.point(&w).norm_squared();
+                    if best.as_ref().is_none_or(|(bd, _, _)| d < *bd) {
+                        best = Some((d, [i, j, k], t));
                     }
                 }
-                let (_, t) = best?;
-                *self = t;
+                let (_, face, t) = best?;
+                self.keep(face, &t);
             }
         }
         Some(self.point())
@@ -97,105 +218,16 @@ impl Simplex {
         (0..self.n).map(|i| self.v[i].w * self.lambda[i]).sum()
     }
 
-    fn keep(&mut self, idx: &[usize], lambda: &[f64]) {
-        let v = self.v;
-        for (k, (&i, &l)) in idx.iter().zip(lambda).enumerate() {
-            self.v[k] = v[i];
-            self.lambda[k] = l;
+    /// Keeps the vertices `p` picks of those at `of` (increasing positions in the simplex),
+    /// in place: a kept vertex moves to a position at or before its own, so moving them in
+    /// order overwrites only vertices already moved or dropped.
+    fn keep<const N: usize>(&mut self, of: [usize; N], p: &Pick) {
+        for k in 0..p.n {
+            let from = of[p.idx[k]];
+            self.v[k] = self.v[from];
+            self.lambda[k] = p.lambda[k];
         }
-        self.n = idx.len();
-    }
-
-    fn segment(&mut self, i: usize, j: usize) {
-        let (a, b) = (self.v[i].w, self.v[j].w);
-        let ab = b - a;
-        let den = ab.norm_squared();
-        let t = if den > 0.0 {
-            (-a.dot(&ab) / den).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        if t <= 0.0 {
-            self.keep(&[i], &[1.0]);
-        } else if t >= 1.0 {
-            self.keep(&[j], &[1.0]);
-        } else {
-            self.keep(&[i, j], &[1.0 - t, t]);
-        }
-    }
-
-    /// Ericson's ClosestPtPointTriangle with the origin as the query point.
-    fn triangle(&mut self, i: usize, j: usize, k: usize) {
-        let (a, b, c) = (self.v[i].w, self.v[j].w, self.v[k].w);
-        let (ab, ac, ap) = (b - a, c - a, -a);
-        let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
-        if d1 <= 0.0 && d2 <= 0.0 {
-            return self.keep(&[i], &[1.0]);
-        }
-        let bp = -b;
-        let (d3, d4) = (ab.dot(&bp), ac.dot(&bp));
-        if d3 >= 0.0 && d4 <= d3 {
-            return self.keep(&[j], &[1.0]);
-        }
-        let vc = d1 * d4 - d3 * d2;
-        if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-            let v = d1 / (d1 - d3);
-            return self.keep(&[i, j], &[1.0 - v, v]);
-        }
-        let cp = -c;
-        let (d5, d6) = (ab.dot(&cp), ac.dot(&cp));
-        if d6 >= 0.0 && d5 <= d6 {
-            return self.keep(&[k], &[1.0]);
-        }
-        let vb = d5 * d2 - d1 * d6;
-        if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-            let w = d2 / (d2 - d6);
-            return self.keep(&[i, k], &[1.0 - w, w]);
-        }
-        let va = d3 * d6 - d5 * d4;
-        if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-            let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-            return self.keep(&[j, k], &[1.0 - w, w]);
-        }
-        let s = va + vb + vc;
-        if s.is_nan() || s <= 0.0 {
-            // Degenerate (collinear) triangle: the best of its edges.
-            let mut e = Simplex {
-                v: self.v,
-                lambda: [0.0; 4],
-                n: self.n,
-            };
-            e.segment(i, j);
-            let mut f = Simplex {
-                v: self.v,
-                lambda: [0.0; 4],
-                n: self.n,
-            };
-            f.segment(j, k);
-            *self = if e.point().norm_squared() <= f.point().norm_squared() {
-                e
-            } else {
-                f
-            };
-            return;
-        }
-        let (mut v, mut w) = (vb / s, vc / s);
-        // One step of iterative refinement: the formulas above lose accuracy by cancellation on
-        // thin triangles (which GJK produces near curved features); the residual of the
-        // orthogonality conditions p·ab = p·ac = 0 is computed accurately and corrected for.
-        let (g00, g01, g11) = (ab.dot(&ab), ab.dot(&ac), ac.dot(&ac));
-        let det = g00 * g11 - g01 * g01;
-        if det > 0.0 {
-            let p = a + ab * v + ac * w;
-            let (r0, r1) = (-p.dot(&ab), -p.dot(&ac));
-            let dv = (g11 * r0 - g01 * r1) / det;
-            let dw = (g00 * r1 - g01 * r0) / det;
-            let (v2, w2) = (v + dv, w + dw);
-            if v2 >= 0.0 && w2 >= 0.0 && v2 + w2 <= 1.0 {
-                (v, w) = (v2, w2);
-            }
-        }
-        self.keep(&[i, j, k], &[1.0 - v - w, v, w]);
+        self.n = p.n;
     }
 }
 
