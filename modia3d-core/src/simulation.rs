@@ -360,10 +360,11 @@ pub struct Simulation {
     /// Warnings found at the start of the run (`warnings::start_warnings`) and the relaxations
     /// of the contact tightening (`relax_contact_tightening`).
     start_warnings: Vec<crate::results::SimWarning>,
-    /// Scratch of `measure_step`: the pairs in the contact set.
-    active_scratch: Vec<usize>,
-    /// Scratch of `measure_step`: (penetration, f_n) per pair and sample.
-    sample_scratch: Vec<[(f64, f64); contact_phases::SAMPLES]>,
+    /// Scratch of `measure_step`, with the end samples of the last measured step.
+    phase_scratch: contact_phases::PhaseScratch,
+    /// The step guard must be evaluated before the next step (at the start and after a
+    /// restart; otherwise it follows each step, see `advance_to`).
+    guard_due: bool,
     /// Structure changes (`segments.rs`): the model the run started with, IDA's counters of
     /// the finished segments, the scheduled actions and what they did.
     segments: segments::SegmentState,
@@ -437,8 +438,8 @@ impl Simulation {
             wall: 0.0,
             call_started: started,
             progress: None,
-            active_scratch: Vec::new(),
-            sample_scratch: Vec::new(),
+            phase_scratch: Default::default(),
+            guard_due: true,
             start_warnings,
             segments: segments::SegmentState::new(model),
         };
@@ -546,9 +547,19 @@ impl Simulation {
         // points inside a step are read off IDA's interpolating polynomial instead.
         loop {
             self.check_budget()?;
-            self.guard_step()?;
+            if self.guard_due {
+                self.guard_step()?;
+            }
             let t_prev = self.time();
             let solved = self.ida.solve(target, true);
+            // The guard reads the body motion in the workspace; here it is what IDA's own
+            // evaluations left (a step's root functions), before the measurement and the
+            // outputs below evaluate anything: neither the output grid nor contact results
+            // may steer the steps. IDA keeps the step limit until the next guard.
+            self.guard_due = false;
+            if solved.is_ok() {
+                self.guard_step()?;
+            }
             if let Some(f) = self.ida.system_mut().take_user_fault() {
                 return Err(f.into());
             }
@@ -896,6 +907,9 @@ impl Simulation {
 
     /// Re-initialises IDA at `t` with the current `y` and a consistent `y'`.
     fn restart(&mut self, t: f64) -> Result<(), SimErrorKind> {
+        self.phase_scratch.forget();
+        // The guard after a restart: from the consistent derivative's evaluation (the last).
+        self.guard_due = true;
         let mut y = self.ida.y().to_vec();
         let yp = self
             .ida

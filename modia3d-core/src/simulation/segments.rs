@@ -266,6 +266,8 @@ impl Simulation {
         let ida = Ida::new(dae, t, &y, &yp, &ida_opts)?;
         // Nothing fails from here on: the run switches to the new structure.
         let old_ida = std::mem::replace(&mut self.ida, ida);
+        self.phase_scratch.forget();
+        self.guard_due = true;
         self.segments.solver_base += old_ida.stats();
         self.model = model.clone();
         self.result.begin_segment(model, t);
