@@ -28,7 +28,10 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 /// `ref_rtol` (structured; the reference only has to be much more accurate than either run).
 /// Asserts that the structured run's error is no worse than the dense run's (within a factor
 /// 2, plus a floor of 10·rtol times the state scale for runs whose errors are both at
-/// round-off-like levels), and returns the two runs' statistics.
+/// round-off-like levels), and returns the two runs' statistics. The structured run forms
+/// every matrix by its quotients (`jacobian_reuse(false)`), so that the two differ only by
+/// their quotients; a third run with the default reuse of the matrix's parts for new `c_j`
+/// must be as accurate too (Newton's convergence depends on the matrix, not the accuracy).
 fn compare(
     scene: SceneDesc,
     stop: f64,
@@ -37,18 +40,20 @@ fn compare(
     bodies: &[&str],
 ) -> (SimStats, SimStats) {
     let model = scene.build().unwrap();
-    let run = |rtol: f64, structured: bool| {
+    let run = |rtol: f64, structured: bool, reuse: bool| {
         model
             .simulate(
                 &SimOptions::new(stop)
                     .tolerance(rtol)
                     .interval(stop / 50.0)
-                    .structured_jacobian(structured),
+                    .structured_jacobian(structured)
+                    .jacobian_reuse(reuse),
             )
             .unwrap()
     };
-    let reference = final_state(&run(ref_rtol, true), bodies);
-    let (s, d) = (run(rtol, true), run(rtol, false));
+    let reference = final_state(&run(ref_rtol, true, false), bodies);
+    let (s, d) = (run(rtol, true, false), run(rtol, false, false));
+    let r = run(rtol, true, true);
     let scale = reference.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let (err_s, err_d) = (
         max_diff(&final_state(&s, bodies), &reference),
@@ -63,6 +68,13 @@ fn compare(
         "structured error {err_s:e} vs dense {err_d:e}"
     );
     assert_eq!(s.stats.events, d.stats.events, "same contact events");
+    let err_r = max_diff(&final_state(&r, bodies), &reference);
+    println!("  with reuse: error {err_r:.2e}, {:?}", r.stats.solver);
+    assert!(
+        err_r <= 2.0 * err_d + 10.0 * rtol * scale,
+        "structured error with reuse {err_r:e} vs dense {err_d:e}"
+    );
+    assert!(r.stats.solver.jacobian_reuses > 0, "the reuse is at work");
     // A missing coupling would leave the structured Jacobian wrong where contacts couple
     // trees: Newton would need more iterations per step and fail to converge more often (the
     // solver unit tests, modia3d-core/src/solver/tests/). The two Jacobians differ only by

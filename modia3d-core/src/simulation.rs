@@ -208,6 +208,7 @@ fn ida_options(
         // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts).
         root_directions: (root_functions == 2).then(|| vec![1, -1]),
         structured_jacobian: opts.structured_jacobian,
+        jacobian_reuse: opts.jacobian_reuse,
         // Closed loops: λ and μ are algebraic and left out of the error test
         // (dynamics/loops.rs).
         differential: (plan.loops.m() > 0).then(|| (0..n).map(|i| i < plan.nq + plan.nv).collect()),

@@ -298,6 +298,7 @@ pub fn options(s: &SceneSpec) -> SimOptions {
         .max_wall_time(r.max_wall_time)
         .contact_results(r.contact_results)
         .structured_jacobian(r.structured_jacobian)
+        .jacobian_reuse(r.jacobian_reuse)
         .progress(false);
     if let Some(dt) = r.interval {
         o = o.interval(dt);

@@ -288,6 +288,10 @@ pub struct RunSpec {
     pub contact_results: bool,
     /// `SimOptions::structured_jacobian`.
     pub structured_jacobian: bool,
+    /// `SimOptions::jacobian_reuse` (the generator leaves the default, true; reproducers
+    /// recorded before it existed set false where their path depends on it).
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub jacobian_reuse: bool,
     /// Step-wise API: the steps (`None` = `Model::simulate`).
     pub steps: Option<Vec<StepSpec>>,
 }
@@ -750,7 +754,18 @@ pub fn generate(seed: u64) -> SceneSpec {
                 .then(|| stop_time / r.log_uniform(10.0, 5000.0)),
             contact_results: r.chance(0.3),
             structured_jacobian: r.chance(0.85),
+            jacobian_reuse: true,
             steps,
         },
     }
+}
+
+/// Serde default of [`RunSpec::jacobian_reuse`].
+fn yes() -> bool {
+    true
+}
+
+/// Serde: leave out a field at its default, true.
+fn is_true(x: &bool) -> bool {
+    *x
 }

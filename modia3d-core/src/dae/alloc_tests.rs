@@ -119,7 +119,7 @@ fn beam_and_decomposed_mesh_do_not_allocate() {
 }
 
 /// Runs residual, roots, event handling, the DAE's Jacobian columns (structure, own blocks
-/// and pair-local quotients, `dae/jacobian.rs`) and the solver's quotient residuals
+/// and pair-local quotients, `dae/jacobian.rs`), `∂F/∂y'` and the solver's quotient residuals
 /// (`begin_quotients`, `quotient_residual`) 100 times on the built `scene` at its initial
 /// state after a warm-up, asserts that nothing was allocated and that the consistent
 /// derivative solves the residual; returns the root values.
@@ -150,6 +150,9 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
         };
         dae.jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
             .unwrap();
+        assert!(dae
+            .yp_jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
+            .unwrap());
     };
     // The solver's quotient residuals: one per perturbed unknown (a position, a velocity).
     let mut y2 = y.clone();

@@ -1368,4 +1368,50 @@ mod tests {
             }
         }
     }
+
+    /// `yp_jacobian` against difference quotients in `y'` alone: the residual is linear in
+    /// `y'` (identity in the position rows, `M(q)` in the velocity rows), so a quotient with an
+    /// increment of 1 is exact up to the residual's round-off. Tolerance 1e-9 of the largest
+    /// entry of the column plus 1e-9: the residual's terms are O(100) and lose ~1e-13 each.
+    #[test]
+    fn yp_jacobian_is_the_derivative_in_y_prime() {
+        let model = scene_with_arm().build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        for seed in [1, 2] {
+            let y = state(&dae, seed, seed == 2);
+            dae.handle_event(0.0, &y).unwrap();
+            let mut rnd = rng(seed + 70);
+            let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
+            let mut d = vec![0.0; n * n];
+            let zero_size = vec![1e-6; n];
+            let args = JacobianArgs {
+                t: 0.0,
+                c_j: 1.0,
+                h: 1e-3,
+                y: &y,
+                yp: &yp,
+                zero_size: &zero_size,
+            };
+            let mut sink = |i: usize, j: usize, v: f64| d[j * n + i] += v;
+            assert!(dae.yp_jacobian(&args, &mut sink).unwrap());
+            let mut base = vec![0.0; n];
+            dae.residual(0.0, &y, &yp, &mut base).unwrap();
+            for j in 0..n {
+                let mut yp2 = yp.clone();
+                yp2[j] += 1.0;
+                let mut r = vec![0.0; n];
+                dae.residual(0.0, &y, &yp2, &mut r).unwrap();
+                let big = (0..n).map(|i| (r[i] - base[i]).abs()).fold(0.0, f64::max);
+                for i in 0..n {
+                    let q = r[i] - base[i];
+                    assert!(
+                        (q - d[j * n + i]).abs() <= 1e-9 * big + 1e-9,
+                        "seed {seed}: entry ({i}, {j}): quotient {q:e}, yp_jacobian {:e}",
+                        d[j * n + i]
+                    );
+                }
+            }
+        }
+    }
 }

@@ -71,6 +71,20 @@ pub struct MultibodyDae {
     /// Whether the DAE holds a [`DaeSystem::begin_quotients`] for the current contact set
     /// (cleared when an event may change the set).
     quotient_base: bool,
+    /// `∂F/∂y'` ([`DaeSystem::yp_jacobian`]): a workspace of its own (the mass matrix's
+    /// inverse dynamics must not disturb the residual's), the velocity indices of each tree,
+    /// zero velocities, a unit acceleration per tree and one column of `M`.
+    mass: MassColumns,
+}
+
+/// Scratch of [`DaeSystem::yp_jacobian`] (allocated with the DAE).
+#[derive(Clone, Debug)]
+struct MassColumns {
+    ws: Workspace,
+    groups: Vec<Vec<usize>>,
+    zero_v: Vec<f64>,
+    e: Vec<f64>,
+    col: Vec<f64>,
 }
 
 /// The static part of the Jacobian's block structure (one block per joint tree).
@@ -174,6 +188,13 @@ impl MultibodyDae {
             base_states: kinematics::BodyStates::new(&plan),
             base_res: vec![0.0; (plan.nq + plan.nv + 2 * plan.loops.m()).max(1)],
             quotient_base: false,
+            mass: MassColumns {
+                ws: Workspace::new(&plan),
+                groups: plan.velocity_groups(),
+                zero_v: vec![0.0; plan.nv],
+                e: vec![0.0; plan.nv],
+                col: vec![0.0; plan.nv],
+            },
             plan,
             contact_plan,
             ws,
@@ -579,6 +600,59 @@ impl DaeSystem for MultibodyDae {
 
     fn increment_caps(&mut self, args: &crate::solver::JacobianArgs<'_>, caps: &mut [f64]) -> bool {
         self.position_caps(args, caps)
+    }
+
+    /// `∂F/∂y'`: the identity in the position rows (`q̇ − q̇(q, v)` for every joint kind),
+    /// in the velocity rows the derivative of `rnea::residual_dynamics` (a row operation on
+    /// `M(q) v̇ + C(q, v) − τ`, linear in `v̇`; no applied force, contact or constraint wrench
+    /// depends on `v̇`), a unit row for a prescribed coordinate (`v̇ − a`) and nothing for the
+    /// loop multipliers. The velocity rows column by column: the same recursion with zero
+    /// velocity, gravity, applied and external forces in a workspace of its own, one unit
+    /// acceleration per tree at a time (as `mass_matrix::tree_mass_matrices` forms `M`).
+    /// Allocation-free.
+    fn yp_jacobian(
+        &mut self,
+        args: &crate::solver::JacobianArgs<'_>,
+        out: &mut dyn crate::solver::JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        let plan = &*self.plan;
+        let (nq, nv) = (plan.nq, plan.nv);
+        if nq + nv == 0 {
+            return Ok(false);
+        }
+        let q = &args.y[..nq];
+        for i in 0..nq {
+            out.add(i, i, &[1.0]);
+        }
+        let mc = &mut self.mass;
+        kinematics::position_velocity(plan, &mut mc.ws, q, &mc.zero_v);
+        mc.ws.f_ext.fill(crate::dynamics::spatial::Force::default());
+        let width = mc.groups.iter().map(Vec::len).max().unwrap_or(0);
+        let prescribed = |k: usize| plan.prescribed.get(k).is_some_and(Option::is_some);
+        for c in 0..width {
+            mc.e.fill(0.0);
+            for g in mc.groups.iter().filter(|g| c < g.len()) {
+                mc.e[g[c]] = 1.0;
+            }
+            rnea::residual_dynamics(
+                plan,
+                &mut mc.ws,
+                (q, &mc.e),
+                &nalgebra::Vector3::zeros(),
+                &mut mc.col,
+                None,
+            );
+            for g in mc.groups.iter().filter(|g| c < g.len()) {
+                let j = g[c];
+                for &i in g.iter().filter(|&&i| !prescribed(i)) {
+                    out.add(nq + i, nq + j, &[mc.col[i]]);
+                }
+            }
+        }
+        for k in (0..nv).filter(|&k| prescribed(k)) {
+            out.add(nq + k, nq + k, &[1.0]);
+        }
+        Ok(true)
     }
 }
 

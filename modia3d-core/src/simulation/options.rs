@@ -49,6 +49,12 @@ pub struct SimOptions {
     /// a few residual evaluations per Jacobian instead of one per state. False = IDA's dense
     /// difference quotients (for comparison; the results agree to the tolerance).
     pub structured_jacobian: bool,
+    /// With the coloured Jacobian: a new iteration matrix for a new `c_j = α/h` (IDA asks for
+    /// one whenever `c_j` moves by more than 25 %, after every failed error test) is formed
+    /// from the last one's parts `∂F/∂y` and `∂F/∂y'`, with no residual evaluations, until
+    /// Newton's method fails to converge (default true). Newton's convergence, not the
+    /// accuracy, depends on it; false = new difference quotients every time (for comparison).
+    pub jacobian_reuse: bool,
     /// Work budget: IDA steps over the whole run, every restart included (default
     /// [`DEFAULT_MAX_STEPS`]; `None` = unlimited). Reaching it ends the run with
     /// [`SimErrorKind::WorkBudget`](crate::SimErrorKind::WorkBudget), whose diagnosis names the limiting cause.
@@ -101,6 +107,7 @@ impl SimOptions {
             dense_output: false,
             progress: true,
             structured_jacobian: true,
+            jacobian_reuse: true,
             max_steps: Some(DEFAULT_MAX_STEPS),
             max_wall_time: None,
             contact_tightening: DEFAULT_CONTACT_TIGHTENING,
@@ -141,6 +148,12 @@ impl SimOptions {
     /// [`SimOptions::structured_jacobian`]).
     pub fn structured_jacobian(mut self, on: bool) -> Self {
         self.structured_jacobian = on;
+        self
+    }
+    /// Forms the iteration matrix for a new `c_j` from the last one's parts (true, the
+    /// default) or anew (see [`SimOptions::jacobian_reuse`]).
+    pub fn jacobian_reuse(mut self, on: bool) -> Self {
+        self.jacobian_reuse = on;
         self
     }
     /// Records per-pair contact signals (`"<a>|<b>.f_n"`, … see

@@ -314,6 +314,43 @@ impl BlockLu {
         }
     }
 
+    /// The entries as laid out and written (call before [`Self::factor`]), into `out`: the
+    /// dense components, then the block-sparse ones, in storage order.
+    pub fn entries(&self, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend_from_slice(&self.lu);
+        for sc in &self.sparse[..self.n_sparse] {
+            out.extend_from_slice(&sc.vals);
+        }
+    }
+
+    /// Sets the entries to `a + s·b`, both taken by [`Self::entries`] in the current layout.
+    /// `false` (nothing written) if their lengths do not match the layout.
+    pub fn set_entries(&mut self, a: &[f64], b: &[f64], s: f64) -> bool {
+        let total = self.lu.len()
+            + self.sparse[..self.n_sparse]
+                .iter()
+                .map(|sc| sc.vals.len())
+                .sum::<usize>();
+        if a.len() != total || b.len() != total {
+            return false;
+        }
+        let stores = std::iter::once(&mut self.lu).chain(
+            self.sparse[..self.n_sparse]
+                .iter_mut()
+                .map(|sc| &mut sc.vals),
+        );
+        let mut at = 0;
+        for store in stores {
+            let m = store.len();
+            for ((d, &x), &y) in store.iter_mut().zip(&a[at..at + m]).zip(&b[at..at + m]) {
+                *d = x + s * y;
+            }
+            at += m;
+        }
+        true
+    }
+
     /// Factors every component in place. Returns the global index of the first zero pivot if a
     /// component is singular.
     pub fn factor(&mut self) -> Result<(), usize> {
@@ -1090,12 +1127,9 @@ mod tests {
         (err, lu)
     }
 
-    /// A triangular rack of 15 balls (13 unknowns each, couplings between touching balls) and a
-    /// stack of 10 bodies (a chain) are factored block-sparse and agree with nalgebra's dense LU
-    /// to round-off (the matrices are diagonally weighted, as an iteration matrix with
-    /// `c_j·M` on its diagonal is, condition ~1e2: 1e-12 is ~1e4 roundings).
-    #[test]
-    fn sparse_components_match_dense_lu() {
+    /// The couplings of a triangular rack of 15 balls (5 rows; each ball touches its row
+    /// neighbour and the two below it).
+    fn rack_of_15() -> Vec<(usize, usize)> {
         let mut rack = Vec::new();
         let id = |r: usize, c: usize| r * (r + 1) / 2 + c;
         for r in 0..5 {
@@ -1109,6 +1143,16 @@ mod tests {
                 }
             }
         }
+        rack
+    }
+
+    /// A triangular rack of 15 balls (13 unknowns each, couplings between touching balls) and a
+    /// stack of 10 bodies (a chain) are factored block-sparse and agree with nalgebra's dense LU
+    /// to round-off (the matrices are diagonally weighted, as an iteration matrix with
+    /// `c_j·M` on its diagonal is, condition ~1e2: 1e-12 is ~1e4 roundings).
+    #[test]
+    fn sparse_components_match_dense_lu() {
+        let rack = rack_of_15();
         let chain: Vec<_> = (0..9).map(|b| (b, b + 1)).collect();
         let mixed_sizes: Vec<usize> = (0..10).map(|b| [13, 6, 1, 7][b % 4]).collect();
         for (name, sizes, couplings) in [
@@ -1147,6 +1191,54 @@ mod tests {
                     "{name}: allocations"
                 );
             }
+        }
+    }
+
+    /// The parts of an iteration matrix kept by `entries` and recombined by `set_entries`
+    /// (`ida/linear.rs` forms the matrix at a new `c_j` so): `A + s·B` loaded that way solves
+    /// as nalgebra's dense LU of `A + s·B` does, to round-off, on a block-sparse rack and a
+    /// dense pair of blocks, and the recombination allocates nothing.
+    #[test]
+    fn entries_recombine_to_the_matrix_of_a_new_c_j() {
+        for (sizes, couplings) in [(vec![13; 15], rack_of_15()), (vec![6, 7], vec![(0, 1)])] {
+            let (a, col, _) = pattern(&sizes, &couplings, 4.0, 11);
+            let (b, _, _) = pattern(&sizes, &couplings, 9.0, 12);
+            let n = a.nrows();
+            let mut lu = BlockLu::default();
+            let load = |lu: &mut BlockLu, m: &DMatrix<f64>| {
+                lu.layout(&col, n, false);
+                for (i, j) in (0..n).flat_map(|i| (0..n).map(move |j| (i, j))) {
+                    if m[(i, j)] != 0.0 {
+                        lu.set(i, j, m[(i, j)]);
+                    }
+                }
+            };
+            lu.layout(&col, n, true);
+            let (mut ea, mut eb) = (vec![], vec![]);
+            load(&mut lu, &a);
+            lu.entries(&mut ea);
+            load(&mut lu, &b);
+            lu.entries(&mut eb);
+            let s = 2.5e3;
+            let rhs = DVector::<f64>::from_fn(n, |i, _| ((i * 7919) % 13) as f64 - 6.0);
+            let mut xs = rhs.as_slice().to_vec();
+            // A first factorisation sizes the buffers; the second allocates nothing.
+            for round in 0..2 {
+                xs.copy_from_slice(rhs.as_slice());
+                let before = crate::counting_alloc::allocs();
+                assert!(lu.set_entries(&ea, &eb, s));
+                lu.factor().unwrap();
+                lu.solve(&mut xs);
+                let allocated = crate::counting_alloc::allocs() - before;
+                assert!(round == 0 || allocated == 0, "{allocated} allocations");
+            }
+            let exact = (&a + &b * s).lu().solve(&rhs).unwrap();
+            let err = (DVector::from_vec(xs) - &exact).amax() / exact.amax();
+            assert!(err < 1e-12, "{} blocks: error {err:e}", sizes.len());
+            assert!(
+                !lu.set_entries(&ea[1..], &eb[1..], s),
+                "a wrong length is refused"
+            );
         }
     }
 

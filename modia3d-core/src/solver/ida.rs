@@ -78,6 +78,24 @@ struct CallbackState<S> {
     ewt_factor: Vec<f64>,
     /// Factors of the block-diagonal iteration matrix (with a colouring only).
     block_lu: BlockLu,
+    /// The parts `∂F/∂y` and `∂F/∂y'` of the last iteration matrix formed by difference
+    /// quotients, in the block LU's entry order, for matrices at a new `c_j` (`ida/linear.rs`).
+    jac_parts: JacobianParts,
+}
+
+/// See [`CallbackState::jac_parts`].
+#[derive(Default)]
+struct JacobianParts {
+    dy: Vec<f64>,
+    dyp: Vec<f64>,
+    /// The parts belong to the current structure and segment.
+    valid: bool,
+    /// IDA's count of nonlinear convergence failures when they were formed.
+    conv_fails: c_long,
+    /// Matrices formed from the parts in the current segment.
+    reuses: u64,
+    /// Reuse is on (`IdaOptions::jacobian_reuse`).
+    enabled: bool,
 }
 
 impl<S> CallbackState<S> {
@@ -161,6 +179,7 @@ impl<S: DaeSystem> Ida<S> {
             rtol: 0.0,
             ewt_factor: Vec::new(),
             block_lu: BlockLu::new(),
+            jac_parts: JacobianParts::default(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());
         let mut ida = Ida {
@@ -272,6 +291,7 @@ impl<S: DaeSystem> Ida<S> {
             if let Some(k) = opts.max_order {
                 self.check(sys::IDASetMaxOrd(mem, k as c_int), "IDASetMaxOrd")?;
             }
+            (*self.state).jac_parts.enabled = opts.jacobian_reuse;
             if opts.structured_jacobian {
                 let st = &mut *self.state;
                 let mut colouring = Colouring::default();
@@ -571,6 +591,8 @@ impl<S: DaeSystem> Ida<S> {
         check_state("yp", yp, self.n)?;
         self.base_stats += self.segment_stats();
         self.state_mut().jac_residuals = 0;
+        self.state_mut().jac_parts.reuses = 0;
+        self.state_mut().jac_parts.valid = false;
         // SAFETY: y and yp are valid vectors of length n (validated lengths).
         unsafe {
             slice::from_raw_parts_mut(sys::N_VGetArrayPointer(self.y), self.n).copy_from_slice(y);
@@ -678,6 +700,7 @@ impl<S: DaeSystem> Ida<S> {
             steps: get(sys::IDAGetNumSteps),
             residual_evals: get(sys::IDAGetNumResEvals),
             jacobian_evals: get(sys::IDAGetNumJacEvals),
+            jacobian_reuses: self.state_ref().jac_parts.reuses,
             residual_evals_for_jacobian: get(sys::IDAGetNumLinResEvals)
                 + self.state_ref().jac_residuals,
             error_test_failures: get(sys::IDAGetNumErrTestFails),

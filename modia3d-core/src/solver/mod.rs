@@ -117,6 +117,20 @@ pub trait DaeSystem {
         Ok(())
     }
 
+    /// `∂F/∂y'` at `args.y` (`args.c_j` unused), written into `out` as [`DaeSystem::jacobian`]
+    /// writes its columns, every nonzero entry inside the block structure; returns whether it
+    /// did. With it, the solver forms the iteration matrix `∂F/∂y + c_j ∂F/∂y'` for a new
+    /// `c_j` from the last one's parts instead of new difference quotients (IDA asks for a new
+    /// matrix whenever `c_j = α/h` moves by more than 25 %, as after every failed error test).
+    /// Default: not available (`Ok(false)`), and every matrix is formed anew.
+    fn yp_jacobian(
+        &mut self,
+        _args: &JacobianArgs<'_>,
+        _out: &mut dyn JacobianSink,
+    ) -> Result<bool, ResidualError> {
+        Ok(false)
+    }
+
     /// Upper bounds on the sizes of the difference-quotient increments of the solver's
     /// coloured Jacobian, per unknown, at the point of `args` (called once per Jacobian, after
     /// [`DaeSystem::jacobian`]): `caps` (len n) arrives filled with `+∞` (no bound); the

@@ -53,6 +53,10 @@ pub struct IdaOptions {
     /// coloured difference-quotient Jacobian (default true); false = IDA's dense difference
     /// quotients, one residual evaluation per unknown.
     pub structured_jacobian: bool,
+    /// With the coloured Jacobian and a system with [`super::DaeSystem::yp_jacobian`]: the
+    /// iteration matrix for a new `c_j` from the last difference-quotient matrix's parts
+    /// until Newton's method fails to converge (default true).
+    pub jacobian_reuse: bool,
 }
 
 impl Default for IdaOptions {
@@ -69,6 +73,7 @@ impl Default for IdaOptions {
             nonlinear_convergence_coefficient: None,
             max_order: None,
             structured_jacobian: true,
+            jacobian_reuse: true,
         }
     }
 }

@@ -15,6 +15,10 @@ pub struct IdaStats {
     pub residual_evals: u64,
     /// Jacobian evaluations (matrix set-ups).
     pub jacobian_evals: u64,
+    /// Of `jacobian_evals`, those formed from the last difference-quotient Jacobian's parts
+    /// `∂F/∂y` and `∂F/∂y'` for a new `c_j` (no residual evaluations; see
+    /// [`super::DaeSystem::yp_jacobian`]).
+    pub jacobian_reuses: u64,
     /// Residual evaluations spent on difference-quotient Jacobians.
     pub residual_evals_for_jacobian: u64,
     /// Local error test failures.
@@ -46,6 +50,7 @@ impl Add for IdaStats {
             steps: self.steps + rhs.steps,
             residual_evals: self.residual_evals + rhs.residual_evals,
             jacobian_evals: self.jacobian_evals + rhs.jacobian_evals,
+            jacobian_reuses: self.jacobian_reuses + rhs.jacobian_reuses,
             residual_evals_for_jacobian: self.residual_evals_for_jacobian
                 + rhs.residual_evals_for_jacobian,
             error_test_failures: self.error_test_failures + rhs.error_test_failures,

@@ -75,7 +75,26 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 return -1;
             }
         };
+        if rebuilt {
+            st.jac_parts.valid = false;
+        }
+        let mut conv_fails: c_long = 0;
+        // SAFETY: mem is the running IDA memory.
+        unsafe { sys::IDAGetNumNonlinSolvConvFails(st.mem, &mut conv_fails) };
         st.block_lu.layout(col, n, rebuilt);
+        let jp = &mut st.jac_parts;
+        if jp.enabled
+            && jp.valid
+            && jp.conv_fails == conv_fails
+            && st.block_lu.set_entries(&jp.dy, &jp.dyp, c_j)
+        {
+            // IDA asks again because c_j moved (a new step size, a failed error test): the
+            // same ∂F/∂y with the new c_j ∂F/∂y'. IDA's modified Newton iteration uses an
+            // iteration matrix from an earlier point anyway; when Newton fails with it (a
+            // convergence failure since the parts were formed), the next matrix is new.
+            jp.reuses += 1;
+            return 0;
+        }
         if col.any_analytic() {
             // The system's own columns first (the quotients below set other columns only).
             let args = JacobianArgs {
@@ -168,10 +187,54 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
                 }
             }
         }
+        let args = JacobianArgs {
+            t,
+            c_j,
+            h: hh,
+            y,
+            yp: ypv,
+            zero_size: &st.zero_size,
+        };
+        let parts = (&mut st.block_lu, &mut st.jac_parts);
+        keep_parts(&mut st.system, parts, col, n, &args, conv_fails);
         0
     }));
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome, "in the Jacobian: ") }
+}
+
+/// After a Jacobian by difference quotients (in the block LU, not yet factored): keeps its
+/// parts `∂F/∂y = J − c_j ∂F/∂y'` and `∂F/∂y'` (from [`DaeSystem::yp_jacobian`]) for the
+/// matrices at the next values of `c_j`, and leaves the block LU holding `J` as it was.
+fn keep_parts<S: DaeSystem>(
+    system: &mut S,
+    (lu, jp): (&mut BlockLu, &mut JacobianParts),
+    col: &Colouring,
+    n: usize,
+    args: &JacobianArgs<'_>,
+    conv_fails: c_long,
+) {
+    jp.valid = false;
+    if !jp.enabled {
+        return;
+    }
+    lu.entries(&mut jp.dy);
+    lu.layout(col, n, false);
+    let mut sink = LuSink { lu, bad: None };
+    let available = matches!(system.yp_jacobian(args, &mut sink), Ok(true)) && sink.bad.is_none();
+    lu.entries(&mut jp.dyp);
+    if !available || !lu.set_entries(&jp.dy, &jp.dyp, 0.0) {
+        // J back as it was (nothing kept).
+        let dy = std::mem::take(&mut jp.dy);
+        lu.set_entries(&dy, &dy, 0.0);
+        jp.dy = dy;
+        return;
+    }
+    for (a, d) in jp.dy.iter_mut().zip(&jp.dyp) {
+        *a -= args.c_j * d;
+    }
+    jp.valid = true;
+    jp.conv_fails = conv_fails;
 }
 
 /// The Jacobian callback's return flag for an `Err` of the system: 1 (recoverable: IDA
