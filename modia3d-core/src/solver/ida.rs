@@ -96,6 +96,12 @@ struct JacobianParts {
     reuses: u64,
     /// Reuse is on (`IdaOptions::jacobian_reuse`).
     enabled: bool,
+    /// IDA's count of convergence failures at the last request, whether the last matrix came
+    /// from the parts, the matrices still to form anew and the next such penalty.
+    conv_seen: c_long,
+    last_reused: bool,
+    skip: u32,
+    penalty: u32,
 }
 
 impl<S> CallbackState<S> {

@@ -83,8 +83,25 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         unsafe { sys::IDAGetNumNonlinSolvConvFails(st.mem, &mut conv_fails) };
         st.block_lu.layout(col, n, rebuilt);
         let jp = &mut st.jac_parts;
+        // A matrix from the parts that Newton failed with (a convergence failure since the
+        // last request) makes the next `penalty` matrices new ones, the penalty doubling
+        // while that repeats and dropping back once such a matrix serves: on a scene whose
+        // ∂F/∂y changes within a step (a light body carrying others) the parts would
+        // otherwise cost a failed Newton iteration and a step cut by 4 per reuse.
+        let failed = conv_fails != jp.conv_seen;
+        jp.conv_seen = conv_fails;
+        if jp.last_reused {
+            if failed {
+                jp.penalty = (jp.penalty * 2).clamp(MIN_PENALTY, MAX_PENALTY);
+                jp.skip = jp.penalty;
+            } else {
+                jp.penalty = 0;
+            }
+        }
+        jp.last_reused = false;
         if jp.enabled
             && jp.valid
+            && jp.skip == 0
             && jp.conv_fails == conv_fails
             && st.block_lu.set_entries(&jp.dy, &jp.dyp, c_j)
         {
@@ -93,8 +110,10 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
             // iteration matrix from an earlier point anyway; when Newton fails with it (a
             // convergence failure since the parts were formed), the next matrix is new.
             jp.reuses += 1;
+            jp.last_reused = true;
             return 0;
         }
+        jp.skip = jp.skip.saturating_sub(1);
         if col.any_analytic() {
             // The system's own columns first (the quotients below set other columns only).
             let args = JacobianArgs {
@@ -202,6 +221,11 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, t, outcome, "in the Jacobian: ") }
 }
+
+/// Matrices formed anew after the first failure of Newton's method with a matrix from the
+/// parts, and the most after repeated ones (see `jacobian_callback`).
+const MIN_PENALTY: u32 = 4;
+const MAX_PENALTY: u32 = 1024;
 
 /// After a Jacobian by difference quotients (in the block LU, not yet factored): keeps its
 /// parts `∂F/∂y = J − c_j ∂F/∂y'` and `∂F/∂y'` (from [`DaeSystem::yp_jacobian`]) for the
