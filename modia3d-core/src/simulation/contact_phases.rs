@@ -259,10 +259,10 @@ impl Simulation {
                 let three = |x: &[f64; SAMPLES]| -> Option<[f64; 3]> {
                     x.get(c - 1..=c + 1)?.try_into().ok()
                 };
-                let Some((tv, fv)) = three(&times)
-                    .zip(three(&value))
-                    .and_then(|(tt, ff)| parabola_max(tt, ff))
-                else {
+                let Some((tt, ff)) = three(&times).zip(three(&value)) else {
+                    continue;
+                };
+                let Some((tv, fv)) = parabola_max(tt, ff) else {
                     continue;
                 };
                 let best = self
@@ -275,9 +275,6 @@ impl Simulation {
                     // Successive parabolic interpolation (the samples lie up to 0.55 h apart):
                     // the vertex, then the vertex of the parabola through the largest of the
                     // four points and its neighbours.
-                    let Some((tt, ff)) = three(&times).zip(three(&value)) else {
-                        continue;
-                    };
                     let mut pts = [(tt[0], ff[0]), (tt[1], ff[1]), (tt[2], ff[2])];
                     let mut tv = tv;
                     for _ in 0..2 {

@@ -81,7 +81,6 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
         let mut conv_fails: c_long = 0;
         // SAFETY: mem is the running IDA memory.
         unsafe { sys::IDAGetNumNonlinSolvConvFails(st.mem, &mut conv_fails) };
-        st.block_lu.layout(col, n, rebuilt);
         let jp = &mut st.jac_parts;
         // A matrix from the parts that Newton failed with (a convergence failure since the
         // last request) makes the next `penalty` matrices new ones, the penalty doubling
@@ -106,14 +105,15 @@ pub(super) unsafe extern "C" fn jacobian_callback<S: DaeSystem>(
             && st.block_lu.set_entries(&jp.dy, &jp.dyp, c_j)
         {
             // IDA asks again because c_j moved (a new step size, a failed error test): the
-            // same ∂F/∂y with the new c_j ∂F/∂y'. IDA's modified Newton iteration uses an
-            // iteration matrix from an earlier point anyway; when Newton fails with it (a
-            // convergence failure since the parts were formed), the next matrix is new.
+            // same ∂F/∂y with the new c_j ∂F/∂y', written over every entry of the unchanged
+            // layout. IDA's modified Newton iteration uses an iteration matrix from an
+            // earlier point anyway; after a convergence failure the next matrix is new.
             jp.reuses += 1;
             jp.last_reused = true;
             return 0;
         }
         jp.skip = jp.skip.saturating_sub(1);
+        st.block_lu.layout(col, n, rebuilt);
         if col.any_analytic() {
             // The system's own columns first (the quotients below set other columns only).
             let args = JacobianArgs {
@@ -247,11 +247,9 @@ fn keep_parts<S: DaeSystem>(
     let mut sink = LuSink { lu, bad: None };
     let available = matches!(system.yp_jacobian(args, &mut sink), Ok(true)) && sink.bad.is_none();
     lu.entries(&mut jp.dyp);
-    if !available || !lu.set_entries(&jp.dy, &jp.dyp, 0.0) {
-        // J back as it was (nothing kept).
-        let dy = std::mem::take(&mut jp.dy);
-        lu.set_entries(&dy, &dy, 0.0);
-        jp.dy = dy;
+    // J back as it was (`dyp` is finite: the sink writes no run with a non-finite value).
+    lu.set_entries(&jp.dy, &jp.dyp, 0.0);
+    if !available {
         return;
     }
     for (a, d) in jp.dy.iter_mut().zip(&jp.dyp) {
