@@ -426,6 +426,17 @@ impl DaeSystem for SpringChain {
 }
 
 fn run_chain(structure: Option<bool>) -> (Vec<f64>, IdaStats) {
+    let mut sys = SpringChain { structure };
+    let (y0, yp0) = chain_start(&mut sys);
+    let opts = IdaOptions::default().rtol(1e-9).atol(1e-12);
+    let mut ida = Ida::new(sys, 0.0, &y0, &yp0, &opts).unwrap();
+    ida.solve(2.0, false).unwrap();
+    (ida.y().to_vec(), ida.stats())
+}
+
+/// The spring chain's initial state (masses displaced by 0.01·(i + 1) m, at rest) and its
+/// consistent `y'(0)`: the residual at `y' = 0` is `−(v, f)`, so `y' = −r`.
+fn chain_start(sys: &mut SpringChain) -> (Vec<f64>, Vec<f64>) {
     let n = 2 * SpringChain::N;
     let y0: Vec<f64> = (0..n)
         .map(|i| {
@@ -436,16 +447,31 @@ fn run_chain(structure: Option<bool>) -> (Vec<f64>, IdaStats) {
             }
         })
         .collect();
-    let mut sys = SpringChain { structure };
     let mut r = vec![0.0; n];
     let zeros = vec![0.0; n];
-    // Consistent y'(0): the residual at y' = 0 is −(v, f), so y' = −r.
     sys.residual(0.0, &y0, &zeros, &mut r).unwrap();
-    let yp0: Vec<f64> = r.iter().map(|x| -x).collect();
-    let opts = IdaOptions::default().rtol(1e-9).atol(1e-12);
-    let mut ida = Ida::new(sys, 0.0, &y0, &yp0, &opts).unwrap();
-    ida.solve(2.0, false).unwrap();
-    (ida.y().to_vec(), ida.stats())
+    (y0, r.iter().map(|x| -x).collect())
+}
+
+/// The chain's exact state at `t`: the system is linear, `y' = A y` with `A`'s column `j`
+/// the residual's response to `e_j` (`y' = −r(y = e_j, y' = 0)`), so `y(t) = exp(A t) y(0)`
+/// (nalgebra's Padé matrix exponential, ~1e-12 relative here: ‖A t‖ ≈ 1e4).
+fn chain_exact(t: f64) -> Vec<f64> {
+    let mut sys = SpringChain { structure: None };
+    let n = 2 * SpringChain::N;
+    let (y0, _) = chain_start(&mut sys);
+    let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+    let (mut e, zeros, mut r) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for j in 0..n {
+        e.fill(0.0);
+        e[j] = 1.0;
+        sys.residual(0.0, &e, &zeros, &mut r).unwrap();
+        for i in 0..n {
+            a[(i, j)] = -r[i];
+        }
+    }
+    let y = (a * t).exp() * nalgebra::DVector::from_vec(y0);
+    y.iter().copied().collect()
 }
 
 #[test]
@@ -456,16 +482,30 @@ fn coloured_jacobian_matches_dense_and_costs_less() {
     println!("dense {s_dense:?}\ncoloured {s_col:?}\nwrong structure {s_wrong:?}");
     // Both are the same BDF method; the Jacobians agree to difference-quotient error (the
     // problem is linear, but the coloured path's increments are √ε·atol/rtol where IDA's are
-    // 1/w_j, so the round-off differs): the step sequences stay within 2 % and the solutions
-    // agree within the global error of rtol 1e-9 (≈ 1e-8 of the 0.06 m amplitude; measured
-    // 3.5e-9).
-    let diff = y_dense
-        .iter()
-        .zip(&y_col)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
-    assert!(diff < 1e-8, "coloured vs dense: max |Δy| = {diff:e}");
-    let close = |a: u64, b: u64| (a as f64 - b as f64).abs() <= 0.02 * b as f64;
+    // 1/w_j, so the round-off differs, and with it IDA's choices of step and order). So each
+    // run is checked against the exact solution, not against the other's bits. IDA bounds the
+    // local error (rtol 1e-9 of the 0.06 m amplitude, 6e-11 per step); over ~4,400 steps and
+    // ten periods the phase error accumulates coherently to ~2.6e-7. Bound 5e-7, twice that;
+    // measured 2.77e-7 (dense), 2.75e-7 (coloured), and an rtol 1e-12 run within 9e-10 of
+    // the exact solution (so the reference is not what limits). The two runs agree far
+    // better than either with the exact solution (3.5e-9) because they share the phase error,
+    // which is why their difference is no measure of either's accuracy.
+    let exact = chain_exact(2.0);
+    let err = |y: &[f64]| {
+        y.iter()
+            .zip(&exact)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+    };
+    let (e_dense, e_col) = (err(&y_dense), err(&y_col));
+    println!("error against exp(A t) y0: dense {e_dense:e}, coloured {e_col:e}");
+    assert!(e_dense < 5e-7, "dense: max |Δy| = {e_dense:e}");
+    assert!(e_col < 5e-7, "coloured: max |Δy| = {e_col:e}");
+    // The same method, so about the same work; not the same steps to the last one: the
+    // rounding of the linear solve moves IDA's step and order choices (measured 4,426 against
+    // 4,409; 4,607 with the back substitution multiplying by reciprocals, branch
+    // `lu-reciprocal-diagonal`). 10 %: a Jacobian wrong enough to matter costs more than that.
+    let close = |a: u64, b: u64| (a as f64 - b as f64).abs() <= 0.1 * b as f64;
     assert!(
         close(s_col.steps, s_dense.steps)
             && close(s_col.nonlinear_iterations, s_dense.nonlinear_iterations),
