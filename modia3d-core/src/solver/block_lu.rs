@@ -651,7 +651,8 @@ impl SparseComp {
                             }
                         }
                     }
-                    let inv = 1.0 / d[c * s + c];
+                    // The factors keep U's diagonal as reciprocals (`lu_in_place`).
+                    let inv = d[c * s + c];
                     for lc in &mut l[c * sq..(c + 1) * sq] {
                         *lc *= inv;
                     }
@@ -754,8 +755,14 @@ impl SparseComp {
 }
 
 /// LU with partial pivoting of the column-major `m × m` matrix `a` in place (unit lower `L`
-/// below the diagonal, `U` on and above); `piv[k]` = row swapped with row k at step k.
-/// Err(k) when column k has no non-zero pivot.
+/// below the diagonal, `U` above it and **the reciprocals of `U`'s diagonal on it**);
+/// `piv[k]` = row swapped with row k at step k. Err(k) when column k has no non-zero pivot.
+///
+/// Why reciprocals: the back substitution is a chain of dependent operations (each `x_j`
+/// waits for the updates of the ones after it), and a division's latency is three to four
+/// times a multiplication's; with `1/u_jj` at hand the 13 × 13 solves that dominate contact
+/// scenes (several per step, one factorisation) multiply instead (BENCHMARKS.md "Fixed-size
+/// LU kernels"). The factorisation computes `1/u_kk` anyway, to scale the column below it.
 ///
 /// Sizes 13 and 26 (see [`lu_solve`]) take [`lu_in_place_fixed`].
 fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> {
@@ -783,6 +790,7 @@ fn lu_in_place_general(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(),
             }
         }
         let inv = 1.0 / a[col_k + k];
+        a[col_k + k] = inv;
         for i in k + 1..m {
             a[col_k + i] *= inv;
         }
@@ -831,6 +839,7 @@ fn lu_in_place_fixed<const M: usize>(a: &mut [f64], piv: &mut [usize]) -> Result
             return Err(k);
         };
         let inv = 1.0 / ck[k];
+        ck[k] = inv;
         for x in &mut ck[k + 1..] {
             *x *= inv;
         }
@@ -903,7 +912,7 @@ fn lu_solve_fixed<const M: usize>(a: &[f64], piv: &[usize], b: &mut [f64]) {
         let Ok(col) = <&[f64; M]>::try_from(col) else {
             return;
         };
-        b[j] /= col[j];
+        b[j] *= col[j];
         let bj = b[j];
         if bj != 0.0 {
             for i in 0..j {
@@ -927,13 +936,13 @@ fn unit_lower_solve(a: &[f64], m: usize, b: &mut [f64]) {
     }
 }
 
-/// `b ← U⁻¹ b` with the upper triangle (diagonal included) of the column-major `m × m`
-/// factors `a`.
+/// `b ← U⁻¹ b` with the upper triangle of the column-major `m × m` factors `a` (its diagonal
+/// held as reciprocals, [`lu_in_place`]).
 fn upper_solve(a: &[f64], m: usize, b: &mut [f64]) {
     let b = &mut b[..m];
     for (j, col) in a.chunks_exact(m).enumerate().take(m).rev() {
         let (above, rest) = b.split_at_mut(j);
-        rest[0] /= col[j];
+        rest[0] *= col[j];
         let bj = rest[0];
         if bj != 0.0 {
             for (bi, &aij) in above.iter_mut().zip(&col[..j]) {

@@ -486,7 +486,8 @@ fn coloured_jacobian_matches_dense_and_costs_less() {
     // run is checked against the exact solution, not against the other's bits. IDA bounds the
     // local error (rtol 1e-9 of the 0.06 m amplitude, 6e-11 per step); over ~4,400 steps and
     // ten periods the phase error accumulates coherently to ~2.6e-7. Bound 5e-7, twice that;
-    // measured 2.77e-7 (dense), 2.75e-7 (coloured), and an rtol 1e-12 run within 9e-10 of
+    // measured 2.77e-7 (dense), 1.86e-7 (coloured; 2.75e-7 with a division per pivot in the
+    // block LU's back substitution), and an rtol 1e-12 run within 9e-10 of
     // the exact solution (so the reference is not what limits). The two runs agree far
     // better than either with the exact solution (3.5e-9) because they share the phase error,
     // which is why their difference is no measure of either's accuracy.
@@ -503,8 +504,8 @@ fn coloured_jacobian_matches_dense_and_costs_less() {
     assert!(e_col < 5e-7, "coloured: max |Δy| = {e_col:e}");
     // The same method, so about the same work; not the same steps to the last one: the
     // rounding of the linear solve moves IDA's step and order choices (measured 4,426 against
-    // 4,409; 4,607 with the back substitution multiplying by reciprocals, branch
-    // `lu-reciprocal-diagonal`). 10 %: a Jacobian wrong enough to matter costs more than that.
+    // 4,409 with a division per pivot in the back substitution, 4,607 since it multiplies by
+    // reciprocals). 10 %: a Jacobian wrong enough to matter costs more than that.
     let close = |a: u64, b: u64| (a as f64 - b as f64).abs() <= 0.1 * b as f64;
     assert!(
         close(s_col.steps, s_dense.steps)
