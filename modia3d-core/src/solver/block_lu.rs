@@ -761,8 +761,9 @@ impl SparseComp {
 /// Why reciprocals: the back substitution is a chain of dependent operations (each `x_j`
 /// waits for the updates of the ones after it), and a division's latency is three to four
 /// times a multiplication's; with `1/u_jj` at hand the 13 × 13 solves that dominate contact
-/// scenes (several per step, one factorisation) multiply instead (BENCHMARKS.md "Fixed-size
-/// LU kernels"). The factorisation computes `1/u_kk` anyway, to scale the column below it.
+/// scenes (several per step, one factorisation) multiply instead (BENCHMARKS.md "U's
+/// diagonal as reciprocals"). The factorisation computes `1/u_kk` anyway, to scale the column
+/// below it.
 ///
 /// Sizes 13 and 26 (see [`lu_solve`]) take [`lu_in_place_fixed`].
 fn lu_in_place(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(), usize> {
