@@ -66,7 +66,7 @@ pub(super) struct FreeBody {
 /// The one body a force element acts on and depends on, if there is exactly one: `Ok(body)`;
 /// `Err(bodies)` with the bodies it touches otherwise (a joint spring-damper is never one
 /// body's own: it acts on joint coordinates, not on `f_ext`).
-fn own_body(plan: &Plan, f: &ValidForce) -> Result<BodyId, [Option<BodyId>; 2]> {
+pub(super) fn own_body(plan: &Plan, f: &ValidForce) -> Result<BodyId, [Option<BodyId>; 2]> {
     let body = |o: usize| {
         plan.objects
             .get(crate::dynamics::ObjectId(o))
@@ -200,7 +200,7 @@ fn rotation_tangent(q: &Vector4<f64>) -> SMatrix<f64, 3, 4> {
 
 /// Directional derivative of [`Inertia::bias_force`] at `m` along `dm` (the bias force is
 /// quadratic in the velocity, so this is exact).
-fn bias_force_derivative(i: &Inertia, m: &Motion, dm: &Motion) -> Force {
+pub(super) fn bias_force_derivative(i: &Inertia, m: &Motion, dm: &Motion) -> Force {
     let c = &i.com;
     let wc = m.w.cross(c);
     let lin = (m.v + wc) * i.mass;
@@ -598,6 +598,7 @@ impl MultibodyDae {
         args: &JacobianArgs<'_>,
         out: &mut dyn JacobianSink,
     ) -> Result<(), ResidualError> {
+        self.hinge_jacobian(args, out)?;
         let Some(tb) = &self.blocks else {
             return Ok(());
         };
@@ -632,7 +633,7 @@ impl MultibodyDae {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::MultibodyDae;
     use crate::solver::{BlockStructure, DaeSystem, JacobianArgs};
     use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
@@ -1383,34 +1384,47 @@ mod tests {
             dae.handle_event(0.0, &y).unwrap();
             let mut rnd = rng(seed + 70);
             let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
-            let mut d = vec![0.0; n * n];
-            let zero_size = vec![1e-6; n];
-            let args = JacobianArgs {
-                t: 0.0,
-                c_j: 1.0,
-                h: 1e-3,
-                y: &y,
-                yp: &yp,
-                zero_size: &zero_size,
-            };
-            let mut sink = |i: usize, j: usize, v: f64| d[j * n + i] += v;
-            assert!(dae.yp_jacobian(&args, &mut sink).unwrap());
-            let mut base = vec![0.0; n];
-            dae.residual(0.0, &y, &yp, &mut base).unwrap();
-            for j in 0..n {
-                let mut yp2 = yp.clone();
-                yp2[j] += 1.0;
-                let mut r = vec![0.0; n];
-                dae.residual(0.0, &y, &yp2, &mut r).unwrap();
-                let big = (0..n).map(|i| (r[i] - base[i]).abs()).fold(0.0, f64::max);
-                for i in 0..n {
-                    let q = r[i] - base[i];
-                    assert!(
-                        (q - d[j * n + i]).abs() <= 1e-9 * big + 1e-9,
-                        "seed {seed}: entry ({i}, {j}): quotient {q:e}, yp_jacobian {:e}",
-                        d[j * n + i]
-                    );
-                }
+            assert_yp_jacobian_is_exact(&mut dae, &y, &yp, &format!("seed {seed}"));
+        }
+    }
+
+    /// Asserts that `dae.yp_jacobian` at (`y`, `yp`) equals the quotients of the residual
+    /// in `y'` with increment 1 to `1e-9` of each column's largest change plus 1e-9 (the
+    /// residual is linear in `y'`, so only its rounding differs).
+    pub(in crate::dae) fn assert_yp_jacobian_is_exact(
+        dae: &mut MultibodyDae,
+        y: &[f64],
+        yp: &[f64],
+        what: &str,
+    ) {
+        let n = dae.len();
+        let mut d = vec![0.0; n * n];
+        let zero_size = vec![1e-6; n];
+        let args = JacobianArgs {
+            t: 0.0,
+            c_j: 1.0,
+            h: 1e-3,
+            y,
+            yp,
+            zero_size: &zero_size,
+        };
+        let mut sink = |i: usize, j: usize, v: f64| d[j * n + i] += v;
+        assert!(dae.yp_jacobian(&args, &mut sink).unwrap());
+        let mut base = vec![0.0; n];
+        dae.residual(0.0, y, yp, &mut base).unwrap();
+        for j in 0..n {
+            let mut yp2 = yp.to_vec();
+            yp2[j] += 1.0;
+            let mut r = vec![0.0; n];
+            dae.residual(0.0, y, &yp2, &mut r).unwrap();
+            let big = (0..n).map(|i| (r[i] - base[i]).abs()).fold(0.0, f64::max);
+            for i in 0..n {
+                let q = r[i] - base[i];
+                assert!(
+                    (q - d[j * n + i]).abs() <= 1e-9 * big + 1e-9,
+                    "{what}: entry ({i}, {j}): quotient {q:e}, yp_jacobian {:e}",
+                    d[j * n + i]
+                );
             }
         }
     }

@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 #[cfg(test)]
 pub(crate) mod alloc_tests;
+mod hinge_jacobian;
 mod increment_caps;
 mod jacobian;
 
@@ -75,6 +76,8 @@ pub struct MultibodyDae {
     /// inverse dynamics must not disturb the residual's), the velocity indices of each tree,
     /// zero velocities, a unit acceleration per tree and one column of `M`.
     mass: MassColumns,
+    /// The hinge trees and the scratch of their exact columns (`dae/hinge_jacobian.rs`).
+    hinge: hinge_jacobian::HingeTrees,
 }
 
 /// Scratch of [`DaeSystem::yp_jacobian`] (allocated with the DAE).
@@ -177,6 +180,9 @@ impl MultibodyDae {
         }
         let nb = plan.bodies.len();
         let n_trees = blocks.as_ref().map_or(0, |b| b.fixed.n_blocks);
+        let hinge = blocks.as_ref().map_or_else(Default::default, |b| {
+            hinge_jacobian::HingeTrees::new(&plan, &b.of_body, n_trees)
+        });
         MultibodyDae {
             body_of_q,
             body_of_v,
@@ -195,6 +201,7 @@ impl MultibodyDae {
                 e: vec![0.0; plan.nv],
                 col: vec![0.0; plan.nv],
             },
+            hinge,
             plan,
             contact_plan,
             ws,
@@ -521,11 +528,20 @@ impl DaeSystem for MultibodyDae {
         // free body (whose rows the pair-local quotients cannot fill).
         s.analytic.clear();
         s.analytic.extend(tb.free.iter().map(Option::is_some));
+        // So are a hinge tree's (`dae/hinge_jacobian.rs`) while no pair of the set touches it.
+        for (a, &h) in s.analytic.iter_mut().zip(&self.hinge.is_hinge) {
+            *a |= h;
+        }
         if let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) {
             for (_, pp, _) in cs.active_pairs() {
                 let (a, b) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
                 let tree = |x: Option<crate::dynamics::BodyId>| x.map(|x| tb.of_body[x.index()]);
                 let (ta, tb_) = (tree(a), tree(b));
+                for t in [ta, tb_].into_iter().flatten() {
+                    if self.hinge.is_hinge[t] {
+                        s.analytic[t] = false;
+                    }
+                }
                 for (this, other) in [(ta, tb_), (tb_, ta)] {
                     if let (Some(this), Some(other)) = (this, other) {
                         if tb.free[other].is_none() {
@@ -626,12 +642,23 @@ impl DaeSystem for MultibodyDae {
         }
         let mc = &mut self.mass;
         kinematics::position_velocity(plan, &mut mc.ws, q, &mc.zero_v);
+        // The hinge trees' columns by their own pass (`dae/hinge_jacobian.rs`), the other
+        // trees' by Newton–Euler passes with unit accelerations.
+        self.hinge.mass_columns(plan, &mc.ws, out);
+        let hinge = &self.hinge.is_hinge;
+        let others = || {
+            mc.groups
+                .iter()
+                .enumerate()
+                .filter(|&(t, _)| !hinge.get(t).copied().unwrap_or(false))
+                .map(|(_, g)| g)
+        };
         mc.ws.f_ext.fill(crate::dynamics::spatial::Force::default());
-        let width = mc.groups.iter().map(Vec::len).max().unwrap_or(0);
+        let width = others().map(Vec::len).max().unwrap_or(0);
         let prescribed = |k: usize| plan.prescribed.get(k).is_some_and(Option::is_some);
         for c in 0..width {
             mc.e.fill(0.0);
-            for g in mc.groups.iter().filter(|g| c < g.len()) {
+            for g in others().filter(|g| c < g.len()) {
                 mc.e[g[c]] = 1.0;
             }
             rnea::residual_dynamics(
@@ -642,7 +669,7 @@ impl DaeSystem for MultibodyDae {
                 &mut mc.col,
                 None,
             );
-            for g in mc.groups.iter().filter(|g| c < g.len()) {
+            for g in others().filter(|g| c < g.len()) {
                 let j = g[c];
                 for &i in g.iter().filter(|&&i| !prescribed(i)) {
                     out.add(nq + i, nq + j, &[mc.col[i]]);
@@ -653,6 +680,19 @@ impl DaeSystem for MultibodyDae {
             out.add(nq + k, nq + k, &[1.0]);
         }
         Ok(true)
+    }
+}
+
+/// `Err` (fatal) if a force law failed in the last `forces::applied_forces` of `ws`; the
+/// driver takes the fault (with the element's name) when IDA stops.
+fn fault_check(ws: &Workspace) -> Result<(), ResidualError> {
+    match &ws.fault {
+        Some(f) => Err(ResidualError::Fatal(format!(
+            "{} failed at t = {} s",
+            f.element_name(),
+            f.t
+        ))),
+        None => Ok(()),
     }
 }
 
@@ -696,14 +736,7 @@ impl MultibodyDae {
             kinematics::position_velocity(plan, &mut self.ws, q, v);
         }
         forces::applied_forces(plan, &mut self.ws, t, q, v);
-        if let Some(f) = &self.ws.fault {
-            // The driver takes the fault (with the element's name) when IDA stops.
-            return Err(ResidualError::Fatal(format!(
-                "{} failed at t = {} s",
-                f.element_name(),
-                f.t
-            )));
-        }
+        fault_check(&self.ws)?;
         if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
             if quotient {
                 cs.evaluate_moved(plan, cp, &mut self.ws, t, &self.moved)
