@@ -26,19 +26,32 @@
 //! outside the subtree and its ancestors in the backward pass, so a column costs those
 //! bodies only. Exact up to rounding (`tests` against central differences of the residual).
 //!
+//! Contacts: the pairs of the contact set between the tree and fixed shapes, or between two
+//! of its own bodies, add the derivatives of their wrenches to `δfᵢ` (`− δf_ext`), each by a
+//! pair-local quotient along the column's tangent: the pair's bodies the column moves placed
+//! at `x ± inc·(δθ, δx)` (the placement tangent, propagated as `δv` is without the velocity
+//! terms) with velocities `v ± inc·δv`, the pair's narrow phase (position columns) and force
+//! law evaluated again — the increment `inc` of the column's unknown with the caps of
+//! `dae/increment_caps.rs`, central where `h·y'` = 0, as the free bodies' pair-local quotients
+//! of `dae/jacobian.rs`. A pair apart within the set's hysteresis adds nothing.
+//!
 //! A tree qualifies when nothing else acts on its bodies: no force element but joint
 //! spring-dampers on its joints, no point gravity, no input but joint forces, no prescribed
 //! motion and no loop (each would add terms this pass does not have); and, per Jacobian, no
-//! pair of the contact set touches it (`MultibodyDae::jacobian_structure`): such a tree keeps
-//! the quotients. Allocation-free after construction.
+//! pair of the contact set ties it to another moving tree, and none of its pairs' narrow
+//! phases has stopped at its iteration limit (`MultibodyDae::jacobian_structure`): such a tree
+//! keeps the solver's quotients. Allocation-free after warm-up.
 
-use super::jacobian::{bias_force_derivative, own_body};
+use super::jacobian::{bias_force_derivative, central_back, own_body};
 use super::MultibodyDae;
-use crate::dynamics::spatial::{Force, Motion};
+use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
+use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
+use crate::dynamics::BodyId;
 use crate::dynamics::{forces, kinematics, rnea, InputTarget, Plan, Workspace};
+use crate::geometry::narrow_phase::{ContactPatch, SignedDistance};
 use crate::joints::JointCoord;
 use crate::scene::ValidForce;
-use crate::solver::{JacobianArgs, JacobianSink, ResidualError};
+use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
 use nalgebra::Vector3;
 
 /// The hinge trees of a plan and the scratch of their tangent passes.
@@ -46,6 +59,8 @@ use nalgebra::Vector3;
 pub(super) struct HingeTrees {
     /// Per joint tree: whether it is a hinge tree (see the module header).
     pub is_hinge: Vec<bool>,
+    /// Tree of each body.
+    tree_of: Vec<usize>,
     /// Bodies of each hinge tree, parents first (empty for the other trees).
     bodies: Vec<Vec<usize>>,
     /// Per body: whether it belongs to a hinge tree (the `live` flags of the base pass).
@@ -68,6 +83,14 @@ pub(super) struct HingeTrees {
     runs: Vec<Vec<(usize, usize)>>,
     /// The velocity rows of the current column (by velocity index).
     column: Vec<f64>,
+    /// Per body: the placement tangent of the current column (`(δθ, δx)` resolved in the
+    /// body, as a velocity is: `δR = R [δθ]×`, `δp = R δx`).
+    dpose: Vec<Motion>,
+    /// The increment caps of the hinge trees' positions in contact (`caps_of`), per unknown.
+    caps: Vec<f64>,
+    /// Per pair of the contact set: its narrow phase at the Jacobian's point, if it touches
+    /// a hinge tree with exact columns and its shapes overlap.
+    geo: Vec<Option<(SignedDistance, ContactPatch)>>,
 }
 
 impl HingeTrees {
@@ -153,6 +176,7 @@ impl HingeTrees {
         }
         HingeTrees {
             is_hinge: ok,
+            tree_of: of_body.to_vec(),
             bodies,
             live,
             stiffness,
@@ -164,6 +188,9 @@ impl HingeTrees {
             tau: vec![0.0; plan.nv],
             runs,
             column: vec![0.0; plan.nv],
+            dpose: vec![Motion::zero(); nb],
+            caps: vec![f64::INFINITY; plan.nq + plan.nv + 2 * plan.loops.m()],
+            geo: vec![],
         }
     }
 }
@@ -241,6 +268,102 @@ impl HingeTrees {
         }
     }
 
+    /// The hinge tree with exact columns in this Jacobian (`analytic`) that a pair of the
+    /// contact set with bodies `bodies` touches, if any (its other shape is fixed or on the
+    /// same tree: `MultibodyDae::jacobian_structure` keeps no other pair's tree exact).
+    fn pair_tree(
+        &self,
+        bodies: (Option<BodyId>, Option<BodyId>),
+        analytic: &[bool],
+    ) -> Option<usize> {
+        [bodies.0, bodies.1].into_iter().flatten().find_map(|b| {
+            let t = self.tree_of[b.index()];
+            (self.is_hinge[t] && analytic.get(t).copied().unwrap_or(false)).then_some(t)
+        })
+    }
+
+    /// Adds to the force tangents `df` the derivatives of the contact wrenches on tree `t`'s
+    /// bodies along the current column (placement tangents `dpose`, velocity tangents `dvel`
+    /// of the bodies it reaches), pair by pair: a pair-local quotient — the reached bodies
+    /// of the pair placed at `x ± inc·δx`, the pair's narrow phase (position columns only)
+    /// and force law evaluated again — with the increment of the column's unknown `col`
+    /// (`JacobianArgs::increment`, capped by `caps` for positions; central where `h·y'` = 0),
+    /// as the free bodies' pair-local quotients (`dae/jacobian.rs`). The bodies that get a
+    /// wrench tangent are marked `reached` for the backward pass. `ws` is left as it was.
+    fn contact_tangents(
+        &mut self,
+        plan: &Plan,
+        (cs, cp): (&ContactState, &ContactPlan),
+        ws: &mut Workspace,
+        args: &JacobianArgs<'_>,
+        (t, col): (usize, usize),
+    ) -> Result<(), ContactError> {
+        let position = col < plan.nq;
+        let mut inc = args.increment(col);
+        if position {
+            inc = capped_increment(inc, self.caps[col], args.y[col]);
+        }
+        let back = central_back(args, col, inc);
+        for k2 in 0..cs.n_in_contact() {
+            let Some(geo0) = self.geo.get(k2).copied().flatten() else {
+                continue;
+            };
+            let (ba, bb) = cs.active_bodies(cp, k2);
+            let moved = |b: Option<BodyId>| {
+                b.is_some_and(|b| self.tree_of[b.index()] == t && self.reached[b.index()])
+            };
+            if !(moved(ba) || moved(bb)) {
+                continue;
+            }
+            let mut eval = |step: f64| {
+                let saved = [ba, bb].map(|b| b.map(|b| (ws.world[b], ws.vel[b])));
+                for b in [ba, bb].into_iter().flatten() {
+                    if moved(Some(b)) {
+                        let (dp, dv) = (self.dpose[b.index()], self.dvel[b.index()]);
+                        if position {
+                            ws.world[b] = turned(&ws.world[b], &dp, step);
+                        }
+                        ws.vel[b] = ws.vel[b] + scaled(&dv, step);
+                    }
+                }
+                let wrenches = if position {
+                    cs.pair_geometry(plan, cp, ws, k2, args.t)
+                        .map(|g| cs.pair_wrenches(cp, ws, k2, &g))
+                } else {
+                    Ok(cs.pair_wrenches(cp, ws, k2, &geo0))
+                };
+                for (b, s) in [ba, bb].into_iter().zip(saved) {
+                    if let (Some(b), Some(s)) = (b, s) {
+                        (ws.world[b], ws.vel[b]) = s;
+                    }
+                }
+                wrenches
+            };
+            let plus = eval(inc)?;
+            let (minus, inv) = match back {
+                Some(back) => (eval(back)?, 1.0 / (inc - back)),
+                None => (cs.pair_wrenches(cp, ws, k2, &geo0), 1.0 / inc),
+            };
+            for (b, f, f0) in [(ba, plus.0, minus.0), (bb, plus.1, minus.1)] {
+                let (Some(b), Some(f), Some(f0)) = (b, f, f0) else {
+                    continue;
+                };
+                if self.tree_of[b.index()] != t {
+                    continue;
+                }
+                // The residual has `− f_ext`.
+                let d = f - f0;
+                self.df[b.index()] = self.df[b.index()]
+                    - Force {
+                        n: d.n * inv,
+                        f: d.f * inv,
+                    };
+                self.reached[b.index()] = true;
+            }
+        }
+        Ok(())
+    }
+
     /// The velocity rows of `∂F/∂y'` of every hinge tree (the row-operated mass matrix), at
     /// the placements in `ws` (from `kinematics::position_velocity`), into `out`: per unit
     /// acceleration `v̇_k` the tangent pass of the module header with `δq = δq̇ = 0` —
@@ -282,6 +405,22 @@ fn scaled(m: &Motion, s: f64) -> Motion {
     }
 }
 
+/// `x` (a body's placement in world) moved along the placement tangent `d` (resolved in the
+/// body) by `step`: `R exp(step [δθ]×)`, `p + step R δx`.
+#[inline]
+fn turned(x: &Transform, d: &Motion, step: f64) -> Transform {
+    let angle = d.w.norm() * step;
+    let rot = if angle == 0.0 {
+        x.rot
+    } else {
+        x.rot * axis_angle(&(d.w / d.w.norm()), angle)
+    };
+    Transform {
+        rot,
+        pos: x.pos + x.rot * (d.v * step),
+    }
+}
+
 /// `a − b`.
 #[inline]
 fn minus(a: &Motion, b: &Motion) -> Motion {
@@ -300,8 +439,8 @@ impl MultibodyDae {
         args: &JacobianArgs<'_>,
         out: &mut dyn JacobianSink,
     ) -> Result<(), ResidualError> {
-        let ht = &mut self.hinge;
-        let any = ht
+        let any = self
+            .hinge
             .is_hinge
             .iter()
             .zip(&self.analytic)
@@ -309,16 +448,53 @@ impl MultibodyDae {
         if !any {
             return Ok(());
         }
+        // Contacts of the exact hinge trees (with fixed shapes or within the tree): their
+        // pair-local quotients are capped as the solver's are (`dae/increment_caps.rs`).
+        let contacts = match (self.contact.as_ref(), self.contact_plan.as_deref()) {
+            (Some(cs), Some(cp)) => (0..cs.n_in_contact()).any(|k2| {
+                self.hinge
+                    .pair_tree(cs.active_bodies(cp, k2), &self.analytic)
+                    .is_some()
+            }),
+            _ => false,
+        };
+        if contacts {
+            let mut caps = std::mem::take(&mut self.hinge.caps);
+            caps.fill(f64::INFINITY);
+            self.caps_of(args, &mut caps, true);
+            self.hinge.caps = caps;
+        }
+        let ht = &mut self.hinge;
         let plan = &*self.plan;
         let (nq, nv) = (plan.nq, plan.nv);
         let (q, v) = (&args.y[..nq], &args.y[nq..nq + nv]);
         let vd = &args.yp[nq..nq + nv];
         // The base pass at the Jacobian's point: placements, velocities, the applied joint
-        // forces, and the hinge trees' accelerations and forces.
+        // forces and contact wrenches, and the hinge trees' accelerations and forces.
         let ws = &mut self.ws;
         kinematics::position_velocity(plan, ws, q, v);
         forces::applied_forces(plan, ws, args.t, q, v);
         super::fault_check(ws)?;
+        let fatal = |e: crate::contact::ContactError| ResidualError::Fatal(e.to_string());
+        let (cs, cp) = (self.contact.as_mut(), self.contact_plan.as_deref());
+        let pairs = match (cs, cp) {
+            (Some(cs), Some(cp)) if contacts => {
+                cs.evaluate(plan, cp, ws, Mode::Continuous, args.t)
+                    .map_err(fatal)?;
+                ht.geo.clear();
+                for k2 in 0..cs.n_in_contact() {
+                    let geo = match ht.pair_tree(cs.active_bodies(cp, k2), &self.analytic) {
+                        Some(_) => Some(cs.pair_geometry(plan, cp, ws, k2, args.t).map_err(fatal)?),
+                        None => None,
+                    };
+                    // Apart (within the set's hysteresis) the pair exerts no force on a whole
+                    // neighbourhood of the state: no derivative.
+                    ht.geo.push(geo.filter(|g| g.0.distance <= 0.0));
+                }
+                Some((&*cs, cp))
+            }
+            _ => None,
+        };
         rnea::residual_dynamics(
             plan,
             ws,
@@ -361,6 +537,12 @@ impl MultibodyDae {
                             ),
                             _ => (Motion::zero(), Motion::zero()),
                         };
+                        if pairs.is_some() {
+                            ht.dpose[i] = match b.parent {
+                                Some(p) if i != k => x.motion_to_child(&ht.dpose[p.index()]),
+                                _ => scaled(&s, dq),
+                            };
+                        }
                         if i == k {
                             let (vel_p, acc_p) = match b.parent {
                                 Some(p) => (ws.vel[p], ws.acc[p]),
@@ -386,6 +568,10 @@ impl MultibodyDae {
                     } else {
                         jk.q_offset
                     };
+                    if let Some((cs, cp)) = pairs {
+                        ht.contact_tangents(plan, (cs, cp), ws, args, (t, col))
+                            .map_err(fatal)?;
+                    }
                     ht.backward(plan, ws, (t, k), (dq, dv), col, out);
                 }
                 // The position row q̇_k − v_k.
@@ -487,6 +673,59 @@ mod tests {
         s
     }
 
+    /// Asserts that the exact columns `dae.jacobian` writes at `args` match central
+    /// differences of the full residual (increment `eta·max(|y_j|, 1)`) entry by entry to
+    /// `tol` of their row's largest entry plus 1e-9; returns the worst relative error.
+    /// The Jacobian's point is (`y`, `yp`) with `c_j`, `h` = 1e-4 and every `zero_size`
+    /// `zero`.
+    fn exact_against_central(
+        dae: &mut MultibodyDae,
+        (y, yp): (&[f64], &[f64]),
+        (c_j, zero): (f64, f64),
+        (eta, tol): (f64, f64),
+        what: &str,
+    ) -> f64 {
+        let n = y.len();
+        let zero_size = vec![zero; n];
+        let args = &JacobianArgs {
+            t: 0.0,
+            c_j,
+            h: 1e-4,
+            y,
+            yp,
+            zero_size: &zero_size,
+        };
+        let mut a = vec![vec![0.0; n]; n];
+        dae.jacobian(args, &mut |i: usize, j: usize, d: f64| a[i][j] += d)
+            .unwrap();
+        let central: Vec<Vec<f64>> = (0..n)
+            .map(|j| {
+                super::super::jacobian::tests::central_with(
+                    dae,
+                    (args.y, args.yp),
+                    args.c_j,
+                    j,
+                    eta,
+                )
+            })
+            .collect();
+        let mut worst = 0.0f64;
+        for i in 0..n {
+            let scale = (0..n).map(|j| central[j][i].abs()).fold(0.0, f64::max);
+            for j in 0..n {
+                let err = (a[i][j] - central[j][i]).abs();
+                worst = worst.max(err / scale);
+                assert!(
+                    err <= tol * scale + 1e-9,
+                    "{what}: entry ({i}, {j}): exact {:e}, central {:e}, row scale {scale:e}",
+                    a[i][j],
+                    central[j][i]
+                );
+            }
+        }
+        worst
+    }
+
     /// The hinge tree's columns against central differences of the full residual at random
     /// states (angles ±1.5 rad, offsets ±0.2 m, rates ±5 per s, `y'` random, so the residual
     /// is far from zero and every term of the row-operated recursion counts), entry by entry.
@@ -519,61 +758,33 @@ mod tests {
                 y[plan.nq + j.v_offset] = 10.0 * u();
             }
             let yp: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
-            let zero_size = vec![1e-6; n];
-            let args = JacobianArgs {
-                t: 0.0,
-                c_j,
-                h: 1e-4,
-                y: &y,
-                yp: &yp,
-                zero_size: &zero_size,
-            };
-            let mut a = vec![vec![0.0; n]; n];
-            dae.jacobian(&args, &mut |i: usize, j: usize, d: f64| a[i][j] += d)
-                .unwrap();
-            let eta = 1e-5;
-            let central: Vec<Vec<f64>> = (0..n)
-                .map(|j| {
-                    let (mut yy, mut ypp) = (y.clone(), yp.clone());
-                    let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
-                    yy[j] = y[j] + eta;
-                    ypp[j] = yp[j] + c_j * eta;
-                    dae.residual(0.0, &yy, &ypp, &mut rp).unwrap();
-                    yy[j] = y[j] - eta;
-                    ypp[j] = yp[j] - c_j * eta;
-                    dae.residual(0.0, &yy, &ypp, &mut rm).unwrap();
-                    (0..n).map(|i| (rp[i] - rm[i]) / (2.0 * eta)).collect()
-                })
-                .collect();
-            let mut worst = 0.0f64;
-            for i in 0..n {
-                let scale = (0..n).map(|j| central[j][i].abs()).fold(0.0, f64::max);
-                for j in 0..n {
-                    let err = (a[i][j] - central[j][i]).abs();
-                    worst = worst.max(err / scale);
-                    assert!(
-                        err <= 1e-6 * scale + 1e-9,
-                        "trial {trial}: entry ({i}, {j}): analytic {:e}, central {:e}, row scale {scale:e}",
-                        a[i][j],
-                        central[j][i]
-                    );
-                }
-            }
+            let what = format!("trial {trial}");
+            let worst =
+                exact_against_central(&mut dae, (&y, &yp), (c_j, 1e-6), (1e-5, 1e-6), &what);
             eprintln!("trial {trial}: worst relative error {worst:e}");
         }
     }
 
-    /// The tangent passes allocate nothing once the DAE exists (the crate's test binary
-    /// counts this thread's allocations): 100 Jacobians of [`branched`].
+    /// The tangent passes allocate nothing once warmed up (the crate's test binary counts
+    /// this thread's allocations): 100 Jacobians of [`branched`], and of [`pressed`] (its
+    /// contacts' pair-local quotients).
     #[test]
     fn hinge_columns_do_not_allocate() {
-        let model = branched().build().unwrap();
+        for scene in [branched(), pressed()] {
+            hinge_jacobians_do_not_allocate(scene);
+        }
+    }
+
+    fn hinge_jacobians_do_not_allocate(scene: SceneDesc) {
+        let model = scene.build().unwrap();
         let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
         let n = dae.len();
-        let mut s = BlockStructure::default();
-        assert!(dae.jacobian_structure(&mut s));
         let mut y = model.plan.y0();
         y.resize(n, 0.0);
+        dae.handle_event(0.0, &y).unwrap();
+        let mut s = BlockStructure::default();
+        assert!(dae.jacobian_structure(&mut s));
+        assert_eq!(s.analytic, vec![true]);
         let yp = dae.consistent_derivative(0.0, &mut y).unwrap();
         let zero_size = vec![1e-6; n];
         let args = JacobianArgs {
@@ -610,6 +821,125 @@ mod tests {
             let yp: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
             let what = format!("trial {trial}");
             super::super::jacobian::tests::assert_yp_jacobian_is_exact(&mut dae, &y, &yp, &what);
+        }
+    }
+
+    /// A hinge tree pressed into a fixed steel table (top at z = −0.45 m): `arm` on a revolute
+    /// joint about x at the origin, hanging down; `slider` on a prismatic joint along the arm;
+    /// at its end a steel ball (Ø 0.1 m) 1e-6 m into the table at the initial angles, and on a
+    /// revolute joint about y a steel box (0.1 × 0.04 × 0.04 m) whose lower edge is 1e-6 m
+    /// into the table when turned by 0.3 rad (a line contact: the box's patch).
+    fn pressed() -> SceneDesc {
+        let (r, pen) = (0.05, 1e-6);
+        // Its edges are rounded with the default smoothing radius (1 mm): the core's edge,
+        // then the radius, below its centre.
+        let rs = 1e-3;
+        let half = (0.05 - rs) * 0.3f64.sin() + (0.02 - rs) * 0.3f64.cos() + rs;
+        let steel = |shape: Shape| Solid::new(shape).material("Steel").collision(true);
+        let mut s = SceneDesc::new();
+        s.add(Object3D::new("world").scene(SceneOptions::default()))
+            .add(
+                Object3D::new("table")
+                    .parent("world")
+                    .translation([0.0, 0.0, -0.5])
+                    .solid(steel(Shape::Box {
+                        lengths: Vector3::new(2.0, 2.0, 0.1),
+                    })),
+            )
+            .add(
+                Object3D::new("arm").solid(
+                    Solid::new(Shape::Box {
+                        lengths: Vector3::new(0.02, 0.02, 0.2),
+                    })
+                    .mass(0.5),
+                ),
+            )
+            .add(
+                Object3D::new("arm_end")
+                    .parent("arm")
+                    .translation([0.0, 0.0, -0.1]),
+            )
+            .add(Object3D::new("slider"))
+            .add(
+                Object3D::new("ball")
+                    .parent("slider")
+                    .translation([0.0, 0.0, -0.25 + r - pen - 0.1])
+                    .solid(steel(Shape::Sphere { diameter: 2.0 * r })),
+            )
+            .add(
+                // The paddle turned by 0.3 rad about y reaches `half` below its centre.
+                Object3D::new("hinge").parent("slider").translation([
+                    0.15,
+                    0.0,
+                    -0.35 - pen + half,
+                ]),
+            )
+            .add(Object3D::new("paddle").solid(steel(Shape::Box {
+                lengths: Vector3::new(0.1, 0.04, 0.04),
+            })))
+            .add_joint(Joint::new("rev", "world", "arm", JointKind::revolute(1)))
+            .add_joint(Joint::new(
+                "slide",
+                "arm_end",
+                "slider",
+                JointKind::Prismatic {
+                    axis: Vector3::z(),
+                    s: 0.0,
+                    v: 0.0,
+                },
+            ))
+            .add_joint(Joint::new(
+                "flap",
+                "hinge",
+                "paddle",
+                JointKind::revolute(2),
+            ));
+        s
+    }
+
+    /// The columns of a hinge tree in contact with a fixed table (a ball and a box corner,
+    /// friction) against central differences of the full residual, at random velocities and
+    /// the pressed positions, with random `y'`. Tolerance per row `1e-3 · max_j |C_ij|`,
+    /// as for the free bodies' pair-local quotients (`jacobian::tests`,
+    /// `analytic_columns_match_central_differences`: the one-sided quotient's truncation
+    /// `η/(4δ)` at depth δ = 1e-6 m and the box's patch); a missing contact term is O(1) of
+    /// its row (the Hertz stiffness dwarfs the rest).
+    #[test]
+    fn hinge_tree_in_contact_matches_central_differences() {
+        let model = pressed().build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let plan = dae.plan().clone();
+        let flap = plan.joints.iter().find(|j| j.name == "flap").unwrap();
+        let mut y0 = plan.y0();
+        y0.resize(n, 0.0);
+        y0[flap.q_offset] = 0.3;
+        // The arm turned by 1e-5 rad about x tilts the paddle's edge: its ends 1e-6 ± 1.9e-7 m
+        // deep, so the state is not on the symmetric line's kink (where a tilt either way
+        // moves the centre of pressure to either end and one-sided slopes differ).
+        let rev = plan.joints.iter().find(|j| j.name == "rev").unwrap();
+        y0[rev.q_offset] = 1e-5;
+        let mut u = crate::test_rng::uniform(13);
+        for trial in 0..3 {
+            let mut y = y0.clone();
+            for j in &plan.joints {
+                y[plan.nq + j.v_offset] = 0.5 * u();
+            }
+            dae.handle_event(0.0, &y).unwrap();
+            let pairs = dae.contact().unwrap().n_in_contact();
+            assert_eq!(pairs, 2, "the ball and the paddle touch the table");
+            let mut st = BlockStructure::default();
+            assert!(dae.jacobian_structure(&mut st));
+            assert_eq!(
+                st.analytic,
+                vec![true],
+                "in contact with a fixed table: exact"
+            );
+            let yp: Vec<f64> = (0..n).map(|_| u()).collect();
+            let what = format!("trial {trial}");
+            let worst =
+                exact_against_central(&mut dae, (&y, &yp), (2.5e3, 1e-2), (1e-9, 1e-3), &what);
+            eprintln!("trial {trial}: {pairs} pairs, worst relative error {worst:e}");
         }
     }
 }

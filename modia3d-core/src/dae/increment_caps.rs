@@ -107,6 +107,18 @@ impl MultibodyDae {
     /// being the joint frame's origin (the child body's origin). One narrow phase per such
     /// pair and Jacobian.
     pub(super) fn position_caps(&mut self, args: &JacobianArgs<'_>, caps: &mut [f64]) -> bool {
+        self.caps_of(args, caps, false)
+    }
+
+    /// [`MultibodyDae::position_caps`] for the trees that take the solver's quotients
+    /// (`hinge` false), or for the hinge trees whose columns are exact in this Jacobian
+    /// (`hinge` true: their contacts' pair-local quotients, `dae/hinge_jacobian.rs`).
+    pub(super) fn caps_of(
+        &mut self,
+        args: &JacobianArgs<'_>,
+        caps: &mut [f64],
+        hinge: bool,
+    ) -> bool {
         let (Some(tb), Some(cs), Some(cp)) = (
             &self.blocks,
             self.contact.as_ref(),
@@ -115,12 +127,16 @@ impl MultibodyDae {
             return false;
         };
         let analytic = &self.analytic;
+        let is_hinge = &self.hinge.is_hinge;
         let quotients = |b: Option<BodyId>| {
             b.is_some_and(|b| {
-                !analytic
-                    .get(tb.of_body[b.index()])
-                    .copied()
-                    .unwrap_or(false)
+                let t = tb.of_body[b.index()];
+                let exact = analytic.get(t).copied().unwrap_or(false);
+                if hinge {
+                    exact && is_hinge.get(t).copied().unwrap_or(false)
+                } else {
+                    !exact
+                }
             })
         };
         let needed = |k: usize| {
@@ -194,8 +210,9 @@ mod tests {
     /// from the world's origin to the body, resting δ = 1e-7 m deep on a fixed 2 × 2 × 0.1 m
     /// steel table (top at z = −R + δ): the caps of its y at the initial state, and the
     /// allowances `max(f·δ, mpr_tolerance·(R + r_table))` for the fractions `f` = 1e-3 and
-    /// 0.1 computed from the construction. Asserts that the tree takes the solver's
-    /// quotients, and that the call allocates nothing once warmed up.
+    /// 0.1 computed from the construction. Asserts that the tree's own pair-local quotients
+    /// (`dae/hinge_jacobian.rs`) and, with those off, the solver's quotients get the same
+    /// caps, and that the call allocates nothing once warmed up.
     fn caps_of_a_resting_ball(kind: JointKind, offset: [f64; 3]) -> (Vec<f64>, f64, f64) {
         let mut s = SceneDesc::new();
         s.add(Object3D::new("world").scene(SceneOptions::default()))
@@ -233,8 +250,8 @@ mod tests {
         let mut st = BlockStructure::default();
         assert!(dae.jacobian_structure(&mut st));
         assert!(
-            !st.analytic[0],
-            "a jointed body takes the solver's quotients"
+            st.analytic[0],
+            "a hinge tree against a fixed table: exact columns (dae/hinge_jacobian.rs)"
         );
         let zero_size = vec![1e-2; n];
         let args = JacobianArgs {
@@ -245,8 +262,16 @@ mod tests {
             yp: &yp,
             zero_size: &zero_size,
         };
+        // The caps of its own pair-local quotients.
+        let mut exact = vec![f64::INFINITY; n];
+        assert!(dae.caps_of(&args, &mut exact, true));
+        // With the exact columns off, the solver's quotients: the same caps.
+        dae.analytic_enabled = false;
+        assert!(dae.jacobian_structure(&mut st));
+        assert!(!st.analytic[0], "the solver's quotients");
         let mut caps = vec![f64::INFINITY; n];
         assert!(dae.increment_caps(&args, &mut caps));
+        assert_eq!(exact, caps, "one rule for both paths");
         let mut again = vec![0.0; n];
         let before = allocs();
         for _ in 0..100 {

@@ -390,7 +390,7 @@ fn own_force_columns(
 /// `inc`, where `h·y'_j = 0` (there the one-sided increment's sign is arbitrary, so
 /// mirror-image states would get a forward and a backward quotient); `None` where the quotient
 /// is one-sided.
-fn central_back(args: &JacobianArgs<'_>, j: usize, inc: f64) -> Option<f64> {
+pub(super) fn central_back(args: &JacobianArgs<'_>, j: usize, inc: f64) -> Option<f64> {
     (args.h * args.yp[j] == 0.0).then(|| {
         let y0 = args.y[j];
         (y0 - inc) - y0
@@ -828,8 +828,19 @@ pub(super) mod tests {
 
     /// `∂F/∂y + c_j ∂F/∂y'` by central differences of the full residual, increment `eta`.
     fn central(dae: &mut MultibodyDae, y: &[f64], yp: &[f64], c_j: f64, j: usize) -> Vec<f64> {
+        central_with(dae, (y, yp), c_j, j, 1e-9)
+    }
+
+    /// [`central`] with the increment `rel · max(|y_j|, 1)`.
+    pub(in crate::dae) fn central_with(
+        dae: &mut MultibodyDae,
+        (y, yp): (&[f64], &[f64]),
+        c_j: f64,
+        j: usize,
+        rel: f64,
+    ) -> Vec<f64> {
         let n = y.len();
-        let eta = 1e-9 * y[j].abs().max(1.0);
+        let eta = rel * y[j].abs().max(1.0);
         let (mut yy, mut ypp) = (y.to_vec(), yp.to_vec());
         let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
         yy[j] = y[j] + eta;

@@ -537,9 +537,13 @@ impl DaeSystem for MultibodyDae {
                 let (a, b) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
                 let tree = |x: Option<crate::dynamics::BodyId>| x.map(|x| tb.of_body[x.index()]);
                 let (ta, tb_) = (tree(a), tree(b));
-                for t in [ta, tb_].into_iter().flatten() {
-                    if self.hinge.is_hinge[t] {
-                        s.analytic[t] = false;
+                // A hinge tree keeps its exact columns against fixed shapes and itself (its
+                // pair-local quotients, `dae/hinge_jacobian.rs`), not against another tree.
+                for (this, other) in [(ta, tb_), (tb_, ta)] {
+                    if let (Some(this), Some(other)) = (this, other) {
+                        if self.hinge.is_hinge[this] && other != this {
+                            s.analytic[this] = false;
+                        }
                     }
                 }
                 for (this, other) in [(ta, tb_), (tb_, ta)] {
