@@ -1,5 +1,5 @@
-//! DAE stage: exact Jacobian columns of **hinge trees** — joint trees of Revolute and
-//! Prismatic joints (robot arms, pendulum chains, linkages without loops) — instead of the
+//! DAE stage: exact Jacobian columns of **hinge trees** — joint trees of Revolute, Prismatic
+//! and Cylindrical joints (robot arms, pendulum chains, linkages without loops) — instead of the
 //! solver's difference quotients, which cost one residual evaluation per unknown of the tree
 //! (a 20-link chain: 40 per Jacobian, 80 % of all residual evaluations of its run).
 //!
@@ -10,9 +10,10 @@
 //! - position rows `q̇ − v`: `c_j` in a position's column, `−1` in its velocity's;
 //! - velocity rows, the row-operated Newton–Euler residual of `dynamics/rnea.rs`
 //!   (`R_i = Sᵢᵀ fᵢ − τ_applied,i`, each body passing `fᵢ − Sᵢ Rᵢ` to its parent), with
-//!   `Sᵢ` constant in the child frame for both kinds (`(a, 0)`, `(0, a)`) and the joint
-//!   transform's derivative `∂(Xᵢ m)/∂qᵢ = −Sᵢ ×ₘ (Xᵢ m)` (for `Xᵢ = X_J(qᵢ) X_tree`, Featherstone
-//!   §2.9):
+//!   `Sᵢ` constant in the child frame for these kinds (`(a, 0)`, `(0, a)`, both for a
+//!   cylindrical joint, whose turn and shift about the same axis commute) and the joint
+//!   transform's derivative `∂(Xᵢ m)/∂qᵢ꜀ = −Sᵢ꜀ ×ₘ (Xᵢ m)` for each coordinate `c` (for
+//!   `Xᵢ = X_J(qᵢ) X_tree`, Featherstone §2.9); written below for one coordinate:
 //!   - forward, parents first: `δvᵢ = Xᵢ δv_p − δqᵢ Sᵢ ×ₘ (Xᵢ v_p) + Sᵢ δq̇ᵢ`,
 //!     `δaᵢ = Xᵢ δa_p − δqᵢ Sᵢ ×ₘ (Xᵢ a_p) + Sᵢ δv̇ᵢ + δvᵢ ×ₘ (Sᵢ q̇ᵢ) + vᵢ ×ₘ (Sᵢ δq̇ᵢ)`
 //!     (the world's `a = −g` is constant), `δfᵢ = Iᵢ δaᵢ + δvᵢ ×f Iᵢ vᵢ + vᵢ ×f Iᵢ δvᵢ`;
@@ -20,7 +21,8 @@
 //!     spring-dampers on the coordinate, `τ = −k (q − q₀) − d q̇`; a `JointForce` input does not
 //!     depend on the state) and the parent gets `Xᵢᵀ (δfᵢ − Sᵢ δRᵢ + δqᵢ Sᵢ ×f fᵢ)` — the
 //!     derivative of `Xᵢᵀ` applied to the passed force `fᵢ − Sᵢ Rᵢ`, whose `Sᵢ Rᵢ` part drops
-//!     out because `Sᵢ ×f Sᵢ = 0` for both kinds.
+//!     out because `Sᵢ꜀ ×f Sᵢ = 0` for these kinds (the columns are `(a, 0)` and `(0, a)` of one
+//!     axis `a`).
 //!
 //! The tangent of a column is zero outside the subtree of its joint in the forward pass and
 //! outside the subtree and its ancestors in the backward pass, so a column costs those
@@ -45,6 +47,7 @@
 use super::jacobian::{bias_force_derivative, central_back, own_body};
 use super::MultibodyDae;
 use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
+use crate::dynamics::plan::JointPlan;
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 use crate::dynamics::BodyId;
 use crate::dynamics::{forces, kinematics, rnea, InputTarget, Plan, Workspace};
@@ -147,7 +150,9 @@ impl HingeTrees {
                 .any(Option::is_some);
             let hinge = matches!(
                 j.coord,
-                JointCoord::Revolute { .. } | JointCoord::Prismatic { .. }
+                JointCoord::Revolute { .. }
+                    | JointCoord::Prismatic { .. }
+                    | JointCoord::Cylindrical { .. }
             );
             if prescribed || !hinge {
                 ok[of_body[i]] = false;
@@ -219,13 +224,13 @@ impl HingeTrees {
     /// its velocity rows written into `out` at column `col`: `δRᵢ = Sᵢᵀ δfᵢ (+ kₖ δq + dₖ δq̇
     /// at k)`, each body passing `Xᵢᵀ (δfᵢ − Sᵢ δRᵢ (+ δq Sₖ ×f fₖ at k))` to its parent, over
     /// the bodies that carry a tangent (`reached` then marks them). `(dq, dv)`: the column's
-    /// change of k's own coordinates; `f_k` (`ws.f`) is read only when `dq ≠ 0`.
+    /// change of k's coordinate `c`; `f_k` (`ws.f`) is read only when `dq ≠ 0`.
     #[allow(clippy::too_many_arguments)] // one pass, its column's parameters
     fn backward(
         &mut self,
         plan: &Plan,
         ws: &Workspace,
-        (t, k): (usize, usize),
+        (t, k, c): (usize, usize, usize),
         (dq, dv): (f64, f64),
         col: usize,
         out: &mut dyn JacobianSink,
@@ -240,22 +245,23 @@ impl HingeTrees {
             }
             let b = &plan.bodies[i];
             let j = &plan.joints[b.joint];
-            let vi = j.v_offset;
+            let (vi, nv) = (j.v_offset, j.coord.nv());
             let df = self.df[i];
-            // S is constant for both kinds: `motion` and `project` do not read q.
-            let mut dtau = [0.0];
-            j.coord.project(&[0.0], &df, &mut dtau);
-            let (dqi, dvi) = if i == k { (dq, dv) } else { (0.0, 0.0) };
-            let dr = dtau[0] + self.stiffness[vi] * dqi + self.damping[vi] * dvi;
-            self.column[vi] = dr;
+            // S is constant for these kinds: `motion` and `project` do not read q.
+            let mut dr = [0.0; 2];
+            j.coord.project(&ZERO[..j.coord.nq()], &df, &mut dr[..nv]);
+            if i == k {
+                dr[c] += self.stiffness[vi + c] * dq + self.damping[vi + c] * dv;
+            }
+            self.column[vi..vi + nv].copy_from_slice(&dr[..nv]);
             if let Some(p) = b.parent {
-                let s = j.coord.motion(&[0.0], &[dr]);
+                let s = j.coord.motion(&ZERO[..j.coord.nq()], &dr[..nv]);
                 let mut pass = Force {
                     n: df.n - s.w,
                     f: df.f - s.v,
                 };
-                if dqi != 0.0 {
-                    pass = pass + j.coord.motion(&[0.0], &[dqi]).cross_force(&ws.f[i]);
+                if i == k && dq != 0.0 {
+                    pass = pass + scaled(&unit(j, c), dq).cross_force(&ws.f[i]);
                 }
                 let fp = ws.x[i].force_to_parent(&pass);
                 self.df[p.index()] = self.df[p.index()] + fp;
@@ -375,25 +381,40 @@ impl HingeTrees {
         for t in 0..self.bodies.len() {
             for pos in 0..self.bodies[t].len() {
                 let k = self.bodies[t][pos];
-                self.mark_subtree(plan, t, pos);
-                for idx in pos..self.bodies[t].len() {
-                    let i = self.bodies[t][idx];
-                    if !self.reached[i] {
-                        continue;
+                let jk = &plan.joints[plan.bodies[k].joint];
+                for c in 0..jk.coord.nv() {
+                    self.mark_subtree(plan, t, pos);
+                    for idx in pos..self.bodies[t].len() {
+                        let i = self.bodies[t][idx];
+                        if !self.reached[i] {
+                            continue;
+                        }
+                        let b = &plan.bodies[i];
+                        let dacc = match b.parent {
+                            Some(p) if i != k => ws.x[i].motion_to_child(&self.dacc[p.index()]),
+                            _ => unit(jk, c),
+                        };
+                        self.dacc[i] = dacc;
+                        self.df[i] = b.inertia.mul_motion(&dacc);
                     }
-                    let b = &plan.bodies[i];
-                    let dacc = match b.parent {
-                        Some(p) if i != k => ws.x[i].motion_to_child(&self.dacc[p.index()]),
-                        _ => plan.joints[b.joint].coord.motion(&[0.0], &[1.0]),
-                    };
-                    self.dacc[i] = dacc;
-                    self.df[i] = b.inertia.mul_motion(&dacc);
+                    let col = plan.nq + jk.v_offset + c;
+                    self.backward(plan, ws, (t, k, c), (0.0, 0.0), col, out);
                 }
-                let col = plan.nq + plan.joints[plan.bodies[k].joint].v_offset;
-                self.backward(plan, ws, (t, k), (0.0, 0.0), col, out);
             }
         }
     }
+}
+
+/// Zero positions, for `motion` and `project` of the kinds here (whose `S` does not depend on
+/// `q`).
+const ZERO: [f64; 2] = [0.0; 2];
+
+/// The column `c` of joint `j`'s motion subspace `S` (constant for the kinds here).
+#[inline]
+fn unit(j: &JointPlan, c: usize) -> Motion {
+    let mut e = [0.0; 2];
+    e[c] = 1.0;
+    j.coord.motion(&ZERO[..j.coord.nq()], &e[..j.coord.nv()])
 }
 
 /// `m·s`.
@@ -514,8 +535,10 @@ impl MultibodyDae {
             for pos in 0..ht.bodies[t].len() {
                 let k = ht.bodies[t][pos];
                 let jk = &plan.joints[plan.bodies[k].joint];
-                for velocity in [false, true] {
-                    // The column of q_k (δq = 1, δq̇ = c_j) or of v_k (δv = 1, δv̇ = c_j).
+                for (c, velocity) in (0..jk.coord.nv()).flat_map(|c| [(c, false), (c, true)]) {
+                    let s = unit(jk, c);
+                    // The column of k's coordinate c: its position (δq = 1, δq̇ = c_j) or its
+                    // velocity (δv = 1, δv̇ = c_j).
                     let (dq, dv, dvd) = if velocity {
                         (0.0, 1.0, args.c_j)
                     } else {
@@ -528,7 +551,6 @@ impl MultibodyDae {
                             continue;
                         }
                         let b = &plan.bodies[i];
-                        let s = plan.joints[b.joint].coord.motion(&[0.0], &[1.0]);
                         let x = &ws.x[i];
                         let (mut dvel, mut dacc) = match b.parent {
                             Some(p) if i != k => (
@@ -564,19 +586,22 @@ impl MultibodyDae {
                             + bias_force_derivative(inertia, &ws.vel[i], &dvel);
                     }
                     let col = if velocity {
-                        nq + jk.v_offset
+                        nq + jk.v_offset + c
                     } else {
-                        jk.q_offset
+                        jk.q_offset + c
                     };
                     if let Some((cs, cp)) = pairs {
                         ht.contact_tangents(plan, (cs, cp), ws, args, (t, col))
                             .map_err(fatal)?;
                     }
-                    ht.backward(plan, ws, (t, k), (dq, dv), col, out);
+                    ht.backward(plan, ws, (t, k, c), (dq, dv), col, out);
                 }
-                // The position row q̇_k − v_k.
-                out.add(jk.q_offset, jk.q_offset, &[args.c_j]);
-                out.add(jk.q_offset, nq + jk.v_offset, &[-1.0]);
+                // The position rows q̇_k − v_k (scalar coordinates: q̇ = v).
+                for c in 0..jk.coord.nq() {
+                    let row = jk.q_offset + c;
+                    out.add(row, row, &[args.c_j]);
+                    out.add(row, nq + jk.v_offset + c, &[-1.0]);
+                }
             }
         }
         Ok(())
@@ -592,8 +617,9 @@ mod tests {
 
     /// A branched hinge tree: `a` on a revolute joint about x at the world, `b` on a
     /// prismatic joint along a skew axis on `a`, and on `b` two children, `c` (revolute about
-    /// a skew axis, offset from its body's centre of mass) and `d` (revolute about z); joint
-    /// spring-dampers on `a`'s and `c`'s coordinates. Gravity is skew too, so that no term
+    /// a skew axis, offset from its body's centre of mass) and `d` (revolute about z); `e` on
+    /// a cylindrical joint along a skew axis on `a`; joint spring-dampers on `a`'s and `c`'s
+    /// coordinates. Gravity is skew too, so that no term
     /// vanishes by symmetry.
     fn branched() -> SceneDesc {
         let boxed = |l: [f64; 3], m: f64| {
@@ -634,6 +660,12 @@ mod tests {
                     .translation([0.01, 0.15, -0.02]),
             )
             .add(Object3D::new("d").solid(boxed([0.2, 0.02, 0.02], 0.3)))
+            .add(
+                Object3D::new("a_side")
+                    .parent("a")
+                    .translation([0.03, -0.01, 0.05]),
+            )
+            .add(Object3D::new("e").solid(boxed([0.02, 0.06, 0.1], 0.25)))
             .add_joint(Joint::new("ja", "world", "a", JointKind::revolute(1)))
             .add_joint(Joint::new(
                 "jb",
@@ -656,6 +688,18 @@ mod tests {
                 },
             ))
             .add_joint(Joint::new("jd", "b_right", "d", JointKind::revolute(3)))
+            .add_joint(Joint::new(
+                "je",
+                "a_side",
+                "e",
+                JointKind::Cylindrical {
+                    axis: Vector3::new(2.0, 1.0, -1.0).normalize(),
+                    phi: 0.0,
+                    s: 0.0,
+                    w: 0.0,
+                    v: 0.0,
+                },
+            ))
             .add_force(ForceElement::JointSpringDamper {
                 joint: "ja".into(),
                 coordinate: None,
@@ -749,13 +793,11 @@ mod tests {
             let plan = dae.plan().clone();
             let mut y = vec![0.0; n];
             for j in &plan.joints {
-                let unit = if matches!(j.coord, crate::joints::JointCoord::Prismatic { .. }) {
-                    0.4
-                } else {
-                    3.0
-                };
-                y[j.q_offset] = unit * u();
-                y[plan.nq + j.v_offset] = 10.0 * u();
+                for c in j.coord.coordinates() {
+                    let range = if c.unit == "m" { 0.4 } else { 3.0 };
+                    y[j.q_offset + c.q] = range * u();
+                    y[plan.nq + j.v_offset + c.v] = 10.0 * u();
+                }
             }
             let yp: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
             let what = format!("trial {trial}");
