@@ -10,10 +10,12 @@
 //! computes: every quantity `x` is carried with its tangent `dx` (3 × N or 1 × N) over the
 //! tangent directions of the moving bodies, [`PER_BODY`] per body from its offset:
 //! `δx` (origin, world, [m]), `δθ` (a rotation of the body frame, resolved in it, [rad]:
-//! `R ← R (I + [δθ]×)`), `δω`, `δv` (the free joint's velocities, body frame). Stages:
+//! `R ← R (I + [δθ]×)`), `δω`, `δv` (the body's angular velocity and the velocity of its
+//! origin, resolved in world; `dae/jacobian.rs` maps them to the free joint's velocities,
+//! which are resolved in obj1). Stages:
 //!
 //! 1. placement: sphere centre `c = x + R s` (`s` its place in the body): `dc = δx − R [s]× δθ`;
-//!    world velocities `R ω`, `R v`: `R δω − R [ω]× δθ`, `R δv − R [v]× δθ`;
+//!    world velocities `ω`, `v` (tangents `δω`, `δv`: they do not turn with the body);
 //! 2. geometry: sphere–sphere `n = (c_b − c_a)/|c_b − c_a|`, `dn = (I − n nᵀ)/dist · d(c_b − c_a)`;
 //!    sphere–core, with `p` the centre in the core's frame and `m` the core's outward normal
 //!    there, `d dist = mᵀ dp` and `dm = N dp` with `N = (I − m mᵀ)/dist` (point core),
@@ -24,8 +26,8 @@
 //! 3. force law (`contact/response.rs`, `spread = 0`): point velocities `v_i = v0_i + ω_i ×
 //!    (p − x_i)`, `δ̇ = −(v₂ − v₁)·n`, `f_n = k δⁿ · soft_clamp(1 + d δ̇)`, friction
 //!    `−μ f_n v_t / reg(|v_t|)`, rolling resistance `−μ_r μ_geo f_n ω_rel / reg(|ω_rel|)`;
-//! 4. wrench about each body's origin in its frame, `(Rᵀ(τ + (p − x) × f), Rᵀ f)`:
-//!    `d(Rᵀ a) = Rᵀ da + [Rᵀ a]× δθ`.
+//! 4. wrench about each body's origin, resolved in world, `(τ + (p − x) × f, f)` (the free
+//!    joint's dynamic rows are resolved in obj1, `dae/jacobian.rs` turns them there).
 //!
 //! At a kink (δ = 0, the soft clamp's and the regularisations' band ends, a closest point at
 //! a core's edge) the derivative is the one-sided one of the branch the evaluation takes.
@@ -34,6 +36,7 @@
 use super::contact_set::ContactState;
 use super::preprocess::ContactPlan;
 use super::regularise::{reg, reg_slope, soft_clamp, soft_clamp_slope};
+use crate::dynamics::spatial::Force;
 use crate::dynamics::{BodyId, Workspace};
 use crate::geometry::{CoreShape, ShapeKind};
 use nalgebra::{Matrix3, SMatrix, Vector3};
@@ -92,13 +95,8 @@ impl<const N: usize> Side<N> {
             s.th = o + TH;
             s.w = x.rot * vel.w;
             s.v0 = x.rot * vel.v;
-            s.dw.fixed_view_mut::<3, 3>(0, o + OM).copy_from(&x.rot);
-            s.dw.fixed_view_mut::<3, 3>(0, o + TH)
-                .copy_from(&(-x.rot * vel.w.cross_matrix()));
-            s.dv0.fixed_view_mut::<3, 3>(0, o + VE).copy_from(&x.rot);
-            s.dv0
-                .fixed_view_mut::<3, 3>(0, o + TH)
-                .copy_from(&(-x.rot * vel.v.cross_matrix()));
+            s.dw.fixed_view_mut::<3, 3>(0, o + OM).copy_from(&i3);
+            s.dv0.fixed_view_mut::<3, 3>(0, o + VE).copy_from(&i3);
         }
         s
     }
@@ -131,8 +129,10 @@ impl<const N: usize> Side<N> {
         (v, dv)
     }
 
-    /// Tangent (6 × N: `(n, f)`) of the wrench of `force` at `p` and `torque` (world, with
-    /// tangents) about the origin in the body frame.
+    /// The wrench of force `f` at `p` and torque `tau` (world, with tangents `dp`, `df`,
+    /// `dtau`) about the body's origin, resolved in world, and its tangent (6 × N: `(n, f)`)
+    /// into `out`.
+    #[allow(clippy::too_many_arguments)]
     #[allow(clippy::too_many_arguments)]
     fn wrench(
         &self,
@@ -143,19 +143,15 @@ impl<const N: usize> Side<N> {
         tau: &Vector3<f64>,
         dtau: &T3<N>,
         out: &mut SMatrix<f64, 6, N>,
-    ) {
+    ) -> Force {
         let arm = p - self.x;
-        let n_world = tau + arm.cross(f);
         let dn_world = dtau + arm.cross_matrix() * df - f.cross_matrix() * (dp - self.dx);
-        let rt = self.rot.transpose();
-        let n_body = rt * n_world;
-        let f_body = rt * f;
-        let mut dn_body = rt * dn_world;
-        self.add_theta(&n_body.cross_matrix(), &mut dn_body);
-        let mut df_body = rt * df;
-        self.add_theta(&f_body.cross_matrix(), &mut df_body);
-        out.fixed_view_mut::<3, N>(0, 0).copy_from(&dn_body);
-        out.fixed_view_mut::<3, N>(3, 0).copy_from(&df_body);
+        out.fixed_view_mut::<3, N>(0, 0).copy_from(&dn_world);
+        out.fixed_view_mut::<3, N>(3, 0).copy_from(df);
+        Force {
+            n: tau + arm.cross(f),
+            f: *f,
+        }
     }
 }
 
@@ -214,13 +210,14 @@ fn core_normal(core: &CoreShape, p: &Vector3<f64>) -> Option<(Vector3<f64>, f64,
     }
 }
 
-/// The derivatives of the wrenches (about the body origins, in the body frames, `(n, f)`) of
+/// The derivatives of the wrenches (about the body origins, resolved in world, `(n, f)`) of
 /// the `k`-th pair in the contact set on the bodies of its shapes a and b, with respect to the
 /// tangent directions (module header) of those bodies: body a's from `offset[0]`, body b's
 /// from `offset[1]` (`None` for a shape fixed to the world; each needs [`PER_BODY`] columns
 /// within `N`). At the workspace's placements and velocities (`position_velocity` done), for
-/// the pair's constants and damping factor. `false` (and `out` undefined) for a pair without
-/// a closed form here (see the module header): the caller keeps its quotients.
+/// the pair's constants and damping factor; the wrenches themselves into `values` (for the
+/// moving bodies). `false` (and `out`, `values` undefined) for a pair without a closed form
+/// here (see the module header): the caller keeps its quotients.
 pub(crate) fn pair_wrench_jacobian<const N: usize>(
     cp: &ContactPlan,
     cs: &ContactState,
@@ -228,6 +225,7 @@ pub(crate) fn pair_wrench_jacobian<const N: usize>(
     k: usize,
     offset: [Option<usize>; 2],
     out: &mut [SMatrix<f64, 6, N>; 2],
+    values: &mut [Force; 2],
 ) -> bool {
     let (pp, ps) = cs.active_pair(k);
     if cp.narrow.force_mpr {
@@ -369,10 +367,10 @@ pub(crate) fn pair_wrench_jacobian<const N: usize>(
     let df = dn * f_n + n * df_n + dfr;
     // Body b receives (f, τ), body a the opposite.
     if sides[1].moving {
-        sides[1].wrench(&p, &dp, &f, &df, &tau, &dtau, &mut out[1]);
+        values[1] = sides[1].wrench(&p, &dp, &f, &df, &tau, &dtau, &mut out[1]);
     }
     if sides[0].moving {
-        sides[0].wrench(&p, &dp, &-f, &-df, &-tau, &-dtau, &mut out[0]);
+        values[0] = sides[0].wrench(&p, &dp, &-f, &-df, &-tau, &-dtau, &mut out[0]);
     }
     true
 }

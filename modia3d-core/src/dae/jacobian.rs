@@ -5,20 +5,24 @@
 //! elements acting on it ([`FreeBody`]). Such a block costs 13 full residual evaluations by
 //! quotients; here
 //!
-//! - its own 13 × 13 block is exact: the kinematic residual of `joints/free.rs`
-//!   (`ṙ − R(q̂) v`, the quaternion rate with its norm-restoring term; `q̂ = q/|q|` because
-//!   `quat_to_matrix` normalises) and the Newton–Euler residual of one rigid body about its
-//!   frame origin as `dynamics/rnea.rs` forms it for a root body, `I (a + (0, R(q̂)ᵀ g_J)) +
-//!   v ×* I v − f_ext` with `g_J = −R_treeᵀ g` (the world's base acceleration `−g` resolved in
-//!   the joint frame) and `a = (ω̇, v̇)` (the free joint's `S` is the identity, its `c_J` and
-//!   `v × v_J` vanish);
+//! - its own 13 × 13 block is exact: the kinematic residual of `joints/free.rs` and the
+//!   Newton–Euler residual of one rigid body about its frame origin as `dynamics/rnea.rs`
+//!   forms it for a root body, in the frame of the joint's velocities ([`own_block`]). With
+//!   the velocities resolved in obj1: `ṙ − v`, the quaternion rate `½ (0, ω) ⊗ q` with its
+//!   norm-restoring term, and `I₁ a₁ + v₁ ×* I₁ v₁ − f₁` with `I₁ = R I Rᵀ` (`R = R(q̂)`,
+//!   `q̂ = q/|q|` because `quat_to_matrix` normalises), `a₁ = (ω̇, v̇ − ω × v + g_J)`,
+//!   `g_J = −R_treeᵀ g` (the world's base acceleration `−g` resolved in obj1) and `f₁` the
+//!   external wrench resolved in obj1. With them resolved in the body: `ṙ − R v`,
+//!   `½ q ⊗ (0, ω)`, and `I (a + (0, Rᵀ g_J)) + v ×* I v − f_ext` with `a = (ω̇, v̇)`;
 //! - each pair of the contact set adds the derivative of its wrenches on its (≤ 2) bodies with
 //!   respect to those bodies' states. Exact where the narrow phase is a closed form with a
 //!   point contact — sphere–sphere, a sphere against a box or capsule fixed to the world
 //!   (`contact/pair_jacobian.rs`: the chain rule through placement, normal, depth, contact
 //!   point, relative velocity, force law and wrench, in tangent directions `δx`, `δθ`, `δω`,
 //!   `δv` per body, mapped here to the states: `δx = R_tree δr`, `δθ = G(q) δq`
-//!   ([`rotation_tangent`])). Every other pair by pair-local difference quotients: one state
+//!   ([`rotation_tangent`]), `δω = R_tree δω₁` (the same for `v`) for velocities in obj1,
+//!   `δω = X δω₂ − X [ω₂]× δθ` (`X = R_tree R`) for velocities in the body; its world-resolved
+//!   wrench turned into the rows' frame). Every other pair by pair-local difference quotients: one state
 //!   perturbed, that body's placement and velocity recomputed, the pair's narrow phase
 //!   (position columns only: the geometry does not depend on velocities, nor a centred
 //!   sphere's on its quaternion) and force law evaluated again
@@ -58,6 +62,8 @@ pub(super) struct FreeBody {
     pub q: usize,
     /// Index in `y` of its first velocity (`ω`, then `v` at +3).
     pub v: usize,
+    /// Its velocities are resolved in obj1 (else in its own frame; `joints/free.rs`).
+    pub in_obj1: bool,
     /// Its own force elements: `own_forces[forces.0..forces.1]` of [`free_bodies`]' second
     /// result (indices into the scene's force elements).
     pub forces: (usize, usize),
@@ -151,7 +157,7 @@ pub(super) fn free_bodies(
             .any(Option::is_some);
         if count[of_body[i]] == 1
             && body.parent.is_none()
-            && matches!(j.coord, JointCoord::Free)
+            && matches!(j.coord, JointCoord::Free { .. })
             && !touched[i]
             && !prescribed
         {
@@ -161,6 +167,7 @@ pub(super) fn free_bodies(
                 body: BodyId(i),
                 q: j.q_offset,
                 v: plan.nq + j.v_offset,
+                in_obj1: matches!(j.coord, JointCoord::Free { in_obj1: true }),
                 forces: (first, own_forces.len()),
             });
         }
@@ -234,6 +241,37 @@ fn force_component(f: &Force, k: usize) -> f64 {
     }
 }
 
+/// Local order of a free body's rows and columns: r 0..3, quaternion 3..7, ω 7..10, v 10..13.
+const QQ: usize = 3;
+/// See [`QQ`].
+const VW: usize = 7;
+/// See [`QQ`].
+const VV: usize = 10;
+
+/// The quaternion rows of a free body's block ([`QQ`]): `q̇ − ½ Ω q + k_n (|q|² − 1) q`, whose
+/// exact rate `½ Ω(ω) q = ½ Ξ(q) ω` is given by the 4 × 4 `omega` (`Ω`) and 4 × 3 `xi` (`Ξ`).
+fn quaternion_rows(
+    a: &mut SMatrix<f64, 13, 13>,
+    quat: &Vector4<f64>,
+    omega: &Matrix4<f64>,
+    xi: &SMatrix<f64, 4, 3>,
+    c_j: f64,
+) {
+    let k_n = crate::joints::free::QUATERNION_NORM_RATE;
+    let n2 = quat.norm_squared();
+    let dq =
+        -omega * 0.5 + (quat * quat.transpose() * 2.0 + Matrix4::identity() * (n2 - 1.0)) * k_n;
+    for i in 0..4 {
+        for k in 0..4 {
+            a[(QQ + i, QQ + k)] = dq[(i, k)];
+        }
+        a[(QQ + i, QQ + i)] += c_j;
+        for k in 0..3 {
+            a[(QQ + i, VW + k)] = -0.5 * xi[(i, k)];
+        }
+    }
+}
+
 /// The 13 × 13 block of free body `fb` without its contacts, exact (see the module header),
 /// passed to `out` column by column (rows `fb.q..fb.q + 7`, then `fb.v..fb.v + 6`).
 pub(super) fn own_block(
@@ -242,10 +280,114 @@ pub(super) fn own_block(
     args: &JacobianArgs<'_>,
     out: &mut dyn JacobianSink,
 ) {
-    // Local order of rows and columns: r 0..3, quaternion 3..7, ω 7..10, v 10..13.
-    const QQ: usize = 3;
-    const VW: usize = 7;
-    const VV: usize = 10;
+    let a = if fb.in_obj1 {
+        own_block_obj1(plan, fb, args)
+    } else {
+        own_block_child(plan, fb, args)
+    };
+    let cols = a.as_slice();
+    for c in 0..13 {
+        let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
+        let col = &cols[13 * c..13 * c + 13];
+        out.add(fb.q, j, &col[..7]);
+        out.add(fb.v, j, &col[7..]);
+    }
+}
+
+/// [`own_block`] of a free body whose velocities `(ω, v)` are resolved in obj1
+/// (`joints/free.rs`): its dynamic rows
+/// `Sᵀ(I a + v ×* I v − f_ext)` are the Newton–Euler equations resolved in obj1:
+/// `I₁ a₁ + v₁ ×* I₁ v₁ − f₁` with the rotated inertia `I₁ = R I Rᵀ`, `v₁ = (ω, v)` and
+/// `a₁ = (ω̇, v̇ − ω × v − g₁)` (`g₁` gravity in obj1). They depend on the quaternion only
+/// through `I₁`: a rotation `δθ₁` (resolved in obj1) changes `I₁ x` by `δθ₁ ⊛ I₁ x − I₁ (δθ₁ ⊛ x)`
+/// (`⊛` turning both halves of a spatial vector), and `δθ₁ = R G δq` ([`rotation_tangent`]).
+fn own_block_obj1(plan: &Plan, fb: &FreeBody, args: &JacobianArgs<'_>) -> SMatrix<f64, 13, 13> {
+    let mut a = SMatrix::<f64, 13, 13>::zeros();
+    let (y, yp, c_j) = (args.y, args.yp, args.c_j);
+    let body = &plan.bodies[fb.body];
+    let joint = &plan.joints[body.joint];
+    let (qq, vw, vv) = (fb.q + 3, fb.v, fb.v + 3);
+    let quat = Vector4::new(y[qq], y[qq + 1], y[qq + 2], y[qq + 3]);
+    let rot = quat_to_matrix(quat.as_slice());
+    let vec3 = |s: &[f64], i: usize| Vector3::new(s[i], s[i + 1], s[i + 2]);
+    let (omega, vel) = (vec3(y, vw), vec3(y, vv));
+
+    // Kinematic rows of r: ṙ − v.
+    for i in 0..3 {
+        a[(i, i)] += c_j;
+        a[(i, VV + i)] = -1.0;
+    }
+    // Quaternion rows: q̇ − ½ (0, ω) ⊗ q + k_n (|q|² − 1) q.
+    let (w, x, yy, z) = (quat[0], quat[1], quat[2], quat[3]);
+    let omega_l = Matrix4::new(
+        0.0, -omega.x, -omega.y, -omega.z, //
+        omega.x, 0.0, -omega.z, omega.y, //
+        omega.y, omega.z, 0.0, -omega.x, //
+        omega.z, -omega.y, omega.x, 0.0,
+    );
+    let xi = SMatrix::<f64, 4, 3>::new(
+        -x, -yy, -z, //
+        w, z, -yy, //
+        -z, w, x, //
+        yy, -x, w,
+    );
+    quaternion_rows(&mut a, &quat, &omega_l, &xi, c_j);
+    // Dynamic rows, resolved in obj1 (contacts and own force elements are added by the caller).
+    let inertia = &body.inertia;
+    let i1 = Inertia {
+        mass: inertia.mass,
+        com: rot * inertia.com,
+        inertia_com: rot * inertia.inertia_com * rot.transpose(),
+    };
+    let g1 = -joint.tree.rot.tr_mul(&plan.gravity);
+    let m = Motion { w: omega, v: vel };
+    let acc = Motion {
+        w: vec3(yp, vw),
+        v: vec3(yp, vv) - omega.cross(&vel) + g1,
+    };
+    for k in 0..6 {
+        let e = unit_motion(k);
+        let mass = i1.mul_motion(&e);
+        // ∂a₁/∂(ω, v) along e: (0, −e_ω × v − ω × e_v).
+        let da = Motion {
+            w: Vector3::zeros(),
+            v: -e.w.cross(&vel) - omega.cross(&e.v),
+        };
+        let d = i1.mul_motion(&da) + bias_force_derivative(&i1, &m, &e);
+        for i in 0..6 {
+            a[(VW + i, VW + k)] = c_j * force_component(&mass, i) + force_component(&d, i);
+        }
+    }
+    let (i_acc, i_m) = (i1.mul_motion(&acc), i1.mul_motion(&m));
+    let mut d_theta = SMatrix::<f64, 6, 3>::zeros();
+    for k in 0..3 {
+        let mut e = Vector3::zeros();
+        e[k] = 1.0;
+        let turn_f = |f: &Force| Force {
+            n: e.cross(&f.n),
+            f: e.cross(&f.f),
+        };
+        let turn_m = |x: &Motion| Motion {
+            w: e.cross(&x.w),
+            v: e.cross(&x.v),
+        };
+        let d_ia = turn_f(&i_acc) - i1.mul_motion(&turn_m(&acc));
+        let d_im = turn_f(&i_m) - i1.mul_motion(&turn_m(&m));
+        let d = d_ia + m.cross_force(&d_im);
+        for i in 0..6 {
+            d_theta[(i, k)] = force_component(&d, i);
+        }
+    }
+    let d_quat = d_theta * (rot * rotation_tangent(&quat));
+    a.fixed_view_mut::<6, 4>(VW, QQ).copy_from(&d_quat);
+    a
+}
+
+/// [`own_block`] of a free body whose velocities are resolved in its own frame: the kinematic
+/// rows `ṙ − R(q̂) v` and `q̇ − ½ q ⊗ (0, ω)` (with the norm-restoring term), the dynamic rows
+/// `I (a + (0, R(q̂)ᵀ g_J)) + v ×* I v` with `a = (ω̇, v̇)` (`S` the identity, `c_J` and
+/// `v × v_J` vanish).
+fn own_block_child(plan: &Plan, fb: &FreeBody, args: &JacobianArgs<'_>) -> SMatrix<f64, 13, 13> {
     let mut a = SMatrix::<f64, 13, 13>::zeros();
     let (y, c_j) = (args.y, args.c_j);
     let body = &plan.bodies[fb.body];
@@ -281,24 +423,13 @@ pub(super) fn own_block(
         omega.y, -omega.z, 0.0, omega.x, //
         omega.z, omega.y, -omega.x, 0.0,
     );
-    let k_n = crate::joints::free::QUATERNION_NORM_RATE;
-    let dq =
-        -omega_m * 0.5 + (quat * quat.transpose() * 2.0 + Matrix4::identity() * (n2 - 1.0)) * k_n;
-    let dw = SMatrix::<f64, 4, 3>::new(
+    let xi = SMatrix::<f64, 4, 3>::new(
         -x, -yy, -z, //
         w, -z, yy, //
         z, w, -x, //
         -yy, x, w,
-    ) * -0.5;
-    for i in 0..4 {
-        for k in 0..4 {
-            a[(QQ + i, QQ + k)] = dq[(i, k)];
-        }
-        a[(QQ + i, QQ + i)] += c_j;
-        for k in 0..3 {
-            a[(QQ + i, VW + k)] = dw[(i, k)];
-        }
-    }
+    );
+    quaternion_rows(&mut a, &quat, &omega_m, &xi, c_j);
     // Dynamic rows: I (v̇ + (0, R(q̂)ᵀ g_J)) + bias(v) (contacts are added by the caller).
     let m = Motion { w: omega, v: vel };
     for k in 0..6 {
@@ -321,13 +452,7 @@ pub(super) fn own_block(
             a[(VW + i, QQ + k)] = force_component(&df, i);
         }
     }
-    let cols = a.as_slice();
-    for c in 0..13 {
-        let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
-        let col = &cols[13 * c..13 * c + 13];
-        out.add(fb.q, j, &col[..7]);
-        out.add(fb.v, j, &col[7..]);
-    }
+    a
 }
 
 /// Sets body `b` (a root body on its joint) to positions `q` and velocities `v` of that
@@ -366,7 +491,7 @@ fn own_force_columns(
         for &e in elements {
             crate::dynamics::forces::apply_element(plan, ws, args.t, yq, yv, e);
         }
-        ws.f_ext[b]
+        in_rows(plan, ws, fb, &ws.f_ext[b])
     };
     let base = eval(ws, 0, 0.0);
     for c in 0..13 {
@@ -397,8 +522,25 @@ pub(super) fn central_back(args: &JacobianArgs<'_>, j: usize, inc: f64) -> Optio
     })
 }
 
-/// The quotient `(plus − minus)·inv` of a body's external wrench, as the residual's dynamic
-/// rows see it (they have `− f_ext`).
+/// Wrench `f` on free body `fb` (about its origin, resolved in it, as `Workspace::f_ext`) in
+/// the frame of its dynamic rows (`Sᵀ f`): resolved in obj1 of its joint at the body's
+/// placement in `ws` if its velocities are (see [`own_block`]), else as it is.
+fn in_rows(plan: &Plan, ws: &Workspace, fb: &FreeBody, f: &Force) -> Force {
+    if !fb.in_obj1 {
+        return *f;
+    }
+    let rot = plan.joints[plan.bodies[fb.body].joint]
+        .tree
+        .rot
+        .tr_mul(&ws.world[fb.body].rot);
+    Force {
+        n: rot * f.n,
+        f: rot * f.f,
+    }
+}
+
+/// The quotient `(plus − minus)·inv` of a body's external wrench (in its rows' frame,
+/// [`in_rows`]), as the residual's dynamic rows see it (they have `− f_ext`).
 fn residual_quotient(plus: &Force, minus: &Force, inv: f64) -> [f64; 6] {
     std::array::from_fn(|i| (force_component(minus, i) - force_component(plus, i)) * inv)
 }
@@ -456,16 +598,17 @@ impl ContactColumns<'_> {
             bodies[1].map(|_| if bodies[0].is_some() { PER_BODY } else { 0 }),
         ];
         let mut d = [SMatrix::<f64, 6, N>::zeros(); 2];
-        if !pair_wrench_jacobian(self.cp, self.cs, ws, k, offset, &mut d) {
+        let mut values = [Force::default(); 2];
+        if !pair_wrench_jacobian(self.cp, self.cs, ws, k, offset, &mut d, &mut values) {
             return false;
         }
+        let plan = self.plan;
+        let tree_rot = |b: BodyId| plan.joints[plan.bodies[b].joint].tree.rot;
         for (col_body, o) in bodies.into_iter().zip(offset) {
             let (Some(fb), Some(o), true) = (self.free_of(col_body), o, self.is_analytic(col_body))
             else {
                 continue;
             };
-            let plan = self.plan;
-            let tree_rot = plan.joints[plan.bodies[fb.body].joint].tree.rot;
             let y = args.y;
             let g = rotation_tangent(&Vector4::new(
                 y[fb.q + 3],
@@ -473,19 +616,51 @@ impl ContactColumns<'_> {
                 y[fb.q + 5],
                 y[fb.q + 6],
             ));
-            for (row_body, dr) in bodies.into_iter().zip(&d) {
+            // The pair's tangent directions (δx, δθ, δω, δv: world, body, world, world) per
+            // state of the column body (12 × 13): δx = R_tree δr, δθ = G δq; velocities in obj1
+            // give δω = R_tree δω₁ (the same for v); in the body frame (X = R_tree R) δω =
+            // X δω₂ − X [ω₂]× δθ (the same for v).
+            let mut t = SMatrix::<f64, 12, 13>::zeros();
+            t.fixed_view_mut::<3, 3>(0, 0).copy_from(&tree_rot(fb.body));
+            t.fixed_view_mut::<3, 4>(3, 3).copy_from(&g);
+            let x = if fb.in_obj1 {
+                tree_rot(fb.body)
+            } else {
+                let (x, vel) = (ws.world[fb.body].rot, ws.vel[fb.body]);
+                t.fixed_view_mut::<3, 4>(6, 3)
+                    .copy_from(&(-x * vel.w.cross_matrix() * g));
+                t.fixed_view_mut::<3, 4>(9, 3)
+                    .copy_from(&(-x * vel.v.cross_matrix() * g));
+                x
+            };
+            t.fixed_view_mut::<3, 3>(6, 7).copy_from(&x);
+            t.fixed_view_mut::<3, 3>(9, 10).copy_from(&x);
+            for (row_body, (dr, val)) in bodies.into_iter().zip(d.iter().zip(&values)) {
                 let Some(rb) = self.free_of(row_body) else {
                     continue;
                 };
-                // The residual has − f_ext; r = tree-frame coordinates (δx = R_tree δr), the
-                // quaternion through δθ = G δq, ω and v as they are.
+                // The rows' frame: obj1 (`R_treeᵀ` of the world wrench) or the body's own
+                // (`Xᵀ`, which turns with the body: `d(Xᵀ a) = Xᵀ da + [Xᵀ a]× δθ`).
+                let rr = if rb.in_obj1 {
+                    tree_rot(rb.body).transpose()
+                } else {
+                    ws.world[rb.body].rot.transpose()
+                };
+                let w = dr.fixed_view::<6, 12>(0, o) * t;
                 let mut cols = SMatrix::<f64, 6, 13>::zeros();
-                cols.fixed_view_mut::<6, 3>(0, 0)
-                    .copy_from(&(-dr.fixed_view::<6, 3>(0, o) * tree_rot));
-                cols.fixed_view_mut::<6, 4>(0, 3)
-                    .copy_from(&(-dr.fixed_view::<6, 3>(0, o + 3) * g));
-                cols.fixed_view_mut::<6, 6>(0, 7)
-                    .copy_from(&(-dr.fixed_view::<6, 6>(0, o + 6)));
+                for h in [0, 3] {
+                    cols.fixed_view_mut::<3, 13>(h, 0)
+                        .copy_from(&(rr * w.fixed_view::<3, 13>(h, 0)));
+                }
+                if !rb.in_obj1 && rb.body == fb.body {
+                    for (h, a) in [(0, val.n), (3, val.f)] {
+                        let turn = (rr * a).cross_matrix() * g;
+                        let mut block = cols.fixed_view_mut::<3, 4>(h, 3);
+                        block += turn;
+                    }
+                }
+                // The residual has − f_ext.
+                cols = -cols;
                 for c in 0..13 {
                     let j = if c < 7 { fb.q + c } else { fb.v + c - 7 };
                     out.add(rb.v, j, cols.column(c).as_slice());
@@ -527,7 +702,16 @@ impl ContactColumns<'_> {
             if geo0.0.distance > 0.0 {
                 continue;
             }
-            let base = cs.pair_wrenches(cp, ws, k, &geo0);
+            // The wrenches on the free bodies in their rows' frames ([`in_rows`]), at the
+            // placements in `ws`.
+            let obj1 = |ws: &Workspace, (fa, fb): (Option<Force>, Option<Force>)| {
+                let turn = |body: Option<BodyId>, f: Option<Force>| match (self.free_of(body), f) {
+                    (Some(fb), Some(f)) => Some(in_rows(plan, ws, &fb, &f)),
+                    (_, f) => f,
+                };
+                (turn(ba, fa), turn(bb, fb))
+            };
+            let base = obj1(ws, cs.pair_wrenches(cp, ws, k, &geo0));
             for col_body in [ba, bb] {
                 if !self.is_analytic(col_body) {
                     continue;
@@ -565,6 +749,7 @@ impl ContactColumns<'_> {
                         } else {
                             Ok(cs.pair_wrenches(cp, ws, k, &geo0))
                         };
+                        let pert = pert.map(|w| obj1(ws, w));
                         (ws.x[b], ws.world[b], ws.vel[b]) = saved;
                         pert.map_err(fatal)
                     };
@@ -637,7 +822,7 @@ pub(super) mod tests {
     use super::super::MultibodyDae;
     use crate::solver::{BlockStructure, DaeSystem, JacobianArgs};
     use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
-    use nalgebra::{UnitQuaternion, Vector3};
+    use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
     const D: f64 = 0.06;
 
@@ -696,16 +881,38 @@ pub(super) mod tests {
                         .collision(true),
                     ),
             );
+        // b2 carries its centre of mass off its origin and the cube is not round, so their
+        // free joints resolve their velocities in their own frames, the other balls' in the
+        // world (`joints/free.rs`): both kinds of rows and columns meet in the pair b1–b2. b0
+        // and b3 have three different moments of inertia, so their inertia in the world turns
+        // with their quaternions. (With the cube resolved in the world, its quotient columns
+        // matched as well: measured while the rule was being chosen.)
+        let off_centre = |solid: Solid, m: f64| {
+            solid.mass_properties(
+                m,
+                Vector3::new(2e-3, -1e-3, 1.5e-3),
+                Matrix3::identity() * 1e-4 * m,
+            )
+        };
         for i in 0..4 {
             let name = format!("b{i}");
-            s.add(
-                Object3D::new(&name).solid(
-                    Solid::new(Shape::Sphere { diameter: D })
-                        .material("Steel")
-                        .collision(true),
-                ),
-            )
-            .add_joint(free(&name, [-0.5 + 0.2 * i as f64, 0.0, 0.5]));
+            let mut ball = Solid::new(Shape::Sphere { diameter: D })
+                .material("Steel")
+                .collision(true);
+            if i == 2 {
+                ball = off_centre(ball, 0.5);
+            }
+            if i == 0 || i == 3 {
+                // Centred, with an inertia of three different moments (in the world's
+                // frame its inertia turns with the quaternion).
+                ball = ball.mass_properties(
+                    0.4,
+                    Vector3::zeros(),
+                    Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)) * 1e-5,
+                );
+            }
+            s.add(Object3D::new(&name).solid(ball))
+                .add_joint(free(&name, [-0.5 + 0.2 * i as f64, 0.0, 0.5]));
         }
         s.add(
             Object3D::new("cube").solid(
@@ -780,16 +987,20 @@ pub(super) mod tests {
             y[q + 4] = quat.i * scale;
             y[q + 5] = quat.j * scale;
             y[q + 6] = quat.k * scale;
+            // The free joint's velocities, resolved in the world.
             let w = Vector3::new(rnd(), rnd(), rnd()) * 20.0;
             let mut vel = Vector3::new(rnd(), rnd(), rnd() * 0.1);
             if rolling && (1..4).contains(&k) {
-                // v_contact = v + ω × (−r e_z) = 0, in world: v = r ω × e_z... resolved in the
-                // body frame through the rotation.
-                let w_world = quat * w;
-                vel = quat.inverse() * w_world.cross(&Vector3::new(0.0, 0.0, r));
-            } else {
-                vel = quat.inverse() * vel;
+                // v_contact = v + ω × (−r e_z) = 0: v = ω × r e_z.
+                vel = w.cross(&Vector3::new(0.0, 0.0, r));
             }
+            // Resolved in the body's own frame where its joint resolves them there.
+            let (w, vel) = if matches!(j.coord, crate::joints::JointCoord::Free { in_obj1: true }) {
+                (w, vel)
+            } else {
+                let inv = UnitQuaternion::from_quaternion(quat.into_inner()).inverse();
+                (inv * w, inv * vel)
+            };
             y[v..v + 3].copy_from_slice(w.as_slice());
             y[v + 3..v + 6].copy_from_slice(vel.as_slice());
         }
@@ -880,6 +1091,20 @@ pub(super) mod tests {
             let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
             let (a, cols) = analytic_columns(&mut dae, &y, &yp, c_j);
             assert!(cols.iter().all(|&c| c), "every block is a free body");
+            let frames: Vec<bool> = dae
+                .blocks
+                .as_ref()
+                .unwrap()
+                .free
+                .iter()
+                .flatten()
+                .map(|f| f.in_obj1)
+                .collect();
+            assert_eq!(
+                frames,
+                [true, true, false, true, false],
+                "b2 and the cube (not round) in their own frames"
+            );
             let r: Vec<Vec<f64>> = (0..n).map(|j| central(&mut dae, &y, &yp, c_j, j)).collect();
             let b0 = dae
                 .plan()
@@ -1011,7 +1236,15 @@ pub(super) mod tests {
                                 &yy[nq..nq + nv],
                             );
                             let g = cs.pair_geometry(&plan, cp, &ws, k, 0.0).unwrap();
-                            (yy[j] - y[j], cs.pair_wrenches(cp, &ws, k, &g))
+                            // The rows' frame of each free body (`in_rows`).
+                            let (fa, fb) = cs.pair_wrenches(cp, &ws, k, &g);
+                            let turn = |b: Option<crate::dynamics::BodyId>, f: Option<crate::dynamics::spatial::Force>| {
+                                match (b.and_then(|b| tb.free[tb.of_body[b.index()]]), f) {
+                                    (Some(fb), Some(f)) => Some(super::in_rows(&plan, &ws, &fb, &f)),
+                                    (_, f) => f,
+                                }
+                            };
+                            (yy[j] - y[j], (turn(ba, fa), turn(bb, fb)))
                         };
                         let ((hp, wp), (hm, wm)) = (eval(eta), eval(-eta));
                         for (b, fp, fm) in [(ba, wp.0, wm.0), (bb, wp.1, wm.1)] {

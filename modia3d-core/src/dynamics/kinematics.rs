@@ -31,7 +31,7 @@ fn place_bodies<'p>(
         let xj = j.coord.transform(qj);
         let vj = j.coord.motion(qj, vj_);
         if j.coord.has_bias() {
-            ws.cj[i] = j.coord.bias(qj, vj_);
+            ws.cj[i] = j.coord.bias(qj, vj_, &vj);
         }
         let x = j.tree.then(&xj);
         ws.x[i] = x;

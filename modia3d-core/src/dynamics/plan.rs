@@ -245,6 +245,42 @@ fn tree_layout(scene: &ValidScene, in_ref: &[Transform]) -> TreeLayout {
     l
 }
 
+/// Resolves the velocities of the FreeMotion joints of bodies alone in their tree (obj1 fixed
+/// to the world, no body on them), `round` (every collision shape a sphere centred on the
+/// origin, or none) and whose centre of mass is their origin in obj1, turning their initial
+/// velocities there; the other free joints keep them in the child frame (`joints/free.rs` says
+/// why). "Is their origin": `|c|² ≤ 1e-12 · tr(I_c)/m` (a millionth of the body's radius of
+/// gyration, so a body symmetric about its origin passes whatever the rounding of its parts'
+/// sum).
+fn resolve_free_velocities(
+    joints: &mut [JointPlan],
+    bodies: &[BodyPlan],
+    round: &[bool],
+    q0: &[f64],
+    v0: &mut [f64],
+) {
+    let mut carries = vec![false; bodies.len()];
+    for b in bodies {
+        if let Some(p) = b.parent {
+            carries[p.index()] = true;
+        }
+    }
+    for j in joints.iter_mut() {
+        let b = &bodies[j.body.index()];
+        let i = &b.inertia;
+        let centred =
+            i.mass > 0.0 && i.com.norm_squared() <= 1e-12 * i.inertia_com.trace() / i.mass;
+        let alone = b.parent.is_none() && !carries[j.body.index()] && round[j.body.index()];
+        if let (JointCoord::Free { in_obj1 }, true, true) = (&mut j.coord, alone, centred) {
+            *in_obj1 = true;
+            crate::joints::free::velocities_to_obj1(
+                &q0[j.q_offset..j.q_offset + 7],
+                &mut v0[j.v_offset..j.v_offset + 6],
+            );
+        }
+    }
+}
+
 /// Inputs with plan indices and offsets into the input vector, and for each velocity
 /// coordinate the input offset of its prescribed acceleration.
 fn input_layout(
@@ -298,10 +334,10 @@ impl Plan {
         let in_ref = placements(&scene);
         let TreeLayout {
             mut bodies,
-            joints,
+            mut joints,
             cluster_body,
             q0,
-            v0,
+            mut v0,
         } = tree_layout(&scene, &in_ref);
         let cluster = &scene.topology.cluster;
         let mut objects = Vec::with_capacity(scene.objects.len());
@@ -325,6 +361,21 @@ impl Plan {
                 in_body: in_ref[i],
             });
         }
+        // A body is round if every collision shape on it is a sphere centred on its origin.
+        let mut round = vec![true; bodies.len()];
+        for (i, o) in scene.objects.iter().enumerate() {
+            let (Some(b), Some(s)) = (cluster_body[cluster[i]], &o.solid) else {
+                continue;
+            };
+            let centred_sphere = match s.shape {
+                Some(crate::Shape::Sphere { diameter }) => in_ref[i].pos.norm() <= 1e-12 * diameter,
+                _ => false,
+            };
+            if s.collision && !centred_sphere {
+                round[b.index()] = false;
+            }
+        }
+        resolve_free_velocities(&mut joints, &bodies, &round, &q0, &mut v0);
         let mut tree_joint_of = vec![None; scene.joints.len()];
         for (tj, j) in joints.iter().enumerate() {
             tree_joint_of[j.scene_joint] = Some(JointId(tj));

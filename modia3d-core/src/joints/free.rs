@@ -1,7 +1,34 @@
 //! Free motion: six degrees of freedom of obj2 relative to obj1. Positions `r` (3, resolved in
 //! obj1, \[m\]) and a quaternion `(w, x, y, z)` (4); velocities `ω` then `v` of obj2's origin
-//! relative to obj1, both resolved in obj2 ([rad/s], [m/s]), so `S` is the identity in the
-//! child frame and `c_J = 0`. The quaternion rate carries a norm-restoring term.
+//! relative to obj1, resolved in one of two frames (the flag `in_obj1` of
+//! [`super::JointCoord::Free`], chosen by the plan, `dynamics/plan.rs`):
+//!
+//! - **in obj1** (`v = ṙ`): `S(q) = diag(Rᵀ, Rᵀ)` (R: obj2 → obj1, from the quaternion),
+//!   `c_J = Ṡ v = (0, −ω₂ × v₂)` with the child-frame `ω₂ = Rᵀ ω`, `v₂ = Rᵀ v`, `Sᵀ f = (R n,
+//!   R f)`: the dynamic rows are the Newton–Euler equations resolved in obj1; the quaternion
+//!   rate is `½ (0, ω) ⊗ q`. For a body alone in its joint tree (obj1 fixed to the world, no
+//!   body carried) whose centre of mass is its origin and whose collision shapes are spheres
+//!   about it: a ball rolling at speed `v` turns its own frame at `v/r`, so in the child
+//!   frame its velocity components oscillate at that rate (tens of rad/s for a billiard ball)
+//!   while in obj1 they are constant, and IDA's error test bounds the local error of each
+//!   component: billiards16 at rtol 1e-5 took 13,045 steps in the child frame and 8,846 in
+//!   obj1, with a 3× smaller error against a converged run (BENCHMARKS.md, "Free-motion
+//!   velocities resolved in obj1").
+//! - **in obj2** (the child frame): `S` the identity, `c_J = 0`, `ṙ = R v`, the quaternion
+//!   rate `½ q ⊗ (0, ω)`. For every other free joint: a body whose origin is off its centre
+//!   of mass circles its centre when it spins, so its origin's velocity turns in obj1 but not
+//!   in its own frame; a joint on a moving body sees its relative motion turn with obj1; and
+//!   the root of a tree is pushed around by the bodies it carries. Resolved in obj1 these made
+//!   the first 1,000 random scenes 40 % slower in sum (some scenes 10–60×). And bodies of
+//!   other shapes pressed hard into a contact (a steel cylinder rocking on its side at 300 N,
+//!   `tests/regressions.rs`) failed Newton's method far more often with their velocities in
+//!   obj1 and the DAE's own Jacobian columns (not with the solver's difference quotients); the
+//!   cause is not found (both columns match central differences, `dae/jacobian.rs` tests), so
+//!   they keep the child frame.
+//!
+//! The builder's `v` is `der(r)` in obj1 and its `w` is resolved in obj2 (as in Modia3D); the
+//! `v` and `w` signals are those, whatever the frame of the states. The quaternion rate
+//! carries a norm-restoring term.
 
 use super::{Checker, KindInfo, SignalSpec, Source, ValidJointKind};
 #[cfg(feature = "solver")]
@@ -22,7 +49,7 @@ pub(crate) const NV: usize = 6;
 pub(crate) const QUATERNION_NORM_RATE: f64 = 1.0;
 
 /// Signals: `r` \[m\] (in obj1), `q` (quaternion), `w` [rad/s] (in obj2), `v` = `der(r)`
-/// [m/s] (in obj1, derived).
+/// [m/s] (in obj1); `w` and `v` derived from the states (their frame is the plan's choice).
 pub(crate) const SIGNALS: &[SignalSpec] = &[
     SignalSpec {
         name: "r",
@@ -40,7 +67,7 @@ pub(crate) const SIGNALS: &[SignalSpec] = &[
         name: "w",
         unit: "rad/s",
         dim: 3,
-        source: Source::V(0),
+        source: Source::Derived,
     },
     SignalSpec {
         name: "v",
@@ -50,15 +77,17 @@ pub(crate) const SIGNALS: &[SignalSpec] = &[
     },
 ];
 
-/// No scalar coordinates (the velocities are resolved in obj2, not rates of `r`); not
-/// reversible (obj1 must lie on the world side).
+/// No scalar coordinates (the angular velocity is no rate of the quaternion); not reversible
+/// (obj1 must lie on the world side).
 pub(crate) const INFO: KindInfo = KindInfo {
     coordinates: &[],
     reversible: false,
 };
 
-/// Initial `q` (`r`, quaternion) and `v` (`ω`, body-frame velocity) from the validated values:
-/// `v_obj1` is `der(r)` resolved in obj1, `w` is resolved in obj2.
+/// Initial `q` (`r`, quaternion) and `v` (`ω`, the origin's velocity, both resolved in obj2:
+/// the child frame; the plan turns them into obj1 where it resolves the joint there,
+/// [`velocities_to_obj1`]) from the validated values: `v_obj1` is `der(r)` resolved in obj1,
+/// `w` is resolved in obj2.
 #[cfg(feature = "solver")]
 pub(crate) fn initial(
     r: &Vector3<f64>,
@@ -74,6 +103,17 @@ pub(crate) fn initial(
     v0.extend_from_slice((rot.inverse() * v_obj1).as_slice());
 }
 
+/// The child-frame velocities `v` (`ω`, `v`) of a joint at positions `q` resolved in obj1
+/// instead (`R ω`, `R v`), in place.
+#[cfg(feature = "solver")]
+pub(crate) fn velocities_to_obj1(q: &[f64], v: &mut [f64]) {
+    let rot = quat_to_matrix(&q[3..7]);
+    for h in [0, 3] {
+        let x = rot * Vector3::new(v[h], v[h + 1], v[h + 2]);
+        v[h..h + 3].copy_from_slice(x.as_slice());
+    }
+}
+
 /// `X_J`: rotation by the quaternion `q[3..7]`, translation `q[0..3]`.
 #[cfg(feature = "solver")]
 #[inline]
@@ -84,42 +124,102 @@ pub(crate) fn transform(q: &[f64]) -> Transform {
     }
 }
 
-/// `S v = (ω, v)`.
+/// `S(q) v`, the joint velocity in the child frame: `(Rᵀ ω, Rᵀ v)` `in_obj1`, else `(ω, v)`.
 #[cfg(feature = "solver")]
 #[inline]
-pub(crate) fn motion(v: &[f64]) -> Motion {
+pub(crate) fn motion(in_obj1: bool, q: &[f64], v: &[f64]) -> Motion {
+    let (w, lin) = (
+        Vector3::new(v[0], v[1], v[2]),
+        Vector3::new(v[3], v[4], v[5]),
+    );
+    if in_obj1 {
+        let rot = quat_to_matrix(&q[3..7]);
+        Motion {
+            w: rot.tr_mul(&w),
+            v: rot.tr_mul(&lin),
+        }
+    } else {
+        Motion { w, v: lin }
+    }
+}
+
+/// `c_J = Ṡ v`: `(0, −ω₂ × v₂)` `in_obj1` with `(ω₂, v₂) = (Rᵀ ω, Rᵀ v)` the joint velocity
+/// `s_v` ([`motion`]; `d(Rᵀ)/dt = −[ω₂]× Rᵀ`, and its angular part `−ω₂ × ω₂` vanishes); zero
+/// in the child frame.
+#[cfg(feature = "solver")]
+#[inline]
+pub(crate) fn bias(in_obj1: bool, s_v: &Motion) -> Motion {
+    if !in_obj1 {
+        return Motion::zero();
+    }
     Motion {
-        w: Vector3::new(v[0], v[1], v[2]),
-        v: Vector3::new(v[3], v[4], v[5]),
+        w: Vector3::zeros(),
+        v: -s_v.w.cross(&s_v.v),
     }
 }
 
-/// `Sᵀ f = (n, f)`.
+/// `Sᵀ f`: the child-frame wrench resolved in obj1 `(R n, R f)` `in_obj1`, else `(n, f)`.
 #[cfg(feature = "solver")]
 #[inline]
-pub(crate) fn project(f: &Force, tau: &mut [f64]) {
-    for k in 0..3 {
-        tau[k] = f.n[k];
-        tau[3 + k] = f.f[k];
-    }
+pub(crate) fn project(in_obj1: bool, q: &[f64], f: &Force, tau: &mut [f64]) {
+    let (n, lin) = if in_obj1 {
+        let rot = quat_to_matrix(&q[3..7]);
+        (rot * f.n, rot * f.f)
+    } else {
+        (f.n, f.f)
+    };
+    tau[..3].copy_from_slice(n.as_slice());
+    tau[3..6].copy_from_slice(lin.as_slice());
 }
 
-/// `q̇ − q̇(q, v)`: `ṙ = R v` and the quaternion rate of `ω` with the norm-restoring term.
+/// `q̇ − q̇(q, v)`: `in_obj1`, `ṙ = v` and the quaternion rate `½ (0, ω) ⊗ q`; in the child
+/// frame `ṙ = R v` and `½ q ⊗ (0, ω)`; both with the norm-restoring term of
+/// [`quaternion_residual`].
 #[cfg(feature = "solver")]
 #[inline]
-pub(crate) fn position_residual(q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
-    let rot = quat_to_matrix(&q[3..7]);
-    let lin = Vector3::new(v[3], v[4], v[5]);
-    let rd = rot * lin;
+pub(crate) fn position_residual(in_obj1: bool, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
+    let (quat, w) = (&q[3..7], Vector3::new(v[0], v[1], v[2]));
+    let (rd, rate) = if in_obj1 {
+        (Vector3::new(v[3], v[4], v[5]), quat_rate_obj1(quat, &w))
+    } else {
+        let rot = quat_to_matrix(quat);
+        (rot * Vector3::new(v[3], v[4], v[5]), quat_rate(quat, &w))
+    };
     for k in 0..3 {
         res[k] = qd[k] - rd[k];
     }
-    quaternion_residual(
-        &q[3..7],
-        &Vector3::new(v[0], v[1], v[2]),
-        &qd[3..7],
-        &mut res[3..7],
-    );
+    rate_residual(quat, &rate, &qd[3..7], &mut res[3..7]);
+}
+
+/// `½ (0, ω) ⊗ q`: the rate of the quaternion `q` of a frame turning at `ω` resolved in the
+/// parent frame (obj1) [1/s].
+#[cfg(feature = "solver")]
+#[inline]
+pub(crate) fn quat_rate_obj1(q: &[f64], w: &Vector3<f64>) -> [f64; 4] {
+    [
+        0.5 * (-w.x * q[1] - w.y * q[2] - w.z * q[3]),
+        0.5 * (w.x * q[0] + w.y * q[3] - w.z * q[2]),
+        0.5 * (w.y * q[0] + w.z * q[1] - w.x * q[3]),
+        0.5 * (w.z * q[0] + w.x * q[2] - w.y * q[1]),
+    ]
+}
+
+/// The `w` signal, `ω` resolved in obj2 [rad/s] (`Rᵀ ω` `in_obj1`).
+#[cfg(feature = "solver")]
+pub(crate) fn w_in_obj2(in_obj1: bool, q: &[f64], v: &[f64], out: &mut Vec<f64>) {
+    out.extend_from_slice(motion(in_obj1, q, v).w.as_slice());
+}
+
+/// The `v` signal, `der(r)` resolved in obj1 [m/s] (`R v` in the child frame).
+#[cfg(feature = "solver")]
+pub(crate) fn velocity_in_obj1(in_obj1: bool, q: &[f64], v: &[f64], out: &mut Vec<f64>) {
+    let lin = Vector3::new(v[3], v[4], v[5]);
+    let x = if in_obj1 {
+        lin
+    } else {
+        quat_to_matrix(&q[3..7]) * lin
+    };
+    out.extend_from_slice(x.as_slice());
 }
 
 /// Residual of a joint quaternion `quat` rotating at `w` (resolved in the child frame):
@@ -128,20 +228,18 @@ pub(crate) fn position_residual(q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64
 #[cfg(feature = "solver")]
 #[inline]
 pub(crate) fn quaternion_residual(quat: &[f64], w: &Vector3<f64>, qd: &[f64], res: &mut [f64]) {
-    let qr = quat_rate(quat, w);
+    rate_residual(quat, &quat_rate(quat, w), qd, res);
+}
+
+/// `q̇ − (rate − k (‖q‖² − 1) q)` for a quaternion `quat` whose exact rate is `rate`.
+#[cfg(feature = "solver")]
+#[inline]
+fn rate_residual(quat: &[f64], rate: &[f64; 4], qd: &[f64], res: &mut [f64]) {
     let n2 = quat.iter().map(|x| x * x).sum::<f64>();
     let pull = QUATERNION_NORM_RATE * (n2 - 1.0);
     for k in 0..4 {
-        res[k] = qd[k] - (qr[k] - pull * quat[k]);
+        res[k] = qd[k] - (rate[k] - pull * quat[k]);
     }
-}
-
-/// `der(r)` resolved in obj1 [m/s]: the child-frame velocity rotated by the quaternion.
-#[cfg(feature = "solver")]
-pub(crate) fn velocity_in_obj1(q: &[f64], v: &[f64], out: &mut Vec<f64>) {
-    let rot = quat_to_matrix(&q[3..7]);
-    let v_body = Vector3::new(v[3], v[4], v[5]);
-    out.extend_from_slice((rot * v_body).as_slice());
 }
 
 /// Validation of the builder's parameters (solver-free): finite initial values, a unit

@@ -330,9 +330,13 @@ pub enum JointCoord {
         axis: Vector3<f64>,
     },
     /// Six degrees of freedom: positions `r` (3, \[m\], resolved in obj1) and a quaternion
-    /// `(w, x, y, z)` (4); velocities `ω` then `v` of obj2 relative to obj1, both resolved in obj2
-    /// ([rad/s], [m/s]).
-    Free,
+    /// `(w, x, y, z)` (4); velocities `ω` then `v` of obj2's origin relative to obj1 ([rad/s],
+    /// [m/s]), both resolved in obj1 (then `v = ṙ`) or both in obj2 (`joints/free.rs` says
+    /// which the plan picks and why).
+    Free {
+        /// The velocities are resolved in obj1 (else in obj2).
+        in_obj1: bool,
+    },
     /// Ball joint: a quaternion (4) and `ω` resolved in obj2 (3, [rad/s]).
     Spherical,
     /// Cardan joint: `phi1` about `axis1` (fixed in obj1), then `phi2` about `axis2` (fixed in
@@ -366,7 +370,7 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { .. } => "Revolute",
             JointCoord::Prismatic { .. } => "Prismatic",
-            JointCoord::Free => "FreeMotion",
+            JointCoord::Free { .. } => "FreeMotion",
             JointCoord::Spherical => "Spherical",
             JointCoord::Universal { .. } => "Universal",
             JointCoord::Cylindrical { .. } => "Cylindrical",
@@ -377,7 +381,7 @@ impl JointCoord {
     pub fn nq(&self) -> usize {
         match self {
             JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => 1,
-            JointCoord::Free => free::NQ,
+            JointCoord::Free { .. } => free::NQ,
             JointCoord::Spherical => spherical::NQ,
             JointCoord::Universal { .. } | JointCoord::Cylindrical { .. } => 2,
             JointCoord::Planar { .. } => 3,
@@ -387,7 +391,7 @@ impl JointCoord {
     pub fn nv(&self) -> usize {
         match self {
             JointCoord::Revolute { .. } | JointCoord::Prismatic { .. } => 1,
-            JointCoord::Free => free::NV,
+            JointCoord::Free { .. } => free::NV,
             JointCoord::Spherical => spherical::NV,
             JointCoord::Universal { .. } | JointCoord::Cylindrical { .. } => 2,
             JointCoord::Planar { .. } => 3,
@@ -398,7 +402,7 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { .. } => revolute::SIGNALS,
             JointCoord::Prismatic { .. } => prismatic::SIGNALS,
-            JointCoord::Free => free::SIGNALS,
+            JointCoord::Free { .. } => free::SIGNALS,
             JointCoord::Spherical => spherical::SIGNALS,
             JointCoord::Universal { .. } => universal::SIGNALS,
             JointCoord::Cylindrical { .. } => cylindrical::SIGNALS,
@@ -415,7 +419,7 @@ impl JointCoord {
     /// unit). Translations are not passed.
     pub(crate) fn for_each_turning_position(&self, mut f: impl FnMut(usize, f64)) {
         match self {
-            JointCoord::Free => (3..7).for_each(|i| f(i, 2.0)),
+            JointCoord::Free { .. } => (3..7).for_each(|i| f(i, 2.0)),
             JointCoord::Spherical => (0..4).for_each(|i| f(i, 2.0)),
             _ => {
                 for c in self.coordinates().iter().filter(|c| c.unit == "rad") {
@@ -428,7 +432,7 @@ impl JointCoord {
     /// translation of a FreeMotion joint and the `"m"` coordinates of the others.
     pub(crate) fn for_each_shifting_position(&self, mut f: impl FnMut(usize)) {
         match self {
-            JointCoord::Free => (0..3).for_each(&mut f),
+            JointCoord::Free { .. } => (0..3).for_each(&mut f),
             JointCoord::Spherical => {}
             _ => {
                 for c in self.coordinates().iter().filter(|c| c.unit == "m") {
@@ -442,7 +446,9 @@ impl JointCoord {
     pub fn has_bias(&self) -> bool {
         matches!(
             self,
-            JointCoord::Universal { .. } | JointCoord::Planar { .. }
+            JointCoord::Universal { .. }
+                | JointCoord::Planar { .. }
+                | JointCoord::Free { in_obj1: true }
         )
     }
 }
@@ -472,7 +478,7 @@ impl JointCoord {
             // Never flipped: validation rejects a reversed FreeMotion.
             ValidJointKind::FreeMotion { r, rot, v, w } => {
                 free::initial(r, rot, v, w, q0, v0);
-                JointCoord::Free
+                JointCoord::Free { in_obj1: false }
             }
             // Never flipped (not reversible), as FreeMotion.
             ValidJointKind::Spherical { rot, w } => {
@@ -530,7 +536,7 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { axis } => revolute::transform(axis, q),
             JointCoord::Prismatic { axis } => prismatic::transform(axis, q),
-            JointCoord::Free => free::transform(q),
+            JointCoord::Free { .. } => free::transform(q),
             JointCoord::Spherical => spherical::transform(q),
             JointCoord::Universal { axis1, axis2 } => universal::transform(axis1, axis2, q),
             JointCoord::Cylindrical { axis } => cylindrical::transform(axis, q),
@@ -545,7 +551,7 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { axis } => revolute::motion(axis, v),
             JointCoord::Prismatic { axis } => prismatic::motion(axis, v),
-            JointCoord::Free => free::motion(v),
+            JointCoord::Free { in_obj1 } => free::motion(*in_obj1, q, v),
             JointCoord::Spherical => spherical::motion(v),
             JointCoord::Universal { axis1, axis2 } => universal::motion(axis1, axis2, q, v),
             JointCoord::Cylindrical { axis } => cylindrical::motion(axis, v),
@@ -554,12 +560,14 @@ impl JointCoord {
     }
 
     /// The bias `c_J = Ṡ(q) v` (the apparent derivative in the child frame) for kinds whose
-    /// `S` depends on `q` ([`Self::has_bias`]); zero for the others.
+    /// `S` depends on `q` ([`Self::has_bias`]); zero for the others. `s_v` is the joint
+    /// velocity `S(q) v` ([`Self::motion`]), which the free joint's bias is formed from.
     #[inline]
-    pub fn bias(&self, q: &[f64], v: &[f64]) -> Motion {
+    pub fn bias(&self, q: &[f64], v: &[f64], s_v: &Motion) -> Motion {
         match self {
             JointCoord::Universal { axis1, axis2 } => universal::bias(axis1, axis2, q, v),
             JointCoord::Planar { normal, e1, e2 } => planar::bias(normal, e1, e2, q, v),
+            JointCoord::Free { in_obj1 } => free::bias(*in_obj1, s_v),
             _ => Motion::zero(),
         }
     }
@@ -571,7 +579,7 @@ impl JointCoord {
         match self {
             JointCoord::Revolute { axis } => revolute::project(axis, f, tau),
             JointCoord::Prismatic { axis } => prismatic::project(axis, f, tau),
-            JointCoord::Free => free::project(f, tau),
+            JointCoord::Free { in_obj1 } => free::project(*in_obj1, q, f, tau),
             JointCoord::Spherical => spherical::project(f, tau),
             JointCoord::Universal { axis1, axis2 } => universal::project(axis1, axis2, q, f, tau),
             JointCoord::Cylindrical { axis } => cylindrical::project(axis, f, tau),
@@ -583,7 +591,7 @@ impl JointCoord {
     #[inline]
     pub fn position_residual(&self, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
         match self {
-            JointCoord::Free => free::position_residual(q, v, qd, res),
+            JointCoord::Free { in_obj1 } => free::position_residual(*in_obj1, q, v, qd, res),
             JointCoord::Spherical => spherical::position_residual(q, v, qd, res),
             // q̇ = v for every kind whose coordinates are all scalar.
             _ => {
@@ -604,7 +612,8 @@ impl JointCoord {
         out: &mut Vec<f64>,
     ) -> Option<()> {
         match (self, name) {
-            (JointCoord::Free, "v") => free::velocity_in_obj1(q, v, out),
+            (JointCoord::Free { in_obj1 }, "w") => free::w_in_obj2(*in_obj1, q, v, out),
+            (JointCoord::Free { in_obj1 }, "v") => free::velocity_in_obj1(*in_obj1, q, v, out),
             _ => return None,
         }
         Some(())
