@@ -116,18 +116,10 @@ fn newton_euler(
                         *rk = tau_j[k] - ws.tau_applied[v0 + k];
                     }
                 }
-                pass = if nvj == 6 && (0..6).all(|k| plan.prescribed[v0 + k].is_none()) {
-                    // Six orthonormal columns (a free joint): `S Sᵀ = 1`, so `f − S R` is
-                    // `S τ_applied` exactly; formed so, the heavy child's force does not leave
-                    // its rounding (~1e-16 of it) in a light parent's rows.
-                    let s_a = j.coord.motion(qj, &ws.tau_applied[v0..v0 + 6]);
-                    Force { n: s_a.w, f: s_a.v }
-                } else {
-                    let s_r = j.coord.motion(qj, &r[..nvj]);
-                    Force {
-                        n: f.n - s_r.w,
-                        f: f.f - s_r.v,
-                    }
+                let s_r = j.coord.motion(qj, &r[..nvj]);
+                pass = Force {
+                    n: f.n - s_r.w,
+                    f: f.f - s_r.v,
                 };
             }
             let fp = ws.x[i].force_to_parent(&pass);
