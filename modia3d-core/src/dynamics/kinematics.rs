@@ -29,7 +29,7 @@ fn place_bodies<'p>(
         let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
         let vj_ = &v[j.v_offset..j.v_offset + j.coord.nv()];
         let xj = j.coord.transform(qj);
-        let vj = j.coord.motion(qj, vj_);
+        let vj = j.coord.motion_at(&xj, qj, vj_);
         if j.coord.has_bias() {
             ws.cj[i] = j.coord.bias(qj, vj_, &vj);
         }

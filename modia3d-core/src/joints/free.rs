@@ -36,7 +36,7 @@ use crate::dynamics::loops::Row;
 #[cfg(feature = "solver")]
 use crate::dynamics::spatial::{quat_rate, quat_to_matrix, Force, Motion, Transform};
 #[cfg(feature = "solver")]
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 
 /// Number of positions.
 pub(crate) const NQ: usize = 7;
@@ -133,13 +133,19 @@ pub(crate) fn motion(in_obj1: bool, q: &[f64], v: &[f64]) -> Motion {
         Vector3::new(v[3], v[4], v[5]),
     );
     if in_obj1 {
-        let rot = quat_to_matrix(&q[3..7]);
-        Motion {
-            w: rot.tr_mul(&w),
-            v: rot.tr_mul(&lin),
-        }
+        motion_with(&quat_to_matrix(&q[3..7]), v)
     } else {
         Motion { w, v: lin }
+    }
+}
+
+/// [`motion`] `in_obj1` with the rotation `rot = R(q)` given: `(Rᵀ ω, Rᵀ v)`.
+#[cfg(feature = "solver")]
+#[inline]
+pub(crate) fn motion_with(rot: &Matrix3<f64>, v: &[f64]) -> Motion {
+    Motion {
+        w: rot.tr_mul(&Vector3::new(v[0], v[1], v[2])),
+        v: rot.tr_mul(&Vector3::new(v[3], v[4], v[5])),
     }
 }
 

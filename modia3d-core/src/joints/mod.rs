@@ -559,6 +559,17 @@ impl JointCoord {
         }
     }
 
+    /// [`Self::motion`] with the joint transform `xj = X_J(q)` ([`Self::transform`]) at hand:
+    /// a free joint resolved in obj1 turns its velocities with `xj.rot` instead of forming the
+    /// rotation from the quaternion a second time (the kinematics' hot path).
+    #[inline(always)]
+    pub fn motion_at(&self, xj: &Transform, q: &[f64], v: &[f64]) -> Motion {
+        match self {
+            JointCoord::Free { in_obj1: true } => free::motion_with(&xj.rot, v),
+            _ => self.motion(q, v),
+        }
+    }
+
     /// The bias `c_J = Ṡ(q) v` (the apparent derivative in the child frame) for kinds whose
     /// `S` depends on `q` ([`Self::has_bias`]); zero for the others. `s_v` is the joint
     /// velocity `S(q) v` ([`Self::motion`]), which the free joint's bias is formed from.

@@ -754,6 +754,35 @@ impl SparseComp {
     }
 }
 
+/// Calls `$f::<$m, J>($a, $b)` for J = 0, 1, …, 25 (columns beyond `$m` return at once):
+/// the column index a constant in each call, so that the fixed-size kernels' loops have
+/// fixed bounds and unroll. Sizes up to 26 ([`lu_solve`]).
+macro_rules! each_column {
+    ($m:ident, $f:ident, $a:expr, $b:expr) => {
+        each_column!(@ $m, $f, $a, $b; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25)
+    };
+    (@ $m:ident, $f:ident, $a:expr, $b:expr; $($j:literal)*) => {
+        $( $f::<$m, $j>($a, $b); )*
+    };
+}
+
+/// [`each_column!`] with `?` after each call (a step that fails ends the caller).
+macro_rules! each_column_try {
+    ($m:ident, $f:ident, $a:expr, $b:expr) => {
+        each_column_try!(@ $m, $f, $a, $b; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20 21 22 23 24 25)
+    };
+    (@ $m:ident, $f:ident, $a:expr, $b:expr; $($j:literal)*) => {
+        $( $f::<$m, $j>($a, $b)?; )*
+    };
+}
+
+/// [`each_column!`] from J = 25 down to 0.
+macro_rules! each_column_rev {
+    ($m:ident, $f:ident, $a:expr, $b:expr) => {
+        each_column!(@ $m, $f, $a, $b; 25 24 23 22 21 20 19 18 17 16 15 14 13 12 11 10 9 8 7 6 5 4 3 2 1 0)
+    };
+}
+
 /// LU with partial pivoting of the column-major `m × m` matrix `a` in place (unit lower `L`
 /// below the diagonal, `U` above it and **the reciprocals of `U`'s diagonal on it**);
 /// `piv[k]` = row swapped with row k at step k. Err(k) when column k has no non-zero pivot.
@@ -810,50 +839,64 @@ fn lu_in_place_general(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(),
     Ok(())
 }
 
-/// [`lu_in_place`] for an `M × M` matrix, its columns as `[f64; M]` arrays (the same operations
-/// in the same order: the pivot is the last of equal largest magnitudes, as `Iterator::max_by`
-/// picks it there).
+/// [`lu_in_place`] for an `M × M` matrix, its columns as `[f64; M]` arrays and its steps
+/// unrolled ([`factor_column`] with the step a constant, from [`each_column_try`]); the same
+/// operations in the same order (the pivot is the last of equal largest magnitudes, as
+/// `Iterator::max_by` picks it there). billiards16's factorisations took 5,470 instructions
+/// each with the step a loop variable, 3,440 so (BENCHMARKS.md "Unrolled block kernels").
 fn lu_in_place_fixed<const M: usize>(a: &mut [f64], piv: &mut [usize]) -> Result<(), usize> {
     let a = &mut a[..M * M];
     let piv = &mut piv[..M];
-    for k in 0..M {
-        let (left, right) = a.split_at_mut((k + 1) * M);
-        let Ok(ck) = <&mut [f64; M]>::try_from(&mut left[k * M..]) else {
-            return Err(k);
+    each_column_try!(M, factor_column, a, piv);
+    Ok(())
+}
+
+/// Step `K` of [`lu_in_place_fixed`]: the pivot of column `K`, the row swap, `L`'s column and
+/// the update of the columns right of it; with `K` a constant every loop has fixed bounds.
+#[inline(always)]
+fn factor_column<const M: usize, const K: usize>(
+    a: &mut [f64],
+    piv: &mut [usize],
+) -> Result<(), usize> {
+    if K >= M {
+        return Ok(());
+    }
+    let (left, right) = a.split_at_mut((K + 1) * M);
+    let Ok(ck) = <&mut [f64; M]>::try_from(&mut left[K * M..]) else {
+        return Err(K);
+    };
+    let mut p = K;
+    for i in K + 1..M {
+        if ck[p].abs().total_cmp(&ck[i].abs()) != std::cmp::Ordering::Greater {
+            p = i;
+        }
+    }
+    piv[K] = p;
+    if ck[p] == 0.0 {
+        return Err(K);
+    }
+    if p != K {
+        for col in left.chunks_exact_mut(M).chain(right.chunks_exact_mut(M)) {
+            col.swap(K, p);
+        }
+    }
+    let Ok(ck) = <&mut [f64; M]>::try_from(&mut left[K * M..]) else {
+        return Err(K);
+    };
+    let inv = 1.0 / ck[K];
+    ck[K] = inv;
+    for x in &mut ck[K + 1..] {
+        *x *= inv;
+    }
+    let lcol: &[f64; M] = ck;
+    for ucol in right.chunks_exact_mut(M) {
+        let Ok(ucol) = <&mut [f64; M]>::try_from(ucol) else {
+            continue;
         };
-        let mut p = k;
-        for i in k + 1..M {
-            if ck[p].abs().total_cmp(&ck[i].abs()) != std::cmp::Ordering::Greater {
-                p = i;
-            }
-        }
-        piv[k] = p;
-        if ck[p] == 0.0 {
-            return Err(k);
-        }
-        if p != k {
-            for col in left.chunks_exact_mut(M).chain(right.chunks_exact_mut(M)) {
-                col.swap(k, p);
-            }
-        }
-        let Ok(ck) = <&mut [f64; M]>::try_from(&mut left[k * M..]) else {
-            return Err(k);
-        };
-        let inv = 1.0 / ck[k];
-        ck[k] = inv;
-        for x in &mut ck[k + 1..] {
-            *x *= inv;
-        }
-        let lcol: &[f64; M] = ck;
-        for ucol in right.chunks_exact_mut(M) {
-            let Ok(ucol) = <&mut [f64; M]>::try_from(ucol) else {
-                continue;
-            };
-            let akj = ucol[k];
-            if akj != 0.0 {
-                for i in k + 1..M {
-                    ucol[i] -= lcol[i] * akj;
-                }
+        let akj = ucol[K];
+        if akj != 0.0 {
+            for i in K + 1..M {
+                ucol[i] -= lcol[i] * akj;
             }
         }
     }
@@ -886,39 +929,61 @@ fn lu_solve_general(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
     upper_solve(a, m, b);
 }
 
-/// [`lu_solve`] for `M × M` factors: with the columns as `[f64; M]` arrays the compiler knows
-/// every bound and drops the checks and most of the loop bookkeeping (the general loops spent
-/// ~1,880 instructions on a 13 × 13 solve in billiards16, of which 339 multiply-adds and
-/// divisions; these ~1,250, BENCHMARKS.md "Fixed-size LU kernels").
+/// [`lu_solve`] for `M × M` factors, every loop unrolled: each column's update is a call of
+/// [`lower_column`] and [`upper_column`] with the column index a constant (`J`, from
+/// [`each_column`]), so both triangles become straight-line code over `b` held in registers,
+/// without loop bookkeeping. The same operations in the same order as
+/// [`lu_solve_general`] (so the same bits). The loops with the columns as `[f64; M]` arrays
+/// spent ~1,250 instructions on a 13 × 13 solve in billiards16 (BENCHMARKS.md "Fixed-size LU
+/// kernels"); unrolled, billiards16's block solves take 670 on average instead of 1,350
+/// (BENCHMARKS.md "Unrolled block kernels").
 fn lu_solve_fixed<const M: usize>(a: &[f64], piv: &[usize], b: &mut [f64]) {
+    let a = &a[..M * M];
     let Ok(b) = <&mut [f64; M]>::try_from(&mut b[..M]) else {
         return;
     };
     for (k, &p) in piv.iter().enumerate().take(M) {
         b.swap(k, p);
     }
-    let cols = a[..M * M].chunks_exact(M);
-    for (j, col) in cols.clone().enumerate() {
-        let Ok(col) = <&[f64; M]>::try_from(col) else {
-            return;
-        };
-        let bj = b[j];
-        if bj != 0.0 {
-            for i in j + 1..M {
-                b[i] -= col[i] * bj;
-            }
+    each_column!(M, lower_column, a, b);
+    each_column_rev!(M, upper_column, a, b);
+}
+
+/// Column `J` of the column-major `M × M` factors `a` (`None` beyond `M`).
+#[inline(always)]
+fn column<const M: usize, const J: usize>(a: &[f64]) -> Option<&[f64; M]> {
+    if J >= M {
+        return None;
+    }
+    <&[f64; M]>::try_from(&a[J * M..(J + 1) * M]).ok()
+}
+
+/// `b[J+1..] -= a[.., J] · b[J]` (the unit lower triangle's column `J`).
+#[inline(always)]
+fn lower_column<const M: usize, const J: usize>(a: &[f64], b: &mut [f64; M]) {
+    let Some(col) = column::<M, J>(a) else {
+        return;
+    };
+    let bj = b[J];
+    if bj != 0.0 {
+        for i in J + 1..M {
+            b[i] -= col[i] * bj;
         }
     }
-    for (j, col) in cols.enumerate().rev() {
-        let Ok(col) = <&[f64; M]>::try_from(col) else {
-            return;
-        };
-        b[j] *= col[j];
-        let bj = b[j];
-        if bj != 0.0 {
-            for i in 0..j {
-                b[i] -= col[i] * bj;
-            }
+}
+
+/// `b[J] *= 1/u_JJ; b[..J] -= a[..J, J] · b[J]` (the upper triangle's column `J`, its
+/// diagonal held as a reciprocal).
+#[inline(always)]
+fn upper_column<const M: usize, const J: usize>(a: &[f64], b: &mut [f64; M]) {
+    let Some(col) = column::<M, J>(a) else {
+        return;
+    };
+    b[J] *= col[J];
+    let bj = b[J];
+    if bj != 0.0 {
+        for i in 0..J {
+            b[i] -= col[i] * bj;
         }
     }
 }

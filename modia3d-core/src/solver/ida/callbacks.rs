@@ -223,18 +223,24 @@ pub(super) unsafe extern "C" fn ewt_callback<S: DaeSystem>(
         };
         let rtol = st.rtol;
         let tighten = st.system.error_weight_factors(y, &mut st.ewt_factor);
-        for i in 0..n {
-            let tol = rtol * y[i].abs() + rtol * st.zero_size[i];
-            let mut wi = 1.0 / tol;
-            if tighten {
-                wi *= st.ewt_factor[i];
+        // Zipped slices (no bounds check per entry) and one test of the whole vector at the
+        // end: IDA calls this once per step, over every unknown.
+        let (z, f) = (&st.zero_size[..n], &st.ewt_factor);
+        let weight = |yi: f64, zi: f64| 1.0 / (rtol * yi.abs() + rtol * zi);
+        if tighten {
+            for (((wi, &yi), &zi), &fi) in w.iter_mut().zip(y).zip(z).zip(&f[..n]) {
+                *wi = weight(yi, zi) * fi;
             }
-            if !(wi.is_finite() && wi > 0.0) {
-                return -1;
+        } else {
+            for ((wi, &yi), &zi) in w.iter_mut().zip(y).zip(z) {
+                *wi = weight(yi, zi);
             }
-            w[i] = wi;
         }
-        0
+        if w.iter().all(|wi| wi.is_finite() && *wi > 0.0) {
+            0
+        } else {
+            -1
+        }
     }));
     // SAFETY: the closure's borrow of the state has ended.
     unsafe { settle(state, f64::NAN, outcome, "in the error weights: ") }
