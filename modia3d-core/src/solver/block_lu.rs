@@ -845,6 +845,8 @@ fn lu_in_place_general(a: &mut [f64], m: usize, piv: &mut [usize]) -> Result<(),
 /// `Iterator::max_by` picks it there). billiards16's factorisations took 5,470 instructions
 /// each with the step a loop variable, 3,440 so (BENCHMARKS.md "Unrolled block kernels").
 fn lu_in_place_fixed<const M: usize>(a: &mut [f64], piv: &mut [usize]) -> Result<(), usize> {
+    // `each_column_try!` expands 26 steps: a larger M would leave the rest unfactored.
+    const { assert!(M <= 26) };
     let a = &mut a[..M * M];
     let piv = &mut piv[..M];
     each_column_try!(M, factor_column, a, piv);
@@ -931,13 +933,14 @@ fn lu_solve_general(a: &[f64], m: usize, piv: &[usize], b: &mut [f64]) {
 
 /// [`lu_solve`] for `M × M` factors, every loop unrolled: each column's update is a call of
 /// [`lower_column`] and [`upper_column`] with the column index a constant (`J`, from
-/// [`each_column`]), so both triangles become straight-line code over `b` held in registers,
-/// without loop bookkeeping. The same operations in the same order as
-/// [`lu_solve_general`] (so the same bits). The loops with the columns as `[f64; M]` arrays
-/// spent ~1,250 instructions on a 13 × 13 solve in billiards16 (BENCHMARKS.md "Fixed-size LU
-/// kernels"); unrolled, billiards16's block solves take 670 on average instead of 1,350
-/// (BENCHMARKS.md "Unrolled block kernels").
+/// [`each_column`]), so both triangles become straight-line code without loop bookkeeping.
+/// The same operations in the same order as [`lu_solve_general`] (so the same bits). The
+/// loops with the columns as `[f64; M]` arrays spent ~1,250 instructions on a 13 × 13 solve
+/// in billiards16 (BENCHMARKS.md "Fixed-size LU kernels"); unrolled, billiards16's block
+/// solves take 670 on average instead of 1,350 (BENCHMARKS.md "Unrolled block kernels").
 fn lu_solve_fixed<const M: usize>(a: &[f64], piv: &[usize], b: &mut [f64]) {
+    // `each_column!` expands 26 columns: a larger M would skip the rest.
+    const { assert!(M <= 26) };
     let a = &a[..M * M];
     let Ok(b) = <&mut [f64; M]>::try_from(&mut b[..M]) else {
         return;
