@@ -128,14 +128,13 @@ pub(crate) fn transform(q: &[f64]) -> Transform {
 #[cfg(feature = "solver")]
 #[inline]
 pub(crate) fn motion(in_obj1: bool, q: &[f64], v: &[f64]) -> Motion {
-    let (w, lin) = (
-        Vector3::new(v[0], v[1], v[2]),
-        Vector3::new(v[3], v[4], v[5]),
-    );
     if in_obj1 {
         motion_with(&quat_to_matrix(&q[3..7]), v)
     } else {
-        Motion { w, v: lin }
+        Motion {
+            w: Vector3::new(v[0], v[1], v[2]),
+            v: Vector3::new(v[3], v[4], v[5]),
+        }
     }
 }
 
