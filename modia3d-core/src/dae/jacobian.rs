@@ -459,8 +459,10 @@ fn own_block_child(plan: &Plan, fb: &FreeBody, args: &JacobianArgs<'_>) -> SMatr
 /// joint in the workspace: its placement and velocity, as `kinematics::position_velocity`.
 fn place_root_body(plan: &Plan, ws: &mut Workspace, b: BodyId, q: &[f64], v: &[f64]) {
     let j = &plan.joints[plan.bodies[b].joint];
-    let x = j.tree.then(&j.coord.transform(q));
+    let xj = j.coord.transform(q);
+    let x = j.tree.then(&xj);
     ws.x[b] = x;
+    ws.xj[b] = xj;
     ws.world[b] = x;
     ws.vel[b] = j.coord.motion(q, v);
 }
@@ -820,6 +822,7 @@ impl MultibodyDae {
 #[cfg(test)]
 pub(super) mod tests {
     use super::super::MultibodyDae;
+    use crate::joints::JointCoord;
     use crate::solver::{BlockStructure, DaeSystem, JacobianArgs};
     use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
     use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -1630,6 +1633,43 @@ pub(super) mod tests {
             let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
             assert_yp_jacobian_is_exact(&mut dae, &y, &yp, &format!("seed {seed}"));
         }
+    }
+
+    /// The trees whose mass columns `yp_jacobian` forms directly (`free_mass_columns`) are
+    /// exactly the root bodies alone on a free joint: every free joint of [`scene_with_arm`]
+    /// but the cube's on the rod (whose columns come from the Newton–Euler passes), in both
+    /// frames of the velocities (the off-centre ball and the cube keep the child frame). The
+    /// entries themselves are checked by `yp_jacobian_is_the_derivative_in_y_prime`.
+    #[test]
+    fn lone_free_bodies_get_their_mass_columns_directly() {
+        let model = scene_with_arm().build().unwrap();
+        let dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let plan = &dae.plan;
+        let mut direct: Vec<&str> = dae
+            .mass
+            .lone_free
+            .iter()
+            .flatten()
+            .map(|&j| plan.joints[j].name.as_str())
+            .collect();
+        let mut free: Vec<&str> = plan
+            .joints
+            .iter()
+            .filter(|j| matches!(j.coord, JointCoord::Free { .. }) && j.name != "tip.free")
+            .map(|j| j.name.as_str())
+            .collect();
+        direct.sort_unstable();
+        free.sort_unstable();
+        assert_eq!(direct, free);
+        let frames: Vec<bool> = direct
+            .iter()
+            .filter_map(|n| plan.joints.iter().find(|j| j.name == *n))
+            .map(|j| matches!(j.coord, JointCoord::Free { in_obj1: true }))
+            .collect();
+        assert!(
+            frames.contains(&true) && frames.contains(&false),
+            "{frames:?}"
+        );
     }
 
     /// Asserts that `dae.yp_jacobian` at (`y`, `yp`) equals the quotients of the residual

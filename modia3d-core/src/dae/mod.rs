@@ -8,6 +8,7 @@ use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, BodyId, Plan, Workspace};
+use crate::joints::JointCoord;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
@@ -85,6 +86,10 @@ pub struct MultibodyDae {
 struct MassColumns {
     ws: Workspace,
     groups: Vec<Vec<usize>>,
+    /// For each group: the joint if the tree is one body alone on a free joint (a root body
+    /// carrying nothing, [`lone_free_joints`]), whose columns `Sᵀ I S e_k` are formed
+    /// directly instead of by Newton–Euler passes over the whole scene.
+    lone_free: Vec<Option<usize>>,
     zero_v: Vec<f64>,
     e: Vec<f64>,
     col: Vec<f64>,
@@ -197,6 +202,7 @@ impl MultibodyDae {
             mass: MassColumns {
                 ws: Workspace::new(&plan),
                 groups: plan.velocity_groups(),
+                lone_free: lone_free_joints(&plan, &plan.velocity_groups()),
                 zero_v: vec![0.0; plan.nv],
                 e: vec![0.0; plan.nv],
                 col: vec![0.0; plan.nv],
@@ -646,15 +652,22 @@ impl DaeSystem for MultibodyDae {
         }
         let mc = &mut self.mass;
         kinematics::position_velocity(plan, &mut mc.ws, q, &mc.zero_v);
-        // The hinge trees' columns by their own pass (`dae/hinge_jacobian.rs`), the other
-        // trees' by Newton–Euler passes with unit accelerations.
+        // The hinge trees' columns by their own pass (`dae/hinge_jacobian.rs`), those of a
+        // body alone on a free joint directly, the other trees' by Newton–Euler passes with
+        // unit accelerations.
         self.hinge.mass_columns(plan, &mc.ws, out);
+        for (g, &j) in mc.groups.iter().zip(&mc.lone_free) {
+            if let Some(j) = j {
+                free_mass_columns(plan, &mc.ws, q, j, nq + g[0], out);
+            }
+        }
         let hinge = &self.hinge.is_hinge;
+        let lone = &mc.lone_free;
         let others = || {
             mc.groups
                 .iter()
                 .enumerate()
-                .filter(|&(t, _)| !hinge.get(t).copied().unwrap_or(false))
+                .filter(|&(t, _)| !hinge.get(t).copied().unwrap_or(false) && lone[t].is_none())
                 .map(|(_, g)| g)
         };
         mc.ws.f_ext.fill(crate::dynamics::spatial::Force::default());
@@ -684,6 +697,65 @@ impl DaeSystem for MultibodyDae {
             out.add(nq + k, nq + k, &[1.0]);
         }
         Ok(true)
+    }
+}
+
+/// For each velocity group of `plan` (a joint tree): the joint, if the tree is one root body
+/// on a free joint that carries no other body (its six velocities consecutive).
+fn lone_free_joints(plan: &Plan, groups: &[Vec<usize>]) -> Vec<Option<usize>> {
+    let mut carries = vec![false; plan.bodies.len()];
+    for b in &plan.bodies {
+        if let Some(p) = b.parent {
+            carries[p.index()] = true;
+        }
+    }
+    // The joint whose velocities start at each offset.
+    let mut joint_at = vec![None; plan.nv];
+    for (k, j) in plan.joints.iter().enumerate() {
+        if j.coord.nv() > 0 {
+            joint_at[j.v_offset] = Some(k);
+        }
+    }
+    groups
+        .iter()
+        .map(|g| {
+            let k = joint_at[*g.first()?]?;
+            let j = &plan.joints[k];
+            let lone = matches!(j.coord, JointCoord::Free { .. })
+                && plan.bodies[j.body].parent.is_none()
+                && !carries[j.body.index()]
+                && g.len() == 6
+                && g.iter().enumerate().all(|(i, &v)| v == j.v_offset + i)
+                && g.iter().all(|&v| plan.prescribed[v].is_none());
+            lone.then_some(k)
+        })
+        .collect()
+}
+
+/// The velocity rows' columns of `∂F/∂y'` for joint `j`, a root body alone on a free joint:
+/// `Sᵀ I S e_k` for `k = 0..6` (`I` the body's spatial inertia about its origin; `S` the
+/// identity in the child frame, `diag(Rᵀ, Rᵀ)` in obj1), written at rows and columns
+/// `v0..v0 + 6`. The operations a Newton–Euler pass with a unit acceleration does for this
+/// body, without the terms that are zero at zero velocity and gravity. `ws` holds the joint
+/// transform at the Jacobian's `q`.
+fn free_mass_columns(
+    plan: &Plan,
+    ws: &Workspace,
+    q: &[f64],
+    j: usize,
+    v0: usize,
+    out: &mut dyn crate::solver::JacobianSink,
+) {
+    let jp = &plan.joints[j];
+    let (b, qj) = (jp.body, &q[jp.q_offset..jp.q_offset + jp.coord.nq()]);
+    let (xj, inertia) = (&ws.xj[b], &plan.bodies[b].inertia);
+    let mut col = [0.0; 6];
+    for k in 0..6 {
+        let mut e = [0.0; 6];
+        e[k] = 1.0;
+        let f = inertia.mul_motion(&jp.coord.motion_at(xj, qj, &e));
+        jp.coord.project_at(xj, qj, &f, &mut col);
+        out.add(v0, v0 + k, &col);
     }
 }
 

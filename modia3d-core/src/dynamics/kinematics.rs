@@ -33,8 +33,13 @@ fn place_bodies<'p>(
         if j.coord.has_bias() {
             ws.cj[i] = j.coord.bias(qj, vj_, &vj);
         }
-        let x = j.tree.then(&xj);
+        let x = if j.tree_identity {
+            xj
+        } else {
+            j.tree.then(&xj)
+        };
         ws.x[i] = x;
+        ws.xj[i] = xj;
         ws.vj[i] = vj;
         match b.parent {
             Some(p) => {
@@ -55,6 +60,7 @@ fn place_bodies<'p>(
 #[derive(Clone, Debug)]
 pub struct BodyStates {
     x: Vec<Transform>,
+    xj: Vec<Transform>,
     world: Vec<Transform>,
     vel: Vec<Motion>,
     vj: Vec<Motion>,
@@ -67,6 +73,7 @@ impl BodyStates {
         let nb = plan.bodies.len();
         BodyStates {
             x: vec![Transform::default(); nb],
+            xj: vec![Transform::default(); nb],
             world: vec![Transform::default(); nb],
             vel: vec![Motion::zero(); nb],
             vj: vec![Motion::zero(); nb],
@@ -78,6 +85,7 @@ impl BodyStates {
     pub fn save(&mut self, ws: &Workspace) {
         for i in 0..self.x.len() {
             self.x[i] = ws.x[i];
+            self.xj[i] = ws.xj[i];
             self.world[i] = ws.world[i];
             self.vel[i] = ws.vel[i];
             self.vj[i] = ws.vj[i];
@@ -102,6 +110,7 @@ pub fn touched_position_velocity(
     for (i, &t) in touched.iter().enumerate() {
         if !t {
             ws.x[i] = base.x[i];
+            ws.xj[i] = base.xj[i];
             ws.world[i] = base.world[i];
             ws.vel[i] = base.vel[i];
             ws.vj[i] = base.vj[i];

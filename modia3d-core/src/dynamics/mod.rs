@@ -23,6 +23,10 @@ use spatial::{Force, Motion, Transform};
 pub struct Workspace {
     /// Body frame placed in its parent body's frame (world for root bodies).
     pub x: IdVec<BodyId, Transform>,
+    /// The joint's own transform `X_J(q)` (`x` without the joint's tree placement): the
+    /// Newton–Euler pass turns a free joint's accelerations and forces with its rotation
+    /// instead of forming it from the quaternion again.
+    pub xj: IdVec<BodyId, Transform>,
     /// Body frame placed in world.
     pub world: IdVec<BodyId, Transform>,
     /// Spatial velocity of the body, resolved in the body frame.
@@ -54,6 +58,7 @@ impl Workspace {
         let nb = plan.bodies.len();
         Workspace {
             x: vec![Transform::default(); nb].into(),
+            xj: vec![Transform::default(); nb].into(),
             world: vec![Transform::default(); nb].into(),
             vel: vec![Motion::zero(); nb].into(),
             vj: vec![Motion::zero(); nb].into(),

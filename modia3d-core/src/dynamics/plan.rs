@@ -38,6 +38,10 @@ pub struct JointPlan {
     pub body: BodyId,
     /// Placement of the joint frame in the parent body's frame (world for the world cluster).
     pub tree: Transform,
+    /// `tree` is exactly the identity (a joint frame at its parent's origin, axes aligned):
+    /// the kinematics then take the joint transform as the body's placement without the
+    /// product (the same values).
+    pub tree_identity: bool,
     /// Offset of its positions in the position vector `q`.
     pub q_offset: usize,
     /// Offset of its velocities in the velocity vector `v`.
@@ -229,6 +233,7 @@ fn tree_layout(scene: &ValidScene, in_ref: &[Transform]) -> TreeLayout {
             coord,
             body: BodyId(body),
             tree: in_ref[e.parent_obj],
+            tree_identity: in_ref[e.parent_obj] == Transform::default(),
             q_offset: nq,
             v_offset: nv,
             flipped: e.flipped,

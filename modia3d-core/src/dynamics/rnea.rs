@@ -79,9 +79,12 @@ fn newton_euler(
         }
         let j = &plan.joints[b.joint];
         let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
+        // The joint transform of the kinematics at the same `q` (every caller places the
+        // bodies first): a free joint in obj1 turns `v̇` with its rotation.
+        let xj = &ws.xj[i];
         let s_qdd = j
             .coord
-            .motion(qj, &vd[j.v_offset..j.v_offset + j.coord.nv()]);
+            .motion_at(xj, qj, &vd[j.v_offset..j.v_offset + j.coord.nv()]);
         let a_parent = match b.parent {
             Some(p) => ws.acc[p],
             None => a_world,
@@ -104,7 +107,7 @@ fn newton_euler(
         let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
         let (v0, nvj) = (j.v_offset, j.coord.nv());
         let tau_j = &mut tau[v0..v0 + nvj];
-        j.coord.project(qj, &f, tau_j);
+        j.coord.project_at(&ws.xj[i], qj, &f, tau_j);
         if let Some(p) = b.parent {
             let mut pass = f;
             if decouple {
@@ -116,7 +119,7 @@ fn newton_euler(
                         *rk = tau_j[k] - ws.tau_applied[v0 + k];
                     }
                 }
-                let s_r = j.coord.motion(qj, &r[..nvj]);
+                let s_r = j.coord.motion_at(&ws.xj[i], qj, &r[..nvj]);
                 pass = Force {
                     n: f.n - s_r.w,
                     f: f.f - s_r.v,

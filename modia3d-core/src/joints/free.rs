@@ -167,14 +167,20 @@ pub(crate) fn bias(in_obj1: bool, s_v: &Motion) -> Motion {
 #[cfg(feature = "solver")]
 #[inline]
 pub(crate) fn project(in_obj1: bool, q: &[f64], f: &Force, tau: &mut [f64]) {
-    let (n, lin) = if in_obj1 {
-        let rot = quat_to_matrix(&q[3..7]);
-        (rot * f.n, rot * f.f)
+    if in_obj1 {
+        project_with(&quat_to_matrix(&q[3..7]), f, tau);
     } else {
-        (f.n, f.f)
-    };
-    tau[..3].copy_from_slice(n.as_slice());
-    tau[3..6].copy_from_slice(lin.as_slice());
+        tau[..3].copy_from_slice(f.n.as_slice());
+        tau[3..6].copy_from_slice(f.f.as_slice());
+    }
+}
+
+/// [`project`] `in_obj1` with the rotation `rot = R(q)` given: `(R n, R f)`.
+#[cfg(feature = "solver")]
+#[inline]
+pub(crate) fn project_with(rot: &Matrix3<f64>, f: &Force, tau: &mut [f64]) {
+    tau[..3].copy_from_slice((rot * f.n).as_slice());
+    tau[3..6].copy_from_slice((rot * f.f).as_slice());
 }
 
 /// `q̇ − q̇(q, v)`: `in_obj1`, `ṙ = v` and the quaternion rate `½ (0, ω) ⊗ q`; in the child

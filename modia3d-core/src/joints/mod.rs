@@ -583,6 +583,16 @@ impl JointCoord {
         }
     }
 
+    /// [`Self::project`] with the joint transform `xj = X_J(q)` at hand (as
+    /// [`Self::motion_at`]): a free joint resolved in obj1 turns the wrench with `xj.rot`.
+    #[inline(always)]
+    pub fn project_at(&self, xj: &Transform, q: &[f64], f: &Force, tau: &mut [f64]) {
+        match self {
+            JointCoord::Free { in_obj1: true } => free::project_with(&xj.rot, f, tau),
+            _ => self.project(q, f, tau),
+        }
+    }
+
     /// The generalised forces `Sᵀ f` of a spatial force `f` transmitted by the joint
     /// (resolved in the child frame) into `tau` (the joint's `nv` entries).
     #[inline]
