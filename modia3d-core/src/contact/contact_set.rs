@@ -128,6 +128,9 @@ pub struct ContactState {
     broad: BroadPhase,
     /// Shape pairs reported by the broad phase at the last evaluation.
     near_shapes: Vec<(u32, u32)>,
+    /// `near_shapes` of the evaluation that last looked the slots up: while the broad phase
+    /// reports the same pairs in the same order (most steps), `near` holds their slots.
+    looked_up: Vec<(u32, u32)>,
     /// Slots of the pairs reported by the broad phase at the last evaluation.
     near: Vec<u32>,
     /// Scratch of continuous mode: the contact patch of each pair in `active` (resized with
@@ -191,6 +194,7 @@ impl ContactState {
             grown: vec![crate::geometry::Aabb::new_invalid(); ns],
             broad: BroadPhase::new(ns),
             near_shapes: Vec::with_capacity(ns),
+            looked_up: Vec::with_capacity(ns),
             near: Vec::with_capacity(ns),
             patches: Vec::with_capacity(ns),
             base: Vec::with_capacity(ns),
@@ -348,13 +352,22 @@ impl ContactState {
                 );
                 self.aabb_tests += self.broad.box_tests();
                 self.stamp += 1;
-                self.near.clear();
-                for k in 0..self.near_shapes.len() {
-                    let (a, b) = self.near_shapes[k];
-                    if let Some(p) = self.slot(cp, a as usize, b as usize) {
+                if self.near_shapes == self.looked_up {
+                    // The same pairs as at the last evaluation: `near` holds their slots (a
+                    // slot is released only when its pair is not reported), no lookups.
+                    for &p in &self.near {
                         self.slots[p as usize].seen = self.stamp;
-                        self.near.push(p);
                     }
+                } else {
+                    self.near.clear();
+                    for k in 0..self.near_shapes.len() {
+                        let (a, b) = self.near_shapes[k];
+                        if let Some(p) = self.slot(cp, a as usize, b as usize) {
+                            self.slots[p as usize].seen = self.stamp;
+                            self.near.push(p);
+                        }
+                    }
+                    self.looked_up.clone_from(&self.near_shapes);
                 }
                 for k in 0..self.near.len() {
                     let p = self.near[k] as usize;
