@@ -39,6 +39,12 @@ pub struct MultibodyDae {
     blocks: Option<TreeBlocks>,
     /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in contact.
     ewt_marked: Vec<bool>,
+    /// The factors of the last [`DaeSystem::error_weight_factors`] that formed them, with the
+    /// marks and the tightening they came from: the contact set changes only at events, so
+    /// most steps copy them.
+    ewt_factors: Vec<f64>,
+    ewt_factors_marked: Vec<bool>,
+    ewt_factors_kappa: f64,
     /// Factor of the error weights of the bodies in contact (1 = off; see
     /// [`crate::SimOptions::contact_tightening`]).
     contact_tightening: f64,
@@ -215,6 +221,9 @@ impl MultibodyDae {
             contact,
             root_error: None,
             ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
+            ewt_factors: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.block_of.len())),
+            ewt_factors_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
+            ewt_factors_kappa: f64::NAN,
             contact_tightening: 1.0,
             blocks,
             analytic: vec![],
@@ -610,9 +619,22 @@ impl DaeSystem for MultibodyDae {
         if !any {
             return false;
         }
-        for (fi, &blk) in f.iter_mut().zip(&tb.fixed.block_of) {
-            *fi = if marked[blk] { kappa } else { 1.0 };
+        let m = f.len().min(tb.fixed.block_of.len());
+        if kappa != self.ewt_factors_kappa
+            || *marked != self.ewt_factors_marked
+            || self.ewt_factors.len() != m
+        {
+            self.ewt_factors.clear();
+            self.ewt_factors
+                .extend(
+                    tb.fixed.block_of[..m]
+                        .iter()
+                        .map(|&blk| if marked[blk] { kappa } else { 1.0 }),
+                );
+            self.ewt_factors_marked.clone_from(marked);
+            self.ewt_factors_kappa = kappa;
         }
+        f[..m].copy_from_slice(&self.ewt_factors);
         true
     }
 

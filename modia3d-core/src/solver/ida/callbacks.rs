@@ -227,16 +227,21 @@ pub(super) unsafe extern "C" fn ewt_callback<S: DaeSystem>(
         // end: IDA calls this once per step, over every unknown.
         let (z, f) = (&st.zero_size[..n], &st.ewt_factor);
         let weight = |yi: f64, zi: f64| 1.0 / (rtol * yi.abs() + rtol * zi);
+        // Each weight tested as it is formed (no second pass), without branching.
+        let valid = |wi: f64| wi.is_finite() & (wi > 0.0);
+        let mut ok = true;
         if tighten {
             for (((wi, &yi), &zi), &fi) in w.iter_mut().zip(y).zip(z).zip(&f[..n]) {
                 *wi = weight(yi, zi) * fi;
+                ok &= valid(*wi);
             }
         } else {
             for ((wi, &yi), &zi) in w.iter_mut().zip(y).zip(z) {
                 *wi = weight(yi, zi);
+                ok &= valid(*wi);
             }
         }
-        if w.iter().all(|wi| wi.is_finite() && *wi > 0.0) {
+        if ok {
             0
         } else {
             -1
