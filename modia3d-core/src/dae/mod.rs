@@ -190,6 +190,7 @@ impl MultibodyDae {
             body_of_v[j.v_offset..j.v_offset + j.coord.nv()].fill(j.body);
         }
         let nb = plan.bodies.len();
+        let groups = plan.velocity_groups();
         let n_trees = blocks.as_ref().map_or(0, |b| b.fixed.n_blocks);
         let hinge = blocks.as_ref().map_or_else(Default::default, |b| {
             hinge_jacobian::HingeTrees::new(&plan, &b.of_body, n_trees)
@@ -207,8 +208,8 @@ impl MultibodyDae {
             quotient_base: false,
             mass: MassColumns {
                 ws: Workspace::new(&plan),
-                groups: plan.velocity_groups(),
-                lone_free: lone_free_joints(&plan, &plan.velocity_groups()),
+                lone_free: lone_free_joints(&plan, &groups),
+                groups,
                 zero_v: vec![0.0; plan.nv],
                 e: vec![0.0; plan.nv],
                 col: vec![0.0; plan.nv],
