@@ -22,6 +22,7 @@ pub mod collision_shape;
 pub mod error;
 pub mod mesh_file;
 pub mod narrow_phase;
+pub mod overlap;
 mod pose;
 pub mod shapes;
 pub mod smoothing;
