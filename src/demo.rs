@@ -713,3 +713,168 @@ pub fn bouncing_sphere_sweep() -> Sweep {
 pub fn sweep_registry() -> SweepRegistry {
     SweepRegistry::new().add("bouncing_sphere", bouncing_sphere_sweep())
 }
+
+/// Name of the fixed plank and of the free body of [`on_incline`].
+pub const INCLINE_NAMES: (&str, &str) = ("plank", "body");
+
+/// A fixed plank (box 4 × 1 × 0.1 m, DryWood unless `material` names another) tilted by
+/// `alpha` \[rad\] about the world y axis, its top face through the world origin, and a free
+/// body `body` of `shape` (the same material) lying on it: the body's frame is turned like
+/// the plank (so a shape's local z is the plank's normal), its origin `height` \[m\] above the
+/// face (the shape's half height: touching, no penetration) at `s0` \[m\] along the downhill
+/// direction `(cos α, 0, −sin α)`, moving downhill at `v0` [m/s] and spinning at `w` [rad/s]
+/// (resolved in the body frame). `pair` is the material's self-pair; `options` the scene's.
+/// With `alpha = 0` the plank is a table.
+#[allow(clippy::too_many_arguments)]
+pub fn on_incline(
+    shape: Shape,
+    height: f64,
+    alpha: f64,
+    s0: f64,
+    v0: f64,
+    w: [f64; 3],
+    material: &str,
+    pair: ContactPairMaterial,
+    options: SceneOptions,
+) -> SceneDesc {
+    let rot = nalgebra::Rotation3::from_axis_angle(&Vector3::y_axis(), alpha);
+    let (plank, body) = INCLINE_NAMES;
+    let mut s = SceneDesc::new();
+    s.add(world(options))
+        .add_contact_pair(material, material, pair)
+        .add(
+            Object3D::new(plank)
+                .parent("world")
+                .translation((rot * Vector3::new(0.0, 0.0, -0.05)).into())
+                .rotation(Rotation::Matrix(*rot.matrix()))
+                .solid(
+                    Solid::new(Shape::Box {
+                        lengths: Vector3::new(4.0, 1.0, 0.1),
+                    })
+                    .material(material)
+                    .collision(true),
+                ),
+        )
+        .add(Object3D::new(body).solid(Solid::new(shape).material(material).collision(true)))
+        .add_joint(Joint::new(
+            "body.free",
+            "world",
+            body,
+            JointKind::FreeMotion {
+                r: rot * Vector3::new(s0, 0.0, height),
+                rot: FreeRotation::Cardan([0.0, alpha, 0.0]),
+                v: rot * Vector3::new(v0, 0.0, 0.0),
+                w: Vector3::from(w),
+            },
+        ));
+    s
+}
+
+/// A fixed DryWood table (2 × 2 × 0.1 m, top face at z = 0) and `n` DryWood boxes of
+/// `lengths` \[m\] stacked on it, `b0` at the bottom, each touching the one below, at rest;
+/// box `i` shifted by `i·shift` \[m\] along x. `options` are the scene's.
+pub fn box_stack(lengths: [f64; 3], n: usize, shift: f64, options: SceneOptions) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(options)).add(fixed_box(
+        "table",
+        [2.0, 2.0, 0.1],
+        [0.0, 0.0, -0.05],
+        "DryWood",
+    ));
+    for i in 0..n {
+        let name = format!("b{i}");
+        s.add(
+            Object3D::new(&name).solid(
+                Solid::new(Shape::Box {
+                    lengths: Vector3::from(lengths),
+                })
+                .material("DryWood")
+                .collision(true),
+            ),
+        )
+        .add_joint(Joint::new(
+            &format!("{name}.free"),
+            "world",
+            &name,
+            JointKind::FreeMotion {
+                r: Vector3::new(i as f64 * shift, 0.0, lengths[2] * (i as f64 + 0.5)),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
+    }
+    s
+}
+
+/// `scene` with its world's contact profile set to `profile` (for tests and benchmarks that
+/// pin a law: the paper's scenes pin [`ContactProfile::Paper2019`]).
+pub fn with_profile(mut scene: SceneDesc, profile: ContactProfile) -> SceneDesc {
+    for o in &mut scene.objects {
+        if let Feature::Scene(opts) = &mut o.feature {
+            opts.contact_profile = profile;
+        }
+    }
+    scene
+}
+
+/// Housner's rigid block rocking on an edge, the reference of [`cube_on_edge`]: the time \[s\] a
+/// cube of half edge `b` \[m\] released from rest at the angle `theta0` \[rad\] away from flat
+/// falls back to flat, from `θ̈ = −p² sin(α − θ)` (`p² = 3g/(4R)`, `R = b√2` the half
+/// diagonal, `α = π/4`, g = 9.81 m/s²) integrated by classical RK4 at 1e-6 s (error ~1e-12 s).
+pub fn housner_fall_back_time(b: f64, theta0: f64) -> f64 {
+    let p2 = 3.0 * 9.81 / (4.0 * b * 2f64.sqrt());
+    let f = |th: f64| -p2 * (std::f64::consts::FRAC_PI_4 - th).sin();
+    let (mut th, mut om, mut t, h) = (theta0, 0.0f64, 0.0, 1e-6);
+    loop {
+        let (k1, l1) = (om, f(th));
+        let (k2, l2) = (om + 0.5 * h * l1, f(th + 0.5 * h * k1));
+        let (k3, l3) = (om + 0.5 * h * l2, f(th + 0.5 * h * k2));
+        let (k4, l4) = (om + h * l3, f(th + h * k3));
+        let next = th + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        om += h / 6.0 * (l1 + 2.0 * l2 + 2.0 * l3 + l4);
+        if next <= 0.0 || t > 100.0 {
+            return t + h * th / (th - next);
+        }
+        th = next;
+        t += h;
+    }
+}
+
+/// A DryWood cube of half edge `b` \[m\] on a flat DryWood plank ([`on_incline`] at `α = 0`)
+/// turned by `theta0` \[rad\] about y so that its edge `(b, ·, −b)` rests on the plank at the
+/// origin, released from rest; `pair` is the DryWood self-pair.
+pub fn cube_on_edge(b: f64, theta0: f64, pair: ContactPairMaterial) -> SceneDesc {
+    let cube = Shape::Box {
+        lengths: Vector3::repeat(2.0 * b),
+    };
+    let mut s = on_incline(
+        cube,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        [0.0; 3],
+        "DryWood",
+        pair,
+        SceneOptions::default(),
+    );
+    s.joints[0].kind = JointKind::FreeMotion {
+        r: Vector3::new(
+            -b * (theta0.cos() - theta0.sin()),
+            0.0,
+            b * (theta0.sin() + theta0.cos()),
+        ),
+        rot: FreeRotation::Cardan([0.0, theta0, 0.0]),
+        v: Vector3::zeros(),
+        w: Vector3::zeros(),
+    };
+    s
+}
+
+/// The speed \[m/s\] of [`on_incline`]'s body along the downhill direction `(cos α, 0, −sin α)`
+/// at time `t` \[s\] of `res`.
+pub fn downhill_speed(res: &SimulationResult, alpha: f64, t: f64) -> Result<f64, ResultError> {
+    let v = res.signal_at("body.v_abs", t)?;
+    Ok(v[0] * alpha.cos() - v[2] * alpha.sin())
+}

@@ -262,11 +262,25 @@ fn the_later_modia3d_profile_is_an_option() {
     assert!(
         (p.mu_geo - r_star).abs() < 1e-15 && (p.c_geo - 4.0 / 3.0 * r_star.sqrt()).abs() < 1e-15
     );
-    // Default profile: linear law for two non-spheres.
-    s.objects[0] = demo::world(SceneOptions::default());
+    // The paper's profile: linear law for two non-spheres.
+    s.objects[0] = demo::world(SceneOptions {
+        contact_profile: ContactProfile::Paper2019,
+        ..Default::default()
+    });
     let m = s.build().unwrap();
     let p = &m.contact_pairs()[0];
     assert_eq!((p.n_geo, p.c_geo, p.mu_geo), (1.0, 1.0, 1.0));
+    assert_eq!(p.volume_stiffness, None);
+    // The default profile: the volume law, κ_i = c/H_i with H = half the smallest edge (floor
+    // 0.05 m, cube 0.05 m), in series.
+    s.objects[0] = demo::world(SceneOptions::default());
+    let m = s.build().unwrap();
+    let p = &m.contact_pairs()[0];
+    let steel = modia3d::core::scene::builtin_solid_material("Steel").unwrap();
+    let c = demo::c_res(&steel, &steel) * 2.0; // E/(1 − ν²) of one steel body
+    let kappa = 1.0 / (0.05 / c + 0.05 / c);
+    let got = p.volume_stiffness.expect("volume law");
+    assert!((got - kappa).abs() < 1e-12 * kappa, "{got} vs {kappa}");
     // A slow drop (impact 5 mm/s < v_min): cor replaced by 0, no rebound event.
     let mut s = demo::bouncing_sphere(
         0.1,

@@ -22,8 +22,13 @@ fn cube() -> Shape {
     }
 }
 
+/// Runs `scene` under the paper's law (`ContactProfile::Paper2019`: these tests are about its
+/// linear law for pairs without a sphere; the default volume law's resting contacts are
+/// tested in `tests/contact_volume.rs`).
 fn run(scene: SceneDesc, opts: SimOptions) -> SimulationResult {
-    let model = scene.build().unwrap();
+    let model = modia3d::demo::with_profile(scene, ContactProfile::Paper2019)
+        .build()
+        .unwrap();
     match model.simulate(&opts.progress(false).contact_results(true)) {
         Ok(r) => r,
         Err(e) => panic!("stopped at t = {:?}: {}", e.partial.time().last(), e.kind),

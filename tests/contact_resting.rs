@@ -108,8 +108,13 @@ fn norm(v: &[f64]) -> f64 {
 
 /// Runs `scene` for `t_end` s at rtol 1e-5 (the example's tolerance) and returns the result;
 /// panics with the solver's message if the run stops early.
+/// Pins the paper's law (`ContactProfile::Paper2019`): these scenes check its linear law for
+/// pairs without a sphere against `m·g/k`; the default volume law's drops are tested in
+/// `tests/contact_volume.rs`.
 fn run(scene: SceneDesc, t_end: f64) -> SimulationResult {
-    let model = scene.build().unwrap();
+    let model = modia3d::demo::with_profile(scene, ContactProfile::Paper2019)
+        .build()
+        .unwrap();
     let opts = SimOptions::new(t_end)
         .tolerance(1e-5)
         .interval(1e-2)

@@ -63,8 +63,12 @@ pub struct ContactPairInfo {
     pub mu_geo: f64,
     /// Geometry coefficient `c_geo` [m^(1/2)] (1 for the linear law).
     pub c_geo: f64,
-    /// Exponent of the penetration `n_geo` [-]: 3/2 (Hertz) or 1.
+    /// Exponent of the penetration `n_geo` [-]: 3/2 (Hertz) or 1 (point laws only).
     pub n_geo: f64,
+    /// `Some(κ)` for a pair with the volume law (docs/contact-model.md §3.2): its stiffness per
+    /// unit overlap volume `κ = κ_a κ_b/(κ_a + κ_b)` \[N/m³\] (before `k_red`); `None` for a
+    /// point law (then `c_res`, `μ_geo`, `c_geo`, `n_geo` define it).
+    pub volume_stiffness: Option<f64>,
 }
 
 /// A moving body of a model: objects rigidly attached to each other, moved by one joint.
@@ -117,7 +121,8 @@ impl Model {
     pub(crate) fn finish(mut plan: Plan, penetration: bool) -> Result<Model, SceneErrors> {
         // Closed loops: redundant rows dropped, q0 and v0 projected onto the constraints.
         crate::dynamics::loops::assemble_initial(&mut plan).map_err(|e| SceneErrors(vec![e]))?;
-        let contact = ContactPlan::compile(&plan.scene, &plan.objects).map_err(SceneErrors)?;
+        let contact =
+            ContactPlan::compile(&plan.scene, &plan.objects, &plan.bodies).map_err(SceneErrors)?;
         plan.check_inertia()?;
         crate::dynamics::forces::check_gravity_centre(&plan)?;
         if let Some(cp) = contact.as_ref().filter(|_| penetration) {
@@ -151,6 +156,7 @@ impl Model {
                 mu_geo: pp.mu_geo,
                 c_geo: pp.c_geo,
                 n_geo: pp.n_geo,
+                volume_stiffness: (pp.law != crate::contact::PairLaw::Point).then_some(pp.kappa),
             })
             .collect()
     }

@@ -137,6 +137,8 @@ pub struct SolidIr {
     pub contact_material: Option<(MaterialName, Span)>,
     /// `smoothing_radius`.
     pub smoothing_radius: Option<Num>,
+    /// `layer_depth` (the volume contact law's elastic layer, m).
+    pub layer_depth: Option<Num>,
     /// The `Solid` constructor's span and the error slot of "no mass".
     pub span: Span,
     /// See `span`.

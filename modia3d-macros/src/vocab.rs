@@ -97,7 +97,7 @@ pub const SCENE_NUMBERS: &[&str] = &[
 ];
 
 /// The variants of `ContactProfile`.
-pub const PROFILES: &[&str] = &["Paper2019", "Modia3DLater"];
+pub const PROFILES: &[&str] = &["Volume", "Paper2019", "Modia3DLater"];
 
 /// Keys of `SpringDamper(…)`: `spring_law`/`damper_law` (a number or a closure of the
 /// elongation / its rate) replace `stiffness`/`damping`.
@@ -148,6 +148,7 @@ pub const SOLID_KEYS: &[&str] = &[
     "collision",
     "contact_material",
     "smoothing_radius",
+    "layer_depth",
 ];
 
 /// Keys of `ContactPair(…)`.

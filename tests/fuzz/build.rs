@@ -255,6 +255,11 @@ pub fn scene(s: &SceneSpec) -> SceneDesc {
     let later = std::env::var("MODIA3D_FUZZ_LATER").is_ok_and(|v| v == "1");
     let mut opts = if s.later_profile || later {
         SceneOptions::modia3d_later()
+    } else if s.paper_profile {
+        SceneOptions {
+            contact_profile: ContactProfile::Paper2019,
+            ..Default::default()
+        }
     } else {
         SceneOptions::default()
     };

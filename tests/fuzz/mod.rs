@@ -309,8 +309,13 @@ pub struct SceneSpec {
     pub mpr_tolerance: f64,
     /// `SceneOptions::hysteresis` \[m\].
     pub hysteresis: f64,
-    /// `ContactProfile::Modia3DLater` instead of the default.
+    /// `ContactProfile::Modia3DLater` instead of `paper_profile`'s choice.
     pub later_profile: bool,
+    /// `ContactProfile::Paper2019` instead of the default (`ContactProfile::Volume`).
+    /// Reproducers recorded before the volume law became the default have no such key and
+    /// replay under the paper's law, the default they were recorded with.
+    #[serde(default = "paper_profile_default")]
+    pub paper_profile: bool,
     /// Gravity [m/s²].
     pub gravity: [f64; 3],
     /// A fixed table (box) attached to the world: edge lengths and centre \[m\], material.
@@ -734,6 +739,7 @@ pub fn generate(seed: u64) -> SceneSpec {
             r.log_uniform(1e-13, 1e-6)
         },
         later_profile: r.chance(0.2),
+        paper_profile: false,
         gravity: if r.chance(0.9) {
             [0.0, 0.0, -9.81]
         } else {
@@ -768,4 +774,9 @@ fn yes() -> bool {
 /// Serde: leave out a field at its default, true.
 fn is_true(x: &bool) -> bool {
     *x
+}
+
+/// `SceneSpec::paper_profile` of a reproducer without the key (recorded under the paper's law).
+fn paper_profile_default() -> bool {
+    true
 }

@@ -9,16 +9,20 @@
 //! and near pairs, not in the N²/2 candidate pairs. No allocation once the slot pool and the
 //! map have grown to the largest near set (the warm-up).
 
-use super::preprocess::{ContactPlan, PairPlan};
+use super::preprocess::{ContactPlan, PairLaw, PairPlan, VolumeSolid};
 use super::regularise::{cor_reg, damping_factor, damping_factor_exact};
-use super::response::{pair_response, PairResponse};
+use super::response::{
+    pair_response, resting_damping, volume_response, PairResponse, VolumeGeometry,
+};
 use crate::dynamics::forces::{add_world_wrench, world_wrench_in_body};
 use crate::dynamics::kinematics::point_velocity;
 use crate::dynamics::spatial::Force;
 use crate::dynamics::spatial::Transform;
 use crate::dynamics::{Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
+use crate::geometry::overlap::{frustum_planes_overlap, polytope_overlap, Overlap, OverlapScratch};
 use crate::geometry::BroadPhase;
+use crate::geometry::CollisionShape;
 use crate::geometry::{
     aabb_distance, contact_patch, signed_distance_method, world_aabb, ContactPatch, GeometryError,
     SignedDistance,
@@ -60,6 +64,9 @@ pub struct PairState {
     pub delta_dot_minus: f64,
     /// Damping factor `d` [s/m] fixed at contact start.
     pub d: f64,
+    /// Volume law: the resting-damping coefficient \[kg^½\] fixed at contact start
+    /// (`response::resting_damping`; 0 for point laws).
+    pub rest: f64,
     /// Last narrow-phase result (valid when the boxes overlapped).
     pub geometry: SignedDistance,
     /// Last response (zero when not in contact).
@@ -136,10 +143,114 @@ pub struct ContactState {
     /// Scratch of continuous mode: the contact patch of each pair in `active` (resized with
     /// `active` at events, so residuals do not allocate).
     patches: Vec<ContactPatch>,
+    /// Scratch of continuous mode: the overlap of each volume-law pair in `active` (sized with
+    /// `patches`; unused entries for point-law pairs).
+    overlaps: Vec<VolumeGeometry>,
     /// The narrow phase and patch of each pair in `active` at the point of the last
     /// [`Self::begin_quotients`]: what the Jacobian's quotient residuals reuse for the pairs
     /// whose bodies their perturbation does not move (sized with `patches`).
-    base: Vec<(SignedDistance, ContactPatch)>,
+    base: Vec<PairGeometry>,
+    /// Scratch buffers of the polytope overlaps, sized by the plan (a `RefCell` so that the
+    /// read-only queries of the Jacobian, [`Self::pair_geometry`], can use them too).
+    scratch: std::cell::RefCell<OverlapScratch>,
+}
+
+/// The geometry of one pair in contact as the force law needs it: the narrow phase (for a
+/// volume-law pair: distance `−V/A`, normal and witness points at the overlap's centroid), the
+/// contact patch (point of application and spread) and, for a volume-law pair, the overlap
+/// (else [`VolumeGeometry::NONE`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairGeometry(pub SignedDistance, pub ContactPatch, pub VolumeGeometry);
+
+/// The shapes the narrow phase of pair `pp` uses: the sharp ones for a volume-law pair, the
+/// smoothed ones otherwise.
+#[inline]
+fn narrow_shapes<'a>(
+    cp: &'a ContactPlan,
+    pp: &PairPlan,
+) -> (&'a CollisionShape, &'a CollisionShape) {
+    let (sa, sb) = (&cp.shapes[pp.a], &cp.shapes[pp.b]);
+    match (pp.law, &sa.volume, &sb.volume) {
+        (PairLaw::Point, _, _) => (&sa.shape, &sb.shape),
+        (_, Some(va), Some(vb)) => (&va.sharp, &vb.sharp),
+        _ => (&sa.shape, &sb.shape),
+    }
+}
+
+/// The overlap of volume-law pair `pp` at poses `pa`, `pb` of its shapes, its area vector
+/// pointing from shape a to shape b.
+fn volume_overlap(
+    cp: &ContactPlan,
+    pp: &PairPlan,
+    pa: &Isometry3<f64>,
+    pb: &Isometry3<f64>,
+    scratch: &mut OverlapScratch,
+) -> VolumeGeometry {
+    let (Some(va), Some(vb)) = (&cp.shapes[pp.a].volume, &cp.shapes[pp.b].volume) else {
+        return VolumeGeometry::NONE;
+    };
+    match (&va.solid, &vb.solid) {
+        (VolumeSolid::Polytope(a), VolumeSolid::Polytope(b)) => VolumeGeometry {
+            overlap: polytope_overlap(a, pa, b, pb, scratch),
+            ..VolumeGeometry::NONE
+        },
+        (VolumeSolid::Frustum(f), VolumeSolid::Polytope(p)) => {
+            let mut ov = frustum_planes_overlap(f, pa, world_planes(p, pb));
+            ov.area_vector = -ov.area_vector;
+            VolumeGeometry {
+                overlap: ov,
+                axis: pa.rotation * f.axis.unit(),
+                axis_on_b: false,
+            }
+        }
+        (VolumeSolid::Polytope(p), VolumeSolid::Frustum(f)) => VolumeGeometry {
+            overlap: frustum_planes_overlap(f, pb, world_planes(p, pa)),
+            axis: pb.rotation * f.axis.unit(),
+            axis_on_b: true,
+        },
+        (VolumeSolid::Frustum(_), VolumeSolid::Frustum(_)) => VolumeGeometry::NONE,
+    }
+}
+
+/// The face planes `(n, h)` of polytope `p` at `pose`, resolved in world (`n·x ≤ h` inside).
+fn world_planes<'a>(
+    p: &'a crate::geometry::overlap::Polytope,
+    pose: &'a Isometry3<f64>,
+) -> impl Iterator<Item = (Vector3<f64>, f64)> + 'a {
+    p.face_planes().map(move |(n, h)| {
+        let nw = pose.rotation * n;
+        (nw, h + nw.dot(&pose.translation.vector))
+    })
+}
+
+/// The narrow-phase view and patch of an overlap `ov` (for results, diagnosis and the
+/// Jacobian's caps): distance `−V/A` (the mean depth), the normal, the centroid as both
+/// witness points, and the spread `tr Σ_n / V`.
+fn overlap_geometry(ov: &Overlap) -> (SignedDistance, ContactPatch) {
+    let area = ov.area_vector.norm();
+    let (depth, normal) = if ov.volume > 0.0 && area > 0.0 {
+        (ov.volume / area, ov.area_vector / area)
+    } else {
+        (0.0, Vector3::new(0.0, 0.0, 1.0))
+    };
+    let spread = if ov.volume > 0.0 {
+        let nx = normal.cross_matrix();
+        ((nx * ov.second_moment * nx.transpose()).trace() / ov.volume).max(0.0)
+    } else {
+        0.0
+    };
+    (
+        SignedDistance {
+            distance: -depth,
+            normal,
+            point_a: ov.centroid,
+            point_b: ov.centroid,
+        },
+        ContactPatch {
+            point: ov.centroid,
+            spread,
+        },
+    )
 }
 
 fn to_isometry(t: &Transform) -> Isometry3<f64> {
@@ -197,13 +308,15 @@ impl ContactState {
             looked_up: Vec::with_capacity(ns),
             near: Vec::with_capacity(ns),
             patches: Vec::with_capacity(ns),
+            overlaps: Vec::with_capacity(ns),
             base: Vec::with_capacity(ns),
+            scratch: std::cell::RefCell::new(cp.overlap_scratch()),
         };
         // Shapes fixed to the world: pose and boxes once (the evaluations update moving ones).
         for (s, sp) in cp.shapes.iter().enumerate() {
             if sp.body.is_none() {
                 cs.poses[s] = to_isometry(&sp.in_body);
-                cs.aabbs[s] = world_aabb(&sp.shape, &cs.poses[s]);
+                cs.aabbs[s] = shape_aabb(cp, s, &cs.poses[s]);
                 cs.grown[s] = BoundingVolume::loosened(&cs.aabbs[s], 0.5 * cp.margin);
             }
         }
@@ -226,13 +339,8 @@ impl ContactState {
     ) -> Result<SignedDistance, ContactError> {
         let (a, b) = self.shapes_of(p);
         self.narrow_calls += 1;
-        let r = signed_distance_method(
-            &cp.shapes[a].shape,
-            &self.poses[a],
-            &cp.shapes[b].shape,
-            &self.poses[b],
-            &cp.narrow,
-        );
+        let (sa, sb) = narrow_shapes(cp, &self.slots[p].plan);
+        let r = signed_distance_method(sa, &self.poses[a], sb, &self.poses[b], &cp.narrow);
         match r {
             Ok((sd, Method::IterationLimit)) => {
                 self.limit_reached(plan, cp, p, t);
@@ -274,6 +382,13 @@ impl ContactState {
     /// (`contact_patch`).
     fn patch(&self, cp: &ContactPlan, p: usize, sd: &SignedDistance) -> ContactPatch {
         let pp = &self.slots[p].plan;
+        if pp.law != PairLaw::Point {
+            // The sharp shapes' witness points (a volume pair's touch: where it starts).
+            return ContactPatch {
+                point: Point3::from((sd.point_a.coords + sd.point_b.coords) * 0.5),
+                spread: 0.0,
+            };
+        }
         contact_patch(
             &cp.shapes[pp.a].shape,
             &self.poses[pp.a],
@@ -340,7 +455,7 @@ impl ContactState {
             Mode::ZeroCrossing | Mode::Event => {
                 for &s in &cp.moving {
                     self.poses[s] = shape_pose(cp, ws, s);
-                    self.aabbs[s] = world_aabb(&cp.shapes[s].shape, &self.poses[s]);
+                    self.aabbs[s] = shape_aabb(cp, s, &self.poses[s]);
                     self.grown[s] = BoundingVolume::loosened(&self.aabbs[s], 0.5 * cp.margin);
                 }
                 // Broad phase: only candidate pairs whose loosened boxes overlap get a z_AB;
@@ -423,6 +538,8 @@ impl ContactState {
         if self.patches.len() < self.active.len() {
             // Only if an evaluation comes before any event sized it.
             self.patches.resize(self.active.len(), EMPTY_PATCH);
+            self.overlaps
+                .resize(self.active.len(), VolumeGeometry::NONE);
         }
         // `base` covers the set whenever `begin_quotients` came after the last event (the DAE
         // asks for reuse only then); otherwise every pair is computed.
@@ -433,19 +550,49 @@ impl ContactState {
                 let (a, b) = self.shapes_of(p);
                 let moves = |s: usize| cp.shapes[s].body.is_some_and(|x| moved[x.index()]);
                 if !moves(a) && !moves(b) {
-                    let (sd, patch) = self.base[k];
-                    let st = &mut self.slots[p].state;
-                    st.geometry = sd;
-                    st.z = sd.distance;
+                    let PairGeometry(sd, patch, ov) = self.base[k];
+                    let sl = &mut self.slots[p];
+                    sl.state.geometry = sd;
+                    if st_is_point(&sl.plan) {
+                        sl.state.z = sd.distance;
+                    }
                     self.patches[k] = patch;
+                    self.overlaps[k] = ov;
                     continue;
                 }
             }
-            self.patches[k] = self.continuous_geometry(plan, cp, ws, p, t)?;
+            if self.slots[p].plan.law == PairLaw::Point {
+                self.patches[k] = self.continuous_geometry(plan, cp, ws, p, t)?;
+            } else {
+                let (a, b) = self.shapes_of(p);
+                for s in [a, b] {
+                    if cp.shapes[s].body.is_some() {
+                        self.poses[s] = shape_pose(cp, ws, s);
+                    }
+                }
+                let ov = volume_overlap(
+                    cp,
+                    &self.slots[p].plan,
+                    &self.poses[a],
+                    &self.poses[b],
+                    self.scratch.get_mut(),
+                );
+                let (sd, patch) = overlap_geometry(&ov.overlap);
+                self.slots[p].state.geometry = sd;
+                self.patches[k] = patch;
+                self.overlaps[k] = ov;
+            }
         }
-        for (&p, patch) in self.active.iter().zip(&self.patches) {
-            let sl = &mut self.slots[p as usize];
-            apply(cp, &sl.plan, &mut sl.state, patch, ws);
+        for k in 0..self.active.len() {
+            let sl = &mut self.slots[self.active[k] as usize];
+            apply(
+                cp,
+                &sl.plan,
+                &mut sl.state,
+                &self.patches[k],
+                &self.overlaps[k],
+                ws,
+            );
         }
         Ok(())
     }
@@ -456,12 +603,15 @@ impl ContactState {
     /// been sized at an event.
     pub fn begin_quotients(&mut self) {
         if self.base.len() < self.active.len() {
-            self.base
-                .resize(self.active.len(), (PairState::APART.geometry, EMPTY_PATCH));
+            self.base.resize(self.active.len(), EMPTY_GEOMETRY);
         }
         for k in 0..self.active.len() {
             let p = self.active[k] as usize;
-            self.base[k] = (self.slots[p].state.geometry, self.patches[k]);
+            self.base[k] = PairGeometry(
+                self.slots[p].state.geometry,
+                self.patches[k],
+                self.overlaps[k],
+            );
         }
     }
 
@@ -592,11 +742,24 @@ impl ContactState {
                 let dd = -(v2 - v1).dot(&sd.normal);
                 ps.delta_dot_minus = dd;
                 self.started_speed.push(dd);
-                let c = cor_reg(cp.profile, pp.cor, cp.cor_min, dd, pp.v_min);
-                ps.d = if cp.exact_restitution {
-                    damping_factor_exact(c, dd, pp.v_min, cp.d_max)
+                // The volume law: the pair's cor at the contact-start speed, at least v_min; a
+                // slow contact gets the resting damping below instead of the paper's blend
+                // towards cor_min (which only hits d_max) (docs/contact-model.md §3.2).
+                let (c, dd_d) = if pp.law == PairLaw::Point {
+                    (cor_reg(cp.profile, pp.cor, cp.cor_min, dd, pp.v_min), dd)
                 } else {
-                    damping_factor(c, dd, pp.v_min, cp.d_max)
+                    (pp.cor, dd.abs().max(pp.v_min))
+                };
+                ps.d = if cp.exact_restitution {
+                    damping_factor_exact(c, dd_d, pp.v_min, cp.d_max)
+                } else {
+                    damping_factor(c, dd_d, pp.v_min, cp.d_max)
+                };
+                ps.rest = if pp.law == PairLaw::Point {
+                    0.0
+                } else {
+                    let m = |s: usize| cp.shapes[s].body_mass;
+                    resting_damping(dd, pp.v_min, m(pp.a), m(pp.b))
                 };
                 sl.id = cp.pair_id(pp.a, pp.b).map_or(u32::MAX, |i| i as u32);
                 self.started.push(sl.id);
@@ -610,8 +773,9 @@ impl ContactState {
             }
         }
         self.patches.resize(self.active.len(), EMPTY_PATCH);
-        self.base
-            .resize(self.active.len(), (PairState::APART.geometry, EMPTY_PATCH));
+        self.overlaps
+            .resize(self.active.len(), VolumeGeometry::NONE);
+        self.base.resize(self.active.len(), EMPTY_GEOMETRY);
     }
 
     /// Penetration velocity `δ̇ = −(v_b − v_a)·n` \[m/s\] of slot `p`'s pair at its contact
@@ -714,7 +878,7 @@ impl ContactState {
             }
         };
         let (pa, pb) = (pose(a), pose(b));
-        let (sa, sb) = (&cp.shapes[a].shape, &cp.shapes[b].shape);
+        let (sa, sb) = narrow_shapes(cp, &self.slots[p].plan);
         let query = |d: Vector3<f64>| {
             let mut moved = pb;
             moved.translation.vector += d;
@@ -744,7 +908,7 @@ impl ContactState {
         ws: &Workspace,
         k: usize,
         t: f64,
-    ) -> Result<(SignedDistance, ContactPatch), ContactError> {
+    ) -> Result<PairGeometry, ContactError> {
         let p = self.active[k] as usize;
         let (a, b) = self.shapes_of(p);
         let pose = |s: usize| {
@@ -755,6 +919,12 @@ impl ContactState {
             }
         };
         let (pa, pb) = (pose(a), pose(b));
+        let pp = &self.slots[p].plan;
+        if pp.law != PairLaw::Point {
+            let ov = volume_overlap(cp, pp, &pa, &pb, &mut self.scratch.borrow_mut());
+            let (sd, patch) = overlap_geometry(&ov.overlap);
+            return Ok(PairGeometry(sd, patch, ov));
+        }
         let (sa, sb) = (&cp.shapes[a].shape, &cp.shapes[b].shape);
         let sd = match signed_distance_method(sa, &pa, sb, &pb, &cp.narrow) {
             Ok((sd, _)) => sd,
@@ -766,7 +936,11 @@ impl ContactState {
                 })
             }
         };
-        Ok((sd, contact_patch(sa, &pa, sb, &pb, &sd)))
+        Ok(PairGeometry(
+            sd,
+            contact_patch(sa, &pa, sb, &pb, &sd),
+            VolumeGeometry::NONE,
+        ))
     }
 
     /// The wrenches (about the body origins, resolved in the body frames) of the `k`-th pair
@@ -778,15 +952,29 @@ impl ContactState {
         cp: &ContactPlan,
         ws: &Workspace,
         k: usize,
-        geo: &(SignedDistance, ContactPatch),
+        geo: &PairGeometry,
     ) -> (Option<Force>, Option<Force>) {
         let sl = &self.slots[self.active[k] as usize];
         let (ba, bb) = (cp.shapes[sl.plan.a].body, cp.shapes[sl.plan.b].body);
-        let (sd, patch) = geo;
+        let PairGeometry(sd, patch, ov) = geo;
         let point = &patch.point.coords;
         let (v1, w1) = point_velocity(ws, ba, point);
         let (v2, w2) = point_velocity(ws, bb, point);
-        let r = pair_response(cp, &sl.plan, sl.state.d, sd, patch, &v1, &w1, &v2, &w2);
+        let r = if sl.plan.law == PairLaw::Point {
+            pair_response(cp, &sl.plan, sl.state.d, sd, patch, &v1, &w1, &v2, &w2)
+        } else {
+            volume_response(
+                cp,
+                &sl.plan,
+                sl.state.d,
+                sl.state.rest,
+                ov,
+                &v1,
+                &w1,
+                &v2,
+                &w2,
+            )
+        };
         let f = r.normal_force + r.friction_force;
         (
             ba.map(|b| world_wrench_in_body(ws, b, &r.point, &-f, &-r.rolling_torque)),
@@ -815,13 +1003,10 @@ impl ContactState {
         let mut sum = 0.0;
         for &p in &self.active {
             let (a, b) = self.shapes_of(p as usize);
-            if let Ok((sd, _)) = signed_distance_method(
-                &cp.shapes[a].shape,
-                &self.poses[a],
-                &cp.shapes[b].shape,
-                &self.poses[b],
-                &cp.narrow,
-            ) {
+            let (sa, sb) = narrow_shapes(cp, &self.slots[p as usize].plan);
+            if let Ok((sd, _)) =
+                signed_distance_method(sa, &self.poses[a], sb, &self.poses[b], &cp.narrow)
+            {
                 sum += sd.distance;
             }
         }
@@ -866,6 +1051,7 @@ impl PairState {
         z: f64::INFINITY,
         delta_dot_minus: 0.0,
         d: 0.0,
+        rest: 0.0,
         geometry: SignedDistance {
             distance: f64::INFINITY,
             normal: Vector3::new(0.0, 0.0, 1.0),
@@ -881,6 +1067,27 @@ const EMPTY_PATCH: ContactPatch = ContactPatch {
     point: Point3::new(0.0, 0.0, 0.0),
     spread: 0.0,
 };
+
+/// A placeholder for `ContactState::base`.
+const EMPTY_GEOMETRY: PairGeometry =
+    PairGeometry(PairState::APART.geometry, EMPTY_PATCH, VolumeGeometry::NONE);
+
+/// Whether pair `pp` has the single-point law (its `z` then follows the residual's narrow phase).
+#[inline]
+fn st_is_point(pp: &PairPlan) -> bool {
+    pp.law == PairLaw::Point
+}
+
+/// World AABB of shape `s` at `pose`: of the sharp shape if it takes part in a volume pair (it
+/// contains the smoothed one, and its distance must bound the sharp shapes'), else of the
+/// smoothed shape.
+fn shape_aabb(cp: &ContactPlan, s: usize, pose: &Isometry3<f64>) -> crate::geometry::Aabb {
+    let sp = &cp.shapes[s];
+    match &sp.volume {
+        Some(v) if v.in_volume_pair => world_aabb(&v.sharp, pose),
+        _ => world_aabb(&sp.shape, pose),
+    }
+}
 
 /// The levels of the contact-set hysteresis, in values of `z_AB` \[m\] (signed distance:
 /// negative = penetrating), for `ε` = [`SceneOptions::hysteresis`](crate::scene::SceneOptions):
@@ -927,12 +1134,14 @@ impl ContactPlan {
     }
 }
 
-/// Response of pair `pp` in contact (state `ps`), applied to both bodies.
+/// Response of pair `pp` in contact (state `ps`, overlap `ov` for a volume-law pair), applied
+/// to both bodies.
 fn apply(
     cp: &ContactPlan,
     pp: &PairPlan,
     ps: &mut PairState,
     patch: &ContactPatch,
+    ov: &VolumeGeometry,
     ws: &mut Workspace,
 ) {
     let (ba, bb) = (cp.shapes[pp.a].body, cp.shapes[pp.b].body);
@@ -941,7 +1150,11 @@ fn apply(
     let (v1, w1) = point_velocity(ws, ba, point);
     let (v2, w2) = point_velocity(ws, bb, point);
     // Written into the pair's state directly (a 144-byte copy per pair and evaluation less).
-    ps.response = pair_response(cp, pp, ps.d, sd, patch, &v1, &w1, &v2, &w2);
+    ps.response = if pp.law == PairLaw::Point {
+        pair_response(cp, pp, ps.d, sd, patch, &v1, &w1, &v2, &w2)
+    } else {
+        volume_response(cp, pp, ps.d, ps.rest, ov, &v1, &w1, &v2, &w2)
+    };
     let r = &ps.response;
     let f = r.normal_force + r.friction_force;
     add_world_wrench(ws, bb, &r.point, &f, &r.rolling_torque);

@@ -18,8 +18,8 @@ mod response;
 mod restitution;
 mod step_guard;
 
-pub use contact_set::{ContactError, ContactState, Mode, PairState};
+pub use contact_set::{ContactError, ContactState, Mode, PairGeometry, PairState};
 pub(crate) use initial::initial_penetrations;
 pub(crate) use pair_jacobian::{pair_wrench_jacobian, PER_BODY};
-pub use preprocess::ContactPlan;
+pub use preprocess::{ContactPlan, PairLaw};
 pub(crate) use regularise::CLAMP_BAND;

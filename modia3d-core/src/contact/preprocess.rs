@@ -6,8 +6,10 @@
 //! pairs the broad phase reports; [`ContactPlan::candidate_pairs`] enumerates them all (build
 //! time and result queries only).
 
+use crate::dynamics::plan::BodyPlan;
 use crate::dynamics::spatial::Transform;
-use crate::dynamics::{BodyId, ObjectPlan};
+use crate::dynamics::{BodyId, IdVec, ObjectPlan};
+use crate::geometry::overlap::{Frustum, OverlapScratch, Polytope};
 use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 
@@ -37,6 +39,53 @@ pub struct ShapePlan {
     /// its geometry depends on the frame's position only (`contact_set.rs` places it without
     /// its rotation).
     pub round: bool,
+    /// What the volume law needs of the shape ([`ContactProfile::Volume`]; boxes, hulls, mesh
+    /// parts, cylinders and cones), `None` otherwise.
+    pub volume: Option<VolumeShape>,
+    /// Mass \[kg\] of the body the shape is on (infinite for a shape fixed to the world): the
+    /// volume law's resting damping (docs/contact-model.md §3.2).
+    pub body_mass: f64,
+}
+
+/// A shape as the volume law sees it (docs/contact-model.md §3.2): sharp (not smoothed), with
+/// its elastic layer.
+#[derive(Clone, Debug)]
+pub struct VolumeShape {
+    /// The shape without smoothing: the signed distance (root functions) and bounding box of
+    /// its volume pairs, so that the force is zero exactly where the distance is ≥ 0.
+    pub sharp: CollisionShape,
+    /// The solid whose overlap is integrated.
+    pub solid: VolumeSolid,
+    /// Stiffness per unit volume `κ_i = c_i / H_i` \[N/m³\] (`c_i = E/(1 − ν²)`, `H_i` the layer
+    /// depth).
+    pub kappa: f64,
+    /// The shape takes part in at least one volume pair (else its bounding box stays that of
+    /// the smoothed shape, and scenes without volume pairs keep their numbers bit for bit).
+    pub in_volume_pair: bool,
+}
+
+/// The solid of a [`VolumeShape`].
+#[derive(Clone, Debug)]
+pub enum VolumeSolid {
+    /// A box, convex hull or convex part of a mesh.
+    Polytope(Polytope),
+    /// A cylinder or cone.
+    Frustum(Frustum),
+}
+
+/// Which force law a pair has (docs/contact-model.md §3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairLaw {
+    /// The paper's single-point law (Hertz or linear, by `n_geo`) on the smoothed shapes.
+    Point,
+    /// The volume law for two polytopes.
+    Polytopes,
+    /// The volume law for a cylinder or cone (shape a if `frustum_is_a`, else shape b) on a
+    /// face of a polytope.
+    FrustumOnFace {
+        /// Shape a is the frustum.
+        frustum_is_a: bool,
+    },
 }
 
 /// What the geometry coefficients of a pair (docs/contact-model.md §3) need of a user shape.
@@ -76,6 +125,10 @@ pub struct PairPlan {
     pub c_geo: f64,
     /// `n_geo` [-]: 3/2 (Hertz) or 1.
     pub n_geo: f64,
+    /// The force law.
+    pub law: PairLaw,
+    /// Volume law: `κ = κ_a κ_b / (κ_a + κ_b)` \[N/m³\] (0 for point laws).
+    pub kappa: f64,
 }
 
 /// The compiled collision pipeline of a scene with at least one candidate pair.
@@ -165,6 +218,7 @@ impl ContactPlan {
     pub(crate) fn compile(
         scene: &ValidScene,
         objects: &[ObjectPlan],
+        bodies: &IdVec<BodyId, BodyPlan>,
     ) -> Result<Option<ContactPlan>, Vec<SceneError>> {
         let opts = &scene.options;
         if !opts.contact_detection {
@@ -204,14 +258,34 @@ impl ContactPlan {
                         continue;
                     }
                 };
+                let c = el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio);
+                let volume = if opts.contact_profile == ContactProfile::Volume {
+                    match volume_shape(shape, s.layer_depth, c) {
+                        Ok(v) => v,
+                        Err(e) => {
+                            errors.push(SceneError::InvalidValue {
+                                what: format!("object `{}`: collision shape ({e})", o.name),
+                                value: f64::NAN,
+                                expected: "a shape with a volume (not flat)",
+                            });
+                            continue;
+                        }
+                    }
+                } else {
+                    None
+                };
                 shapes.push(ShapePlan {
                     object: i,
+                    volume,
+                    body_mass: objects[i]
+                        .body
+                        .map_or(f64::INFINITY, |b| bodies[b].inertia.mass),
                     part: decomposed.then_some(k),
                     body: objects[i].body,
                     in_body: objects[i].in_body,
                     shape: cs,
                     contact_material: cm.clone(),
-                    c: el.young_modulus / (1.0 - el.poisson_ratio * el.poisson_ratio),
+                    c,
                     round: matches!(shape, Shape::Sphere { .. }),
                     material: 0, // set below
                     geo: {
@@ -302,6 +376,19 @@ impl ContactPlan {
         row_start.push(count);
         cp.row_start = row_start;
         cp.n_pairs = count;
+        // Which shapes are in a volume pair (O(n²) over the volume shapes, at build time).
+        let vol: Vec<usize> = (0..n).filter(|&s| cp.shapes[s].volume.is_some()).collect();
+        for (i, &a) in vol.iter().enumerate() {
+            for &b in &vol[i + 1..] {
+                if cp.can_meet(a, b) && volume_law(&cp.shapes[a], &cp.shapes[b]).is_some() {
+                    for s in [a, b] {
+                        if let Some(v) = cp.shapes[s].volume.as_mut() {
+                            v.in_volume_pair = true;
+                        }
+                    }
+                }
+            }
+        }
         if cp.n_pairs == 0 {
             return Ok(None);
         }
@@ -335,8 +422,20 @@ impl ContactPlan {
         };
         let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
         let m = self.materials[sa.material * self.n_materials + sb.material]?;
+        let (law, kappa) = match volume_law(sa, sb) {
+            Some(law) => {
+                let (ka, kb) = (
+                    sa.volume.as_ref().map_or(0.0, |v| v.kappa),
+                    sb.volume.as_ref().map_or(0.0, |v| v.kappa),
+                );
+                (law, ka * kb / (ka + kb))
+            }
+            None => (PairLaw::Point, 0.0),
+        };
         let (mu_geo, c_geo, n_geo) = geometry_coefficients(self.profile, &sa.geo, &sb.geo);
         Some(PairPlan {
+            law,
+            kappa,
             a,
             b,
             cor: m.cor,
@@ -384,20 +483,82 @@ impl ContactPlan {
         (0..n).flat_map(move |a| (a + 1..n).filter_map(move |b| self.pair(a, b)))
     }
 }
-/// `(μ_geo, c_geo, n_geo)` of a pair (docs/contact-model.md §3 table; later profile: Hertz for every pair).
+/// The volume law of shapes `a` and `b` (in this order), `None` where the pair has a point law:
+/// two polytopes, or a frustum and a polytope (docs/contact-model.md §3.2).
+fn volume_law(a: &ShapePlan, b: &ShapePlan) -> Option<PairLaw> {
+    use VolumeSolid::{Frustum as F, Polytope as P};
+    match (&a.volume.as_ref()?.solid, &b.volume.as_ref()?.solid) {
+        (P(_), P(_)) => Some(PairLaw::Polytopes),
+        (F(_), P(_)) => Some(PairLaw::FrustumOnFace { frustum_is_a: true }),
+        (P(_), F(_)) => Some(PairLaw::FrustumOnFace {
+            frustum_is_a: false,
+        }),
+        (F(_), F(_)) => None,
+    }
+}
+
+/// The volume law's view of `shape` with stiffness `c = E/(1 − ν²)` \[N/m²\] and the solid's
+/// layer depth `layer_depth` \[m\] (`None`: the shape's own): `Ok(None)` for shapes that keep a
+/// point law (spheres, capsules, ellipsoids, beams); an error for a degenerate hull.
+fn volume_shape(
+    shape: &Shape,
+    layer_depth: Option<f64>,
+    c: f64,
+) -> Result<Option<VolumeShape>, crate::geometry::GeometryError> {
+    let (solid, own_depth) = if let Some(p) = Polytope::from_shape(shape)? {
+        let h = p.layer_depth();
+        (VolumeSolid::Polytope(p), h)
+    } else if let Some(f) = Frustum::from_shape(shape) {
+        (VolumeSolid::Frustum(f), f.layer_depth())
+    } else {
+        return Ok(None);
+    };
+    let h = layer_depth.unwrap_or(own_depth);
+    Ok(Some(VolumeShape {
+        sharp: CollisionShape::with_smoothing(shape, 0.0)?,
+        solid,
+        kappa: c / h,
+        in_volume_pair: false,
+    }))
+}
+
+impl ContactPlan {
+    /// Scratch buffers of the polytope overlaps of this plan, sized for its largest polytopes
+    /// (so that the residual allocates nothing).
+    pub fn overlap_scratch(&self) -> OverlapScratch {
+        let mut scratch = OverlapScratch::default();
+        let largest = self
+            .shapes
+            .iter()
+            .filter_map(|s| match s.volume.as_ref().map(|v| &v.solid) {
+                Some(VolumeSolid::Polytope(p)) => Some(p),
+                _ => None,
+            })
+            .max_by_key(|p| p.vertices().len());
+        if let Some(p) = largest {
+            scratch.reserve_for(p, p);
+        }
+        scratch
+    }
+}
+
+/// `(μ_geo, c_geo, n_geo)` of a pair (docs/contact-model.md §3 table; later profile: Hertz for
+/// every pair; the volume profile: the paper's for every point-law pair).
 fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) -> (f64, f64, f64) {
     match profile {
-        ContactProfile::Paper2019 => match (a.sphere_diameter, b.sphere_diameter) {
-            (Some(d1), Some(d2)) => {
-                let mu = 1.0 / (2.0 / d1 + 2.0 / d2);
-                (mu, 4.0 / 3.0 * mu.sqrt(), 1.5)
+        ContactProfile::Paper2019 | ContactProfile::Volume => {
+            match (a.sphere_diameter, b.sphere_diameter) {
+                (Some(d1), Some(d2)) => {
+                    let mu = 1.0 / (2.0 / d1 + 2.0 / d2);
+                    (mu, 4.0 / 3.0 * mu.sqrt(), 1.5)
+                }
+                (Some(diameter), None) | (None, Some(diameter)) => {
+                    let r = 0.5 * diameter;
+                    (r, 4.0 / 3.0 * r.sqrt(), 1.5)
+                }
+                (None, None) => (1.0, 1.0, 1.0),
             }
-            (Some(diameter), None) | (None, Some(diameter)) => {
-                let r = 0.5 * diameter;
-                (r, 4.0 / 3.0 * r.sqrt(), 1.5)
-            }
-            (None, None) => (1.0, 1.0, 1.0),
-        },
+        }
         ContactProfile::Modia3DLater => {
             let (ra, fa) = (a.radius, a.flat);
             let (rb, fb) = (b.radius, b.flat);

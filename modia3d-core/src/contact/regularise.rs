@@ -64,12 +64,12 @@ pub fn soft_clamp_slope(x: f64) -> f64 {
 }
 
 /// Regularised coefficient of restitution [-] for the contact-start penetration velocity
-/// `dd_minus` [m/s]: `Paper2019`: `cor + (cor_min − cor)·exp(ln(0.01)·|δ̇⁻|/v_min)`;
+/// `dd_minus` [m/s]: `Paper2019` and `Volume`: `cor + (cor_min − cor)·exp(ln(0.01)·|δ̇⁻|/v_min)`;
 /// `Modia3DLater`: 0 when `|δ̇⁻| ≤ v_min`, else `cor`.
 #[inline]
 pub fn cor_reg(profile: ContactProfile, cor: f64, cor_min: f64, dd_minus: f64, v_min: f64) -> f64 {
     match profile {
-        ContactProfile::Paper2019 => {
+        ContactProfile::Paper2019 | ContactProfile::Volume => {
             cor + (cor_min - cor) * (0.01f64.ln() * dd_minus.abs() / v_min).exp()
         }
         ContactProfile::Modia3DLater => {

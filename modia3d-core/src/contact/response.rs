@@ -3,6 +3,7 @@
 
 use super::preprocess::{ContactPlan, PairPlan};
 use super::regularise::{reg, soft_clamp};
+use crate::geometry::overlap::Overlap;
 use crate::geometry::{ContactPatch, SignedDistance};
 use nalgebra::Vector3;
 
@@ -93,29 +94,190 @@ pub fn pair_response(
     };
     let f_el = cp.k_red * pp.c_res * pp.c_geo * delta_pow;
     let f_n = f_el * soft_clamp(1.0 + d * delta_dot);
-    let friction_force = if pp.mu_k > 0.0 {
+    let (friction_force, mut rolling_torque) =
+        friction_and_rolling(pp, f_n, &v_t, &w_rel, pp.mu_geo);
+    if spread > 0.0 {
+        let w_t = w_rel - n * n.dot(&w_rel);
+        rolling_torque += capped(w_t * (-d * f_el * 0.5 * spread), f_n * spread.sqrt());
+    }
+    PairResponse {
+        penetration: delta,
+        penetration_velocity: delta_dot,
+        f_n,
+        normal_force: n * f_n,
+        friction_force,
+        rolling_torque,
+        point,
+        normal: n,
+    }
+}
+
+/// The regularised sliding friction force (`−μ_k·f_n·v_t/reg(|v_t|, v_min)`, \[N\]) and the
+/// rolling resistance torque (`−μ_r·lever·f_n·ω_rel/reg(|ω_rel|, ω_min)`, \[N·m\]) of pair
+/// `pp` for normal force `f_n` \[N\], sliding velocity `v_t` [m/s], relative angular velocity
+/// `w_rel` [rad/s] and the rolling lever `lever` \[m\] (docs/contact-model.md §3).
+#[inline(always)]
+fn friction_and_rolling(
+    pp: &PairPlan,
+    f_n: f64,
+    v_t: &Vector3<f64>,
+    w_rel: &Vector3<f64>,
+    lever: f64,
+) -> (Vector3<f64>, Vector3<f64>) {
+    let friction = if pp.mu_k > 0.0 {
         v_t * (-pp.mu_k * f_n / reg(v_t.norm(), pp.v_min))
     } else {
         Vector3::zeros()
     };
-    let mut rolling_torque = if pp.mu_r > 0.0 {
-        w_rel * (-pp.mu_r * pp.mu_geo * f_n / reg(w_rel.norm(), pp.w_min))
+    let rolling = if pp.mu_r > 0.0 {
+        w_rel * (-pp.mu_r * lever * f_n / reg(w_rel.norm(), pp.w_min))
     } else {
         Vector3::zeros()
     };
-    if spread > 0.0 {
-        let w_t = w_rel - n * n.dot(&w_rel);
-        let rocking = w_t * (-d * f_el * 0.5 * spread);
-        let cap = f_n * spread.sqrt();
-        let m = rocking.norm();
-        rolling_torque += if m > cap {
-            rocking * (cap / m)
-        } else {
-            rocking
+    (friction, rolling)
+}
+
+/// `torque` scaled down to the norm `cap` if it is longer (the largest moment a non-negative
+/// pressure can have).
+#[inline(always)]
+fn capped(torque: Vector3<f64>, cap: f64) -> Vector3<f64> {
+    let m = torque.norm();
+    if m > cap {
+        torque * (cap / m)
+    } else {
+        torque
+    }
+}
+
+/// A volume-law pair's geometry: the overlap of its sharp shapes (area vector from shape a to
+/// shape b) and, for a cylinder or cone, the unit axis of that body of revolution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VolumeGeometry {
+    /// The overlap.
+    pub overlap: Overlap,
+    /// Unit axis of the pair's cylinder or cone, resolved in world; zero for two polytopes.
+    pub axis: Vector3<f64>,
+    /// The cylinder or cone is shape b (else shape a).
+    pub axis_on_b: bool,
+}
+
+impl VolumeGeometry {
+    /// No overlap.
+    pub const NONE: VolumeGeometry = VolumeGeometry {
+        overlap: Overlap::NONE,
+        axis: Vector3::new(0.0, 0.0, 0.0),
+        axis_on_b: false,
+    };
+}
+
+/// Damping ratio of the contact modes of a volume-law contact that started slowly, and the
+/// window speed it fades with (docs/contact-model.md §3.2, "Resting contacts").
+pub const RESTING_DAMPING_RATIO: f64 = 1.0;
+
+/// The resting-damping coefficient `2·ζ(δ̇⁻)·√m` \[kg^½\] of a volume-law contact that starts at
+/// penetration velocity `dd_minus` \[m/s\] between bodies of masses `m_a`, `m_b` \[kg\]
+/// (infinite for a shape fixed to the world): `ζ(δ̇⁻) = ζ_rest·exp(ln(0.01)·|δ̇⁻|/v_min)`, the
+/// blend the paper's `cor_reg` uses, so slow touchdowns and resting contacts get a damping
+/// ratio of [`RESTING_DAMPING_RATIO`] and impacts at more than a few `v_min` none; `m` the
+/// reduced mass (translation only).
+pub fn resting_damping(dd_minus: f64, v_min: f64, m_a: f64, m_b: f64) -> f64 {
+    let m = if m_a.is_infinite() {
+        m_b
+    } else if m_b.is_infinite() {
+        m_a
+    } else {
+        m_a * m_b / (m_a + m_b)
+    };
+    if !m.is_finite() {
+        return 0.0;
+    }
+    let zeta = RESTING_DAMPING_RATIO * (0.01f64.ln() * dd_minus.abs() / v_min).exp();
+    2.0 * zeta * m.sqrt()
+}
+
+/// The volume law of docs/contact-model.md §3.2 for pair `pp` (a volume-law pair), damping
+/// factor `d` [s/m] and resting-damping coefficient `rest` [kg^½] ([`resting_damping`]), both
+/// fixed at contact start, the overlap `ov` of the two sharp shapes (its area vector pointing
+/// from shape a to shape b) and the velocities of the two bodies' material points at the
+/// overlap's centroid and their angular velocities (world, [m/s], [rad/s]).
+///
+/// With `κ_v = k_red·κ`, `V` the volume, `A = |area vector|` (the overlap's area across the
+/// normal `n`), `Σ` the second moment about the centroid and `Σ_n = [n]× Σ [n]×ᵀ` its part that
+/// rocking about axes across `n` sees (zero for rotation about a line contact's own axis and
+/// for spin about `n`):
+///
+/// ```text
+/// f_el  = κ_v·V
+/// c_r   = rest·√(κ_v·A)·ψ,   ψ = exp(−(δ̇² + ω_lᵀΣ_n ω_l/V)/v_min²)   resting damping [N·s/m]
+/// f_n   = f_el·soft_clamp(1 + (d + c_r/f_el)·δ̇)                      at the centroid, along n
+/// τ_rock = −(κ_v·d + c_r/V)·Σ_n·ω_l,  |τ_rock| ≤ f_n·√(1.5·tr Σ_n/V)
+/// F_t   = −μ_k·f_n·v_t/reg(|v_t|, v_min)                             at the centroid
+/// τ_r   = −μ_r·√(tr Σ_n/V)·f_n·ω_rel/reg(|ω_rel|, ω_min)
+/// ```
+///
+/// `ω_l` is `ω_rel` less the spin of a cylinder or cone about its own axis (which does not move
+/// its surface). The damping per unit volume `κ_v·d·h·ḣ` of a layer of local depth `h` integrates to the
+/// `d` terms exactly (the centroid's first moment vanishes), so heave and rocking are damped
+/// alike. Body 2 receives `normal_force + friction_force` at `point` and `rolling_torque`;
+/// body 1 the opposite.
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn volume_response(
+    cp: &ContactPlan,
+    pp: &PairPlan,
+    d: f64,
+    rest: f64,
+    vg: &VolumeGeometry,
+    v1: &Vector3<f64>,
+    w1: &Vector3<f64>,
+    v2: &Vector3<f64>,
+    w2: &Vector3<f64>,
+) -> PairResponse {
+    let ov = &vg.overlap;
+    let area = ov.area_vector.norm();
+    let point = ov.centroid.coords;
+    if !(ov.volume > 0.0 && area > 0.0) {
+        return PairResponse {
+            point,
+            ..PairResponse::ZERO
         };
     }
+    let n = ov.area_vector / area;
+    let kv = cp.k_red * pp.kappa;
+    let volume = ov.volume;
+    let f_el = kv * volume;
+    let v_rel = v2 - v1;
+    let vn = v_rel.dot(&n);
+    let delta_dot = -vn;
+    let v_t = v_rel - n * vn;
+    let w_rel = w2 - w1;
+    // What the layer sees: a body of revolution spinning about its own axis does not move its
+    // surface, so that spin neither compresses nor relaxes the layer (a cylinder rolls on its
+    // line contact without damping; rolling resistance is μ_r's).
+    let w_layer = {
+        let w_side = if vg.axis_on_b { w2 } else { w1 };
+        let spin = vg.axis * vg.axis.dot(w_side);
+        if vg.axis_on_b {
+            w_rel - spin
+        } else {
+            w_rel + spin
+        }
+    };
+    let nx = n.cross_matrix();
+    let sigma_n = nx * ov.second_moment * nx.transpose();
+    let rho2 = (sigma_n.trace() / volume).max(0.0);
+    // The mean square of the local penetration rates over the overlap: heave plus rocking
+    // (a rolling cylinder's line contact sees only the strip's width).
+    let rock2 = (w_layer.dot(&(sigma_n * w_layer)) / volume).max(0.0);
+    let window = (delta_dot * delta_dot + rock2) / (pp.v_min * pp.v_min);
+    let c_rest = rest * (kv * area).sqrt() * (-window).exp();
+    let f_n = f_el * soft_clamp(1.0 + (d + c_rest / f_el) * delta_dot);
+    let (friction_force, mut rolling_torque) =
+        friction_and_rolling(pp, f_n, &v_t, &w_rel, rho2.sqrt());
+    let rocking = sigma_n * w_layer * (-(kv * d + c_rest / volume));
+    rolling_torque += capped(rocking, f_n * (1.5 * rho2).sqrt());
     PairResponse {
-        penetration: delta,
+        penetration: volume / area,
         penetration_velocity: delta_dot,
         f_n,
         normal_force: n * f_n,

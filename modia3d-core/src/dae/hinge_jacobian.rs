@@ -51,7 +51,6 @@ use crate::dynamics::plan::JointPlan;
 use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 use crate::dynamics::BodyId;
 use crate::dynamics::{forces, kinematics, rnea, InputTarget, Plan, Workspace};
-use crate::geometry::narrow_phase::{ContactPatch, SignedDistance};
 use crate::joints::JointCoord;
 use crate::scene::ValidForce;
 use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
@@ -93,7 +92,7 @@ pub(super) struct HingeTrees {
     caps: Vec<f64>,
     /// Per pair of the contact set: its narrow phase at the Jacobian's point, if it touches
     /// a hinge tree with exact columns and its shapes overlap.
-    geo: Vec<Option<(SignedDistance, ContactPatch)>>,
+    geo: Vec<Option<crate::contact::PairGeometry>>,
 }
 
 impl HingeTrees {

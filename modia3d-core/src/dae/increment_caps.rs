@@ -153,7 +153,9 @@ impl MultibodyDae {
         let mut any = false;
         for k in (0..cs.n_in_contact()).filter(|&k| needed(k)) {
             // A pair whose narrow phase fails here fails in the residual too, which reports it.
-            let Ok((sd, patch)) = cs.pair_geometry(plan, cp, ws, k, args.t) else {
+            let Ok(crate::contact::PairGeometry(sd, patch, _)) =
+                cs.pair_geometry(plan, cp, ws, k, args.t)
+            else {
                 continue;
             };
             let depth = -sd.distance;

@@ -1393,10 +1393,15 @@ pub(super) mod tests {
     /// 5e-11 m off the table and falling (the quotient's increment of its height, −1.5e-10 m,
     /// would cross the touch and find the linear law's full stiffness, ~1e10 N/m on the
     /// cube's rows). Its dynamic rows then get nothing from its position columns `r` (its own
-    /// block has none there: gravity turns with the quaternion only).
+    /// block has none there: gravity turns with the quaternion only). Under the paper's law,
+    /// whose jump at the touch this guards against (the volume law's force starts at zero).
     #[test]
     fn a_pair_apart_in_the_set_adds_no_stiffness() {
-        let model = scene().build().unwrap();
+        let mut s = scene();
+        if let crate::scene::Feature::Scene(o) = &mut s.objects[0].feature {
+            o.contact_profile = crate::scene::ContactProfile::Paper2019;
+        }
+        let model = s.build().unwrap();
         let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
         let n = dae.len();
         let mut y = state(&dae, 3, false);

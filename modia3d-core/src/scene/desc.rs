@@ -52,9 +52,18 @@ pub fn cardan_to_matrix(a: [f64; 3]) -> Matrix3<f64> {
 /// Which variant of the contact law (docs/contact-model.md §3) is used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum ContactProfile {
-    /// Neumayr & Otter, EOOLT 2019 (default): `cor_reg` by the exponential blend towards
-    /// `cor_min`; Hertz coefficients only where a sphere is involved.
+    /// The default: pairs with a sphere get the paper's Hertz law exactly as
+    /// [`ContactProfile::Paper2019`] (the same numbers, bit for bit); pairs of boxes, convex
+    /// hulls and mesh parts, and cylinders or cones against their flat faces, get the volume
+    /// law (force from the overlap volume of the sharp shapes at its centroid, damping per unit
+    /// area through the overlap's second moment; docs/contact-model.md §3.2); every other pair
+    /// without a sphere (capsules, ellipsoids, beams, cylinder on cylinder) keeps the paper's
+    /// law as [`ContactProfile::Paper2019`] has it.
     #[default]
+    Volume,
+    /// Neumayr & Otter, EOOLT 2019: `cor_reg` by the exponential blend towards `cor_min`;
+    /// Hertz coefficients only where a sphere is involved, the linear law `c_res·δ` for every
+    /// other pair. Pin it to reproduce the paper.
     Paper2019,
     /// Later Modia3D.jl versions: `cor` replaced by 0 when `|δ̇⁻| ≤ v_min`; Hertz coefficients
     /// (`n_geo = 3/2`) for every pair with a contact radius per shape. Use
@@ -95,7 +104,7 @@ pub struct SceneOptions {
     pub mpr_max_iterations: u32,
     /// Smoothing radius \[m\] of non-smooth collision shapes without their own (default 1 mm).
     pub smoothing_radius: f64,
-    /// Variant of the contact law (default [`ContactProfile::Paper2019`]).
+    /// Variant of the contact law (default [`ContactProfile::Volume`]).
     pub contact_profile: ContactProfile,
     /// Damping from the exact restitution relation of the force law (default `false`: the
     /// paper's `d = 8(1 − cor)/(5·cor·δ̇⁻)`, kept for comparability, which turns cor 0.9 into
@@ -141,7 +150,7 @@ impl Default for SceneOptions {
             mpr_tolerance: 1e-11,
             mpr_max_iterations: 100,
             smoothing_radius: crate::geometry::DEFAULT_SMOOTHING_RADIUS,
-            contact_profile: ContactProfile::Paper2019,
+            contact_profile: ContactProfile::Volume,
             exact_restitution: false,
             average_missing_pairs: false,
             modia3d_conventions: false,
@@ -216,6 +225,11 @@ pub struct Solid {
     pub contact_material: Option<String>,
     /// Radius that rounds edges of non-smooth shapes \[m\]; default of the scene when `None`.
     pub smoothing_radius: Option<f64>,
+    /// Depth \[m\] of the elastic layer of the volume contact law
+    /// ([`ContactProfile::Volume`]): the solid's contact stiffness per unit volume is
+    /// `E/((1 − ν²)·H)`. `None` (default): the shape's own, half its smallest edge for a box
+    /// (docs/contact-model.md §3.2). Finite and > 0.
+    pub layer_depth: Option<f64>,
 }
 
 impl Solid {
@@ -274,6 +288,11 @@ impl Solid {
     /// Sets the smoothing radius \[m\].
     pub fn smoothing_radius(mut self, r: f64) -> Self {
         self.smoothing_radius = Some(r);
+        self
+    }
+    /// Sets the depth \[m\] of the volume law's elastic layer ([`Solid::layer_depth`]).
+    pub fn layer_depth(mut self, h: f64) -> Self {
+        self.layer_depth = Some(h);
         self
     }
 }

@@ -820,7 +820,13 @@ pub(crate) fn stiffest(
         for (_, pp, ps) in cs.active_pairs() {
             let body = |s: usize| cp.shapes.get(s).and_then(|s| s.body);
             let delta = ps.response.penetration;
-            let k = cp.k_red * pp.c_res * pp.c_geo * pp.n_geo * delta.powf(pp.n_geo - 1.0);
+            let k = if pp.law == crate::contact::PairLaw::Point {
+                cp.k_red * pp.c_res * pp.c_geo * pp.n_geo * delta.powf(pp.n_geo - 1.0)
+            } else {
+                // The volume law's stiffness k_red·κ·A is its force over its mean depth V/A
+                // at rest (the damping's share aside).
+                ps.response.f_n / delta
+            };
             let m = reduced(mass(plan, body(pp.a)), mass(plan, body(pp.b)));
             let t = period(m, k);
             if k > 0.0 && t.is_finite() && t < best_t {

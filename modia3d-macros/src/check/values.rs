@@ -117,6 +117,7 @@ impl Checker {
             .get("contact_material")
             .map(|c| (self.contact_material(c), c.span()));
         let smoothing_radius = self.num(&a, "smoothing_radius", false);
+        let layer_depth = self.num(&a, "layer_depth", false);
         Some(SolidIr {
             shape,
             mass,
@@ -124,6 +125,7 @@ impl Checker {
             collision,
             contact_material,
             smoothing_radius,
+            layer_depth,
             span: a.span,
             mass_slot,
         })
@@ -241,7 +243,7 @@ impl Checker {
                     } else {
                         let h = did_you_mean(&n, PROFILES.iter().copied())
                             .map(|h| format!("did you mean `{h}`?"))
-                            .unwrap_or_else(|| "`Paper2019` or `Modia3DLater`".into());
+                            .unwrap_or_else(|| "`Volume`, `Paper2019` or `Modia3DLater`".into());
                         self.err(
                             id.span(),
                             format!("unknown contact profile `{n}` (hint: {h})"),

@@ -315,6 +315,10 @@ fn solid(s: &SolidIr) -> TokenStream {
         let r = &r.expr;
         calls.push(quote!(.smoothing_radius(#r)));
     }
+    if let Some(h) = &s.layer_depth {
+        let h = &h.expr;
+        calls.push(quote!(.layer_depth(#h)));
+    }
     let base = match &s.shape {
         Some(sh) => {
             let sh = shape(sh);

@@ -588,6 +588,9 @@ impl<'a> Probe<'a> {
         if let Some(r) = &s.smoothing_radius {
             solid.smoothing_radius = Some(self.scalar(owner, r));
         }
+        if let Some(h) = &s.layer_depth {
+            solid.layer_depth = Some(self.scalar(owner, h));
+        }
         solid
     }
 }

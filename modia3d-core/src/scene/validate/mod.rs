@@ -54,6 +54,8 @@ pub struct ValidSolid {
     pub contact_material: Option<String>,
     /// Smoothing radius \[m\], if set.
     pub smoothing_radius: Option<f64>,
+    /// Layer depth of the volume law \[m\], if set.
+    pub layer_depth: Option<f64>,
     /// Material whose Young's modulus and Poisson's ratio the contact law uses (collision
     /// solids only): the solid material, else the solid material named by the contact material.
     pub contact_elasticity: Option<SolidMaterial>,

@@ -183,6 +183,9 @@ pub(super) fn objects(
                 if let Some(r) = s.smoothing_radius {
                     c.non_negative(|| format!("solid `{}`: smoothing radius [m]", o.name), r);
                 }
+                if let Some(h) = s.layer_depth {
+                    c.positive(|| format!("solid `{}`: layer depth [m]", o.name), h);
+                }
                 let mass = solid_mass(c, &o.name, s, material.as_ref(), modia3d);
                 check_mass_range(c, &o.name, s, material.as_ref(), mass.mass);
                 let contact_material = s.contact_material.clone().or(material_name.clone());
@@ -235,6 +238,7 @@ pub(super) fn objects(
                     collision: s.collision,
                     contact_material,
                     smoothing_radius: s.smoothing_radius,
+                    layer_depth: s.layer_depth,
                     contact_elasticity,
                 });
             }

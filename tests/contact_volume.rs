@@ -1,0 +1,370 @@
+//! The volume law of pairs without a sphere (docs/contact-model.md §3.2) at the DEFAULT scene
+//! options, against rigid-body references: sliding on an incline and to rest, rolling, pivoting
+//! on an edge (Housner), tipping, resting stacks. Each tolerance is argued where it is used; the
+//! compliant law's own deviation from the rigid answer is of the order of the static
+//! penetration over the body's size (~1e-7 for 0.1 m wooden bodies) plus the regularised
+//! friction's creep below `v_min`.
+
+use modia3d::demo::{box_stack, cube_on_edge, housner_fall_back_time, on_incline, INCLINE_NAMES};
+use modia3d::prelude::*;
+
+const G: f64 = 9.81;
+/// The built-in DryWood self-pair: cor 0.6, μ_k 0.3, μ_r 0.001.
+const WOOD: ContactPairMaterial = ContactPairMaterial::new(0.6, 0.3, 0.001);
+
+fn cube(a: f64) -> Shape {
+    Shape::Box {
+        lengths: Vector3::new(a, a, a),
+    }
+}
+
+/// Value of `signal` (component `c`) at time `t` (linear between output points).
+fn at(res: &SimulationResult, signal: &str, c: usize, t: f64) -> f64 {
+    res.signal_at(signal, t).unwrap()[c]
+}
+
+/// Speed along the downhill direction of the body at `t` [m/s].
+fn downhill_speed(res: &SimulationResult, alpha: f64, t: f64) -> f64 {
+    modia3d::demo::downhill_speed(res, alpha, t).unwrap()
+}
+
+fn pair_name() -> String {
+    format!("{}|{}", INCLINE_NAMES.0, INCLINE_NAMES.1)
+}
+
+/// A 0.1 m wooden cube released on a 30° wooden incline (μ 0.3 < tan 30°): after the start
+/// (the contact settles within ~1 ms, critically damped), the rigid answer is
+/// a = g (sin α − μ cos α), N = m g cos α. The compliant law differs by the friction's
+/// regularisation only while |v| < v_min (the first 4 ms) and by the tilt of the contact
+/// normal under the friction moment (δ/size ~ 1e-7): 1e-3 is the bound, with margin.
+#[test]
+fn a_block_slides_down_an_incline_at_the_rigid_acceleration() {
+    let alpha = 30f64.to_radians();
+    let scene = on_incline(
+        cube(0.1),
+        0.05,
+        alpha,
+        -1.0,
+        0.0,
+        [0.0; 3],
+        "DryWood",
+        WOOD,
+        SceneOptions::default(),
+    );
+    let model = scene.build().unwrap();
+    let res = model
+        .simulate(&SimOptions::new(0.5).interval(1e-3).contact_results(true))
+        .unwrap();
+    let a_rigid = G * (alpha.sin() - 0.3 * alpha.cos());
+    let (t0, t1) = (0.1, 0.5);
+    let a = (downhill_speed(&res, alpha, t1) - downhill_speed(&res, alpha, t0)) / (t1 - t0);
+    let m = 700.0 * 1e-3;
+    let f_n: Vec<f64> = (0..=40)
+        .map(|k| {
+            at(
+                &res,
+                &format!("{}.f_n", pair_name()),
+                0,
+                t0 + k as f64 * 0.01,
+            )
+        })
+        .collect();
+    let n_rigid = m * G * alpha.cos();
+    println!(
+        "a = {a:.7} (rigid {a_rigid:.7}), f_n in [{:.6}, {:.6}] (rigid {n_rigid:.6}); {}",
+        f_n.iter().cloned().fold(f64::INFINITY, f64::min),
+        f_n.iter().cloned().fold(0.0, f64::max),
+        res.stats
+    );
+    assert!(
+        ((a - a_rigid) / a_rigid).abs() < 1e-3,
+        "a = {a}, rigid {a_rigid}"
+    );
+    for f in f_n {
+        assert!(
+            ((f - n_rigid) / n_rigid).abs() < 1e-3,
+            "f_n = {f}, rigid {n_rigid}"
+        );
+    }
+}
+
+/// A wooden cube sliding on a wooden table from 1 m/s stops after d = v0²/(2 μ g). The
+/// regularised friction lets it creep on below v_min with a time constant v_min/(3 μ g), which
+/// adds ~v_min²/(3 μ g) = 1.1e-5 m (7e-5 relative); 5e-4 is the bound.
+#[test]
+fn a_block_slides_to_rest_after_the_rigid_distance() {
+    let (v0, mu) = (1.0, 0.3);
+    let scene = on_incline(
+        cube(0.1),
+        0.05,
+        0.0,
+        -1.0,
+        v0,
+        [0.0; 3],
+        "DryWood",
+        WOOD,
+        SceneOptions::default(),
+    );
+    let model = scene.build().unwrap();
+    let res = model
+        .simulate(&SimOptions::new(0.6).interval(1e-3))
+        .unwrap();
+    let x = res.signal("body.r_abs").unwrap();
+    let d = x.last().unwrap()[0] - (-1.0);
+    let d_rigid = v0 * v0 / (2.0 * mu * G);
+    println!("d = {d:.7} m (rigid {d_rigid:.7}); {}", res.stats);
+    assert!(
+        ((d - d_rigid) / d_rigid).abs() < 5e-4,
+        "d = {d}, rigid {d_rigid}"
+    );
+}
+
+/// A solid wooden cylinder (Ø 0.1 m × 0.2 m) rolling down a 20° incline without slipping
+/// (μ 0.6 > tan 20°/3, μ_r 0) accelerates at (2/3) g sin α. The layer's damping sees no spin of
+/// a body of revolution about its own axis (its surface does not move), so rolling adds no
+/// damping torque; what remains is the lever of the normal force, R − δ instead of R
+/// (δ/R ~ 2e-5), and the regularised friction's micro-slip. Measured: 7e-6; 5e-3 is the
+/// issue's bound. (With the damping acting on the material points' spin, the strip ~2√(2Rδ)
+/// wide gave a viscous rolling resistance of 1.2–1.4 % at d_max: why the spin is removed.)
+#[test]
+fn a_cylinder_rolls_down_an_incline_at_two_thirds_g_sin_alpha() {
+    let alpha = 20f64.to_radians();
+    let shape = Shape::Cylinder {
+        axis: Axis::Y,
+        diameter: 0.1,
+        length: 0.2,
+    };
+    let scene = on_incline(
+        shape,
+        0.05,
+        alpha,
+        -1.0,
+        0.0,
+        [0.0; 3],
+        "DryWood",
+        ContactPairMaterial::new(0.6, 0.6, 0.0),
+        SceneOptions::default(),
+    );
+    let model = scene.build().unwrap();
+    let res = model
+        .simulate(&SimOptions::new(0.5).interval(1e-3))
+        .unwrap();
+    let (t0, t1) = (0.1, 0.5);
+    let a = (downhill_speed(&res, alpha, t1) - downhill_speed(&res, alpha, t0)) / (t1 - t0);
+    let a_rigid = 2.0 / 3.0 * G * alpha.sin();
+    println!("a = {a:.7} (rigid {a_rigid:.7}); {}", res.stats);
+    assert!(
+        ((a - a_rigid) / a_rigid).abs() < 5e-3,
+        "a = {a}, rigid {a_rigid}"
+    );
+}
+
+/// Housner's rigid block rocking on an edge: θ̈ = −p² sin(α − θ) for the angle θ of the block
+/// away from flat (p² = 3g/(4R), R the half diagonal, α = atan(b/h)), released at θ0 from rest,
+/// falls back to flat at the time the reference integrates (`demo::housner_fall_back_time`,
+/// RK4 at 1e-6 s, error ~1e-12 s). 2 % is the bound: the compliant edge adds ~δ/R to
+/// the lever. The pivot must not slide: μ 0.8 (|F_t/N| reaches ~0.5 for a cube).
+#[test]
+fn a_block_falls_back_from_its_edge_as_housners_rigid_block() {
+    let (b, theta0) = (0.05, 0.3);
+    let t_rigid = housner_fall_back_time(b, theta0);
+    let model = cube_on_edge(b, theta0, ContactPairMaterial::new(0.6, 0.8, 0.0))
+        .build()
+        .unwrap();
+    let res = model
+        .simulate(&SimOptions::new(1.2 * t_rigid).interval(1e-4))
+        .unwrap();
+    let rot = res.signal("body.R_abs").unwrap();
+    // sin θ = −(R e_x)_z: R_abs row-major 3×3, element (2, 0).
+    let tilt: Vec<f64> = rot.component(6).iter().map(|r| (-r).asin()).collect();
+    let time = res.time();
+    let k = tilt.iter().position(|&th| th <= 0.0).expect("falls back");
+    let t_hit = time[k - 1] + (time[k] - time[k - 1]) * tilt[k - 1] / (tilt[k - 1] - tilt[k]);
+    println!(
+        "falls back at {t_hit:.6} s (rigid {t_rigid:.6} s); {}",
+        res.stats
+    );
+    assert!(
+        ((t_hit - t_rigid) / t_rigid).abs() < 0.02,
+        "{t_hit} vs {t_rigid}"
+    );
+}
+
+/// A cube whose centre of mass overhangs the plank's edge (at x = 2 m) by 1 cm tips off; one
+/// whose centre is 1 cm inside stays. The rigid answer is a switch at zero overhang; the
+/// compliant law moves it by ~δ (nanometres), so ±1 cm decides either way. The one that stays
+/// rests on a 6 cm strip whose area centroid is 2 cm from its centre of mass, so the layer
+/// carries it with a wedge of pressure: a tilt θ ≈ 12·δ̄·e/w² ≈ 6e-7 rad (mean depth
+/// δ̄ = 8.7e-9 m, e = 0.02 m, w = 0.06 m), the compliant law's own; the bound 1e-5 rad is 15× that
+/// and 1e4× below the tipping one.
+#[test]
+fn a_block_overhanging_an_edge_tips_and_one_inside_stays() {
+    for (overhang, tips) in [(0.01, true), (-0.01, false)] {
+        let scene = on_incline(
+            cube(0.1),
+            0.05,
+            0.0,
+            2.0 + overhang,
+            0.0,
+            [0.0; 3],
+            "DryWood",
+            WOOD,
+            SceneOptions::default(),
+        );
+        let res = scene
+            .build()
+            .unwrap()
+            .simulate(&SimOptions::new(0.4).interval(1e-3))
+            .unwrap();
+        let tilt = (-res.signal("body.R_abs").unwrap().last().unwrap()[6]).asin();
+        println!("overhang {overhang}: tilt {tilt:.3e} rad; {}", res.stats);
+        if tips {
+            assert!(tilt > 0.1, "it should tip, tilt {tilt}");
+        } else {
+            assert!(tilt.abs() < 1e-5, "it should stay, tilt {tilt}");
+        }
+    }
+}
+
+/// On a 25° incline with μ 0.8 > tan 25° = 0.47 (no sliding), a box 0.05 m deep and 0.15 m
+/// tall (b/h = 0.33 < tan α) tips over, and a 0.1 m cube (b/h = 1) stays put (rigid statics:
+/// the weight's line leaves the support face iff tan α > b/h).
+#[test]
+fn a_tall_box_tips_on_an_incline_and_a_cube_stays() {
+    let alpha = 25f64.to_radians();
+    for (lengths, tips) in [([0.05, 0.1, 0.15], true), ([0.1, 0.1, 0.1], false)] {
+        let scene = on_incline(
+            Shape::Box {
+                lengths: Vector3::from(lengths),
+            },
+            0.5 * lengths[2],
+            alpha,
+            -1.0,
+            0.0,
+            [0.0; 3],
+            "DryWood",
+            ContactPairMaterial::new(0.6, 0.8, 0.001),
+            SceneOptions::default(),
+        );
+        let res = scene
+            .build()
+            .unwrap()
+            .simulate(&SimOptions::new(0.6).interval(1e-3))
+            .unwrap();
+        let r = res.signal("body.R_abs").unwrap();
+        let r = r.last().unwrap();
+        // Tilt relative to the incline: the body's z axis against the incline's normal.
+        let normal = Vector3::new(alpha.sin(), 0.0, alpha.cos());
+        let z_axis = Vector3::new(r[2], r[5], r[8]);
+        let tilt = z_axis.dot(&normal).clamp(-1.0, 1.0).acos();
+        let x = res.signal("body.r_abs").unwrap().last().unwrap()[0];
+        println!("{lengths:?}: tilt {tilt:.3e} rad, x {x:.6}; {}", res.stats);
+        if tips {
+            assert!(tilt > 0.3, "it should tip, tilt {tilt}");
+        } else {
+            assert!(tilt < 1e-5, "it should stay, tilt {tilt}");
+        }
+    }
+}
+
+/// Three wooden cubes stacked on a table at rest: every interface carries the weight above it
+/// (f_n = k·m·g for k boxes above, within 1e-4: the settling transient is critically damped and
+/// over within milliseconds), no box tilts, and no contact event happens after the start.
+#[test]
+fn a_stack_of_boxes_rests_with_each_interface_carrying_the_weight_above() {
+    let n = 3;
+    let res = box_stack([0.1, 0.1, 0.1], n, 0.0, SceneOptions::default())
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(0.5).interval(1e-3).contact_results(true))
+        .unwrap();
+    let w = 700.0 * 1e-3 * G;
+    let pairs = ["table|b0", "b0|b1", "b1|b2"];
+    for (k, p) in pairs.iter().enumerate() {
+        let f = res.signal(&format!("{p}.f_n")).unwrap();
+        let f = f.last().unwrap()[0];
+        let expected = (n - k) as f64 * w;
+        println!("{p}: f_n {f:.8} N (weight above {expected:.8} N)");
+        assert!(
+            ((f - expected) / expected).abs() < 1e-4,
+            "{p}: {f} vs {expected}"
+        );
+    }
+    for i in 0..n {
+        let r = res.signal(&format!("b{i}.R_abs")).unwrap();
+        let r = r.last().unwrap();
+        let tilt = (r[2] * r[2] + r[5] * r[5]).sqrt();
+        assert!(tilt < 1e-6, "b{i} tilts by {tilt}");
+    }
+    let late: Vec<_> = res.events.iter().filter(|e| e.t > 0.01).collect();
+    println!(
+        "{} events, {} after 0.01 s; {}",
+        res.events.len(),
+        late.len(),
+        res.stats
+    );
+    assert!(late.is_empty(), "events after settling: {late:?}");
+}
+
+/// A wooden cube dropped from 5 cm onto a wooden table edge first and corner first comes to
+/// rest on a face: at 1.5 s it is still (speed < 1e-6 m/s), one of its axes is vertical to
+/// 1e-6 rad (the rest tilt of a symmetric face is zero; 1e-6 is ~100 static depths over the
+/// edge), the table carries its weight to 1e-4, and no contact event happens in the last
+/// 0.5 s (settled contacts stay closed).
+#[test]
+fn edge_first_and_corner_first_drops_come_to_rest_on_a_face() {
+    for (name, angles) in [
+        ("edge first", [0.0, 0.5, 0.0]),
+        ("corner first", [0.4, 0.5, 0.0]),
+    ] {
+        let a = 0.1;
+        let mut scene = on_incline(
+            cube(a),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            [0.0; 3],
+            "DryWood",
+            WOOD,
+            SceneOptions::default(),
+        );
+        scene.joints[0].kind = JointKind::FreeMotion {
+            r: Vector3::new(0.0, 0.0, 0.5 * a * 3f64.sqrt() + 0.05),
+            rot: FreeRotation::Cardan(angles),
+            v: Vector3::zeros(),
+            w: Vector3::zeros(),
+        };
+        let res = scene
+            .build()
+            .unwrap()
+            .simulate(&SimOptions::new(1.5).interval(1e-2).contact_results(true))
+            .unwrap();
+        let r = res.signal("body.R_abs").unwrap();
+        let r = r.last().unwrap();
+        // The largest vertical component of a body axis: 1 when a face is down.
+        let up = [r[6], r[7], r[8]]
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let v = res.signal("body.v_abs").unwrap();
+        let v = v.last().unwrap();
+        let speed = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        let f = res.signal(&format!("{}.f_n", pair_name())).unwrap();
+        let f = f.last().unwrap()[0];
+        let w = 700.0 * a * a * a * G;
+        let late = res.events.iter().filter(|e| e.t > 1.0).count();
+        println!(
+            "{name}: tilt {:.2e}, speed {speed:.2e}, f_n {f:.6} (m g {w:.6}), {} events ({late} late); {}",
+            (2.0 * (1.0 - up)).sqrt(),
+            res.events.len(),
+            res.stats
+        );
+        assert!(
+            (2.0 * (1.0 - up)).sqrt() < 1e-6,
+            "{name}: not on a face, up {up}"
+        );
+        assert!(speed < 1e-6, "{name}: speed {speed}");
+        assert!(((f - w) / w).abs() < 1e-4, "{name}: f_n {f} vs {w}");
+        assert_eq!(late, 0, "{name}: events after settling");
+    }
+}
