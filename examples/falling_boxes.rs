@@ -1,14 +1,15 @@
 //! Two boxes and two cylinders (dry wood) dropped onto a wooden table land, bounce, tip over
-//! and come to rest (box–box and cylinder–box contacts go through the smoothed MPR/GJK narrow
-//! phase). One contact point per pair suffices because the force of a face contact acts at a
-//! continuous centre of pressure (`geometry::contact_point`), not at an arbitrary corner.
+//! and come to rest under the default volume law (docs/contact-model.md §3.2): the force of
+//! each box–table and cylinder–table pair follows the overlap of the sharp shapes and acts at
+//! its centroid, so a box lying on its face is carried by its whole face, and slow contacts
+//! are critically damped, so the bodies settle without hopping and without events once they
+//! rest (BENCHMARKS.md, "Face contacts: the volume law").
 //!
-//! `k_red = 1e-3` (default) gives a static penetration of about 1e-6 m; at `k_red = 1` the
-//! wood-on-wood linear law leaves about 1e-9 m. Resting contacts do not flicker at either (the
-//! hysteresis lies on the separated side, docs/contact-hysteresis.md), but the stiff contact at
-//! `k_red = 1` takes far more IDA steps.
+//! `k_red = 1` (default) is the wood's own stiffness: a static depth of a few nanometres.
+//! `paper` as a second argument runs the paper's single-point linear law instead
+//! (`ContactProfile::Paper2019`), which needs `k_red = 1e-3` to run in reasonable time.
 //!
-//!     cargo run --release --example falling_boxes [-- k_red]
+//!     cargo run --release --example falling_boxes [-- k_red [paper]]
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -17,9 +18,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let k_red = std::env::args()
         .nth(1)
         .and_then(|a| a.parse().ok())
-        .unwrap_or(1e-3);
+        .unwrap_or(1.0);
+    let profile = if std::env::args().nth(2).as_deref() == Some("paper") {
+        ContactProfile::Paper2019
+    } else {
+        ContactProfile::Volume
+    };
     // The scene is the `model!` type `demo::FallingBoxes`.
-    let model = demo::FallingBoxes { k_red }.build()?;
+    let model = demo::with_profile(demo::FallingBoxes { k_red }.scene(), profile).build()?;
     let (res, failure) = match model.simulate(&SimOptions::new(3.0).tolerance(1e-5).interval(0.01))
     {
         Ok(r) => (r, None),

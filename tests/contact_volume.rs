@@ -368,3 +368,42 @@ fn edge_first_and_corner_first_drops_come_to_rest_on_a_face() {
         assert_eq!(late, 0, "{name}: events after settling");
     }
 }
+
+/// `demo::FallingBoxes` (two boxes and two cylinders dropped onto a wooden table, at rtol 1e-5
+/// as its example) at the wood's own stiffness (`k_red = 1`) under the default volume law:
+/// every body at rest at 3 s (speed < 1e-6 m/s, angular speed < 1e-5 rad/s: a settled contact
+/// is critically damped, so what is left after 2 s of rest is rounding), the table carrying the
+/// weight of all four to 1e-4, and no contact event in the last 2 s.
+#[test]
+fn falling_boxes_at_full_stiffness_come_to_rest_without_late_events() {
+    let model = modia3d::demo::FallingBoxes { k_red: 1.0 }.build().unwrap();
+    let res = model
+        .simulate(
+            &SimOptions::new(3.0)
+                .tolerance(1e-5)
+                .interval(0.01)
+                .contact_results(true),
+        )
+        .unwrap();
+    let mut weight = 0.0;
+    let mut carried = 0.0;
+    for (name, b) in ["box1", "box2", "cyl1", "cyl2"].iter().zip(model.bodies()) {
+        let v = res.signal(&format!("{name}.v_abs")).unwrap();
+        let w = res.signal(&format!("{name}.w_abs")).unwrap();
+        let norm = |x: &[f64]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        let (v, w) = (norm(v.last().unwrap()), norm(w.last().unwrap()));
+        println!("{name}: speed {v:.1e} m/s, angular speed {w:.1e} rad/s");
+        assert!(v < 1e-6 && w < 1e-5, "{name} still moves: {v}, {w}");
+        weight += b.mass * G;
+        let f = res.signal(&format!("table|{name}.f_n")).unwrap();
+        carried += f.last().unwrap()[0];
+    }
+    let late = res.events.iter().filter(|e| e.t > 1.0).count();
+    println!(
+        "table carries {carried:.6} N of {weight:.6} N; {} events, {late} after 1 s; {}",
+        res.events.len(),
+        res.stats
+    );
+    assert!(((carried - weight) / weight).abs() < 1e-4);
+    assert_eq!(late, 0, "events after the bodies rest");
+}

@@ -400,6 +400,7 @@ impl Simulation {
         let t0 = opts.start_time;
         let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
         dae.set_contact_tightening(opts.effective_contact_tightening());
+        dae.set_tolerance(opts.rtol);
         let mut y0 = plan.y0();
         // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
         y0.resize(crate::solver::DaeSystem::len(&dae), 0.0);

@@ -759,7 +759,7 @@ impl ContactState {
                     0.0
                 } else {
                     let m = |s: usize| cp.shapes[s].body_mass;
-                    resting_damping(dd, pp.v_min, m(pp.a), m(pp.b))
+                    resting_damping(m(pp.a), m(pp.b))
                 };
                 sl.id = cp.pair_id(pp.a, pp.b).map_or(u32::MAX, |i| i as u32);
                 self.started.push(sl.id);

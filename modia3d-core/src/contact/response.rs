@@ -174,13 +174,11 @@ impl VolumeGeometry {
 /// window speed it fades with (docs/contact-model.md §3.2, "Resting contacts").
 pub const RESTING_DAMPING_RATIO: f64 = 1.0;
 
-/// The resting-damping coefficient `2·ζ(δ̇⁻)·√m` \[kg^½\] of a volume-law contact that starts at
-/// penetration velocity `dd_minus` \[m/s\] between bodies of masses `m_a`, `m_b` \[kg\]
-/// (infinite for a shape fixed to the world): `ζ(δ̇⁻) = ζ_rest·exp(ln(0.01)·|δ̇⁻|/v_min)`, the
-/// blend the paper's `cor_reg` uses, so slow touchdowns and resting contacts get a damping
-/// ratio of [`RESTING_DAMPING_RATIO`] and impacts at more than a few `v_min` none; `m` the
-/// reduced mass (translation only).
-pub fn resting_damping(dd_minus: f64, v_min: f64, m_a: f64, m_b: f64) -> f64 {
+/// The resting-damping coefficient `2·ζ_rest·√m` \[kg^½\] of a volume-law contact between
+/// bodies of masses `m_a`, `m_b` \[kg\] (infinite for a shape fixed to the world), `m` their
+/// reduced mass (translation only) and `ζ_rest` = [`RESTING_DAMPING_RATIO`]. The law's window
+/// `ψ` keeps it to motions slower than `v_min`, so impacts keep the restitution of `d`.
+pub fn resting_damping(m_a: f64, m_b: f64) -> f64 {
     let m = if m_a.is_infinite() {
         m_b
     } else if m_b.is_infinite() {
@@ -191,8 +189,7 @@ pub fn resting_damping(dd_minus: f64, v_min: f64, m_a: f64, m_b: f64) -> f64 {
     if !m.is_finite() {
         return 0.0;
     }
-    let zeta = RESTING_DAMPING_RATIO * (0.01f64.ln() * dd_minus.abs() / v_min).exp();
-    2.0 * zeta * m.sqrt()
+    2.0 * RESTING_DAMPING_RATIO * m.sqrt()
 }
 
 /// The volume law of docs/contact-model.md §3.2 for pair `pp` (a volume-law pair), damping
@@ -212,7 +209,8 @@ pub fn resting_damping(dd_minus: f64, v_min: f64, m_a: f64, m_b: f64) -> f64 {
 /// f_n   = f_el·soft_clamp(1 + (d + c_r/f_el)·δ̇)                      at the centroid, along n
 /// τ_rock = −(κ_v·d + c_r/V)·Σ_n·ω_l,  |τ_rock| ≤ f_n·√(1.5·tr Σ_n/V)
 /// F_t   = −μ_k·f_n·v_t/reg(|v_t|, v_min)                             at the centroid
-/// τ_r   = −μ_r·√(tr Σ_n/V)·f_n·ω_rel/reg(|ω_rel|, ω_min)
+/// τ_r   = −μ_r·ρ·f_n·ω_rel/reg(|ω_rel|, ω_min),   ρ = √(tr Σ_n/V)
+/// τ_s   = −μ_k·f_n·l·(l·ω_n)/reg(|l·ω_n|, v_min)·n,   l = (2√2/3)·ρ,  ω_n = n·ω_rel
 /// ```
 ///
 /// `ω_l` is `ω_rel` less the spin of a cylinder or cone about its own axis (which does not move
@@ -274,6 +272,15 @@ pub fn volume_response(
     let f_n = f_el * soft_clamp(1.0 + (d + c_rest / f_el) * delta_dot);
     let (friction_force, mut rolling_torque) =
         friction_and_rolling(pp, f_n, &v_t, &w_rel, rho2.sqrt());
+    // Spin friction: the sliding friction of a patch spinning about its normal, its lever the
+    // Coulomb lever (2√2/3)·ρ of a uniform disc or square patch of rms radius ρ, regularised
+    // like sliding at the patch's rms slip speed.
+    if pp.mu_k > 0.0 {
+        let lever = 2.0 * std::f64::consts::SQRT_2 / 3.0 * rho2.sqrt();
+        let w_n = n.dot(&w_rel);
+        let slip = w_n * lever;
+        rolling_torque += n * (-pp.mu_k * f_n * lever * slip / reg(slip, pp.v_min));
+    }
     let rocking = sigma_n * w_layer * (-(kv * d + c_rest / volume));
     rolling_torque += capped(rocking, f_n * (1.5 * rho2).sqrt());
     PairResponse {

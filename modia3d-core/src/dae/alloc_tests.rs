@@ -101,21 +101,69 @@ fn beam_and_decomposed_mesh_do_not_allocate() {
         ("beam", beam, Vector3::new(-0.5, 0.0, 0.02 - 1e-7)),
         ("block", mesh, Vector3::new(0.2, 0.0, -1e-7)),
     ] {
-        s.add(Object3D::new(name).solid(Solid::new(shape).material("DryWood").collision(true)))
-            .add_joint(Joint::new(
-                &format!("{name}.free"),
-                "world",
-                name,
-                JointKind::FreeMotion {
-                    r,
-                    rot: FreeRotation::Cardan([0.0; 3]),
-                    v: Vector3::zeros(),
-                    w: Vector3::zeros(),
-                },
-            ));
+        add_wooden_body(&mut s, name, shape, r);
     }
     let g = hot_path_allocations(s);
     assert!(g[0] < 0.0, "in contact: {g:?}");
+}
+
+/// A box on its face, a cylinder on its side and a cone on its base, each 1e-7 m into a
+/// wooden table: the volume law's hot path (polytope clipping, the frustum's quadrature, the
+/// sharp shapes' signed distance at the roots) allocates nothing either.
+#[test]
+fn volume_law_pairs_do_not_allocate() {
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(table(2.0, "DryWood"));
+    let axis = crate::geometry::Axis::Y;
+    for (name, shape, r) in [
+        (
+            "box",
+            Shape::Box {
+                lengths: Vector3::new(0.2, 0.1, 0.05),
+            },
+            Vector3::new(-0.5, 0.0, 0.025 - 1e-7),
+        ),
+        (
+            "cylinder",
+            Shape::Cylinder {
+                axis,
+                diameter: 0.1,
+                length: 0.2,
+            },
+            Vector3::new(0.0, 0.0, 0.05 - 1e-7),
+        ),
+        (
+            "cone",
+            Shape::Cone {
+                axis: crate::geometry::Axis::Z,
+                diameter: 0.1,
+                length: 0.1,
+                top_diameter: 0.04,
+            },
+            Vector3::new(0.5, 0.0, -1e-7),
+        ),
+    ] {
+        add_wooden_body(&mut s, name, shape, r);
+    }
+    let g = hot_path_allocations(s);
+    assert!(g[0] < 0.0, "in contact: {g:?}");
+}
+
+/// Adds a free DryWood collision body `name` of `shape` at `r` \[m\], at rest.
+fn add_wooden_body(s: &mut SceneDesc, name: &str, shape: Shape, r: Vector3<f64>) {
+    s.add(Object3D::new(name).solid(Solid::new(shape).material("DryWood").collision(true)))
+        .add_joint(Joint::new(
+            &format!("{name}.free"),
+            "world",
+            name,
+            JointKind::FreeMotion {
+                r,
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
 }
 
 /// Runs residual, roots, event handling, the DAE's Jacobian columns (structure, own blocks

@@ -18,6 +18,15 @@ mod hinge_jacobian;
 mod increment_caps;
 mod jacobian;
 
+/// The tightest relative tolerance the error test asks of a body in a volume-law contact
+/// (`rtol / κ ≥` this): the overlap's depth is a difference of coordinates of the scene's
+/// size, so a face's force carries a rounding noise of `k·ε·|r|` (a 0.1 m wooden cube 1 m from
+/// the origin: 1.3e9 N/m × 2e-16 m = 3e-7 N), and tighter weights only chase it. Measured on a
+/// cube sliding down an incline 1 m from the origin: rtol 1e-8 took 287 steps untightened and
+/// reached 1,000,000 steps tightened to 4.6e-11; tightened to 1e-9 it took 72,829; rtol 1e-6
+/// tightened to 1e-8 took 287 (docs/contact-model.md §3.2).
+pub const VOLUME_CONTACT_RTOL_FLOOR: f64 = 1e-8;
+
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
 pub struct MultibodyDae {
@@ -37,14 +46,18 @@ pub struct MultibodyDae {
     /// evaluations and LU as IDA's dense Jacobian, but the difference-quotient increments of
     /// `solver/ida/linear.rs`, which see contacts at nanometre penetration.
     blocks: Option<TreeBlocks>,
-    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in contact.
-    ewt_marked: Vec<bool>,
+    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in contact (1: in a
+    /// point-law contact only, 2: in a volume-law contact).
+    ewt_marked: Vec<u8>,
     /// The factors of the last [`DaeSystem::error_weight_factors`] that formed them, with the
     /// marks and the tightening they came from: the contact set changes only at events, so
     /// most steps copy them.
     ewt_factors: Vec<f64>,
-    ewt_factors_marked: Vec<bool>,
+    ewt_factors_marked: Vec<u8>,
     ewt_factors_kappa: f64,
+    /// The largest tightening of a block in a volume-law contact: `rtol / 1e-8`, at least 1
+    /// ([`VOLUME_CONTACT_RTOL_FLOOR`]; infinite until [`MultibodyDae::set_tolerance`]).
+    volume_tightening_cap: f64,
     /// Factor of the error weights of the bodies in contact (1 = off; see
     /// [`crate::SimOptions::contact_tightening`]).
     contact_tightening: f64,
@@ -225,6 +238,7 @@ impl MultibodyDae {
             ewt_factors: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.block_of.len())),
             ewt_factors_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
             ewt_factors_kappa: f64::NAN,
+            volume_tightening_cap: f64::INFINITY,
             contact_tightening: 1.0,
             blocks,
             analytic: vec![],
@@ -236,6 +250,11 @@ impl MultibodyDae {
     /// weights are tightened at all is fixed when the solver is created (a factor > 1 then);
     /// a later change sets the factor of the following steps' weights (the driver relaxes it
     /// after a repeated error-test failure: `Simulation::relax_contact_tightening`).
+    /// Sets the run's relative tolerance `rtol`, which bounds the tightening of the bodies in a
+    /// volume-law contact (see [`VOLUME_CONTACT_RTOL_FLOOR`]).
+    pub fn set_tolerance(&mut self, rtol: f64) {
+        self.volume_tightening_cap = (rtol / VOLUME_CONTACT_RTOL_FLOOR).max(1.0);
+    }
     pub fn set_contact_tightening(&mut self, factor: f64) {
         self.contact_tightening = factor.max(1.0);
     }
@@ -607,12 +626,18 @@ impl DaeSystem for MultibodyDae {
         let kappa = self.contact_tightening;
         let marked = &mut self.ewt_marked;
         marked.clear();
-        marked.resize(tb.fixed.n_blocks, false);
+        marked.resize(tb.fixed.n_blocks, 0);
         let mut any = false;
         for (_, pp, _) in cs.active_pairs() {
+            let mark = if pp.law == crate::contact::PairLaw::Point {
+                1
+            } else {
+                2
+            };
             for s in [pp.a, pp.b] {
                 if let Some(b) = cp.shapes[s].body {
-                    marked[tb.of_body[b.index()]] = true;
+                    let m = &mut marked[tb.of_body[b.index()]];
+                    *m = (*m).max(mark);
                     any = true;
                 }
             }
@@ -627,11 +652,11 @@ impl DaeSystem for MultibodyDae {
         {
             self.ewt_factors.clear();
             self.ewt_factors
-                .extend(
-                    tb.fixed.block_of[..m]
-                        .iter()
-                        .map(|&blk| if marked[blk] { kappa } else { 1.0 }),
-                );
+                .extend(tb.fixed.block_of[..m].iter().map(|&blk| match marked[blk] {
+                    0 => 1.0,
+                    1 => kappa,
+                    _ => kappa.min(self.volume_tightening_cap),
+                }));
             self.ewt_factors_marked.clone_from(marked);
             self.ewt_factors_kappa = kappa;
         }

@@ -237,7 +237,7 @@ pub(crate) fn linear_law_at_touch(
     let (cp, cs) = (cp?, cs?);
     let mut best: Option<(f64, SlowCause)> = None;
     for (_, pp, ps) in cs.active_pairs() {
-        if pp.n_geo != 1.0 {
+        if pp.n_geo != 1.0 || pp.law != crate::contact::PairLaw::Point {
             continue;
         }
         let (Some(sa), Some(sb)) = (cp.shapes.get(pp.a), cp.shapes.get(pp.b)) else {
@@ -836,7 +836,7 @@ pub(crate) fn stiffest(
                     pair: cp.pair_name(&plan.scene, pp),
                     period: t,
                     suggested_k_red: cp.k_red * (t / target).powi(2).min(1.0),
-                    linear_law: pp.n_geo == 1.0,
+                    linear_law: pp.n_geo == 1.0 && pp.law == crate::contact::PairLaw::Point,
                 };
             }
         }

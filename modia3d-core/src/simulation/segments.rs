@@ -244,6 +244,7 @@ impl Simulation {
     ) -> Result<(), SimErrorKind> {
         let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
         dae.set_contact_tightening(self.opts.effective_contact_tightening());
+        dae.set_tolerance(self.opts.rtol);
         let old_inputs = self.ida.system_mut().inputs_mut().to_vec();
         for inp in &model.plan.inputs {
             let before = self.model.plan.inputs.iter().find(|i| i.name == inp.name);
