@@ -407,3 +407,52 @@ fn falling_boxes_at_full_stiffness_come_to_rest_without_late_events() {
     assert!(((carried - weight) / weight).abs() < 1e-4);
     assert_eq!(late, 0, "events after the bodies rest");
 }
+
+modia3d::model! {
+    /// A wooden cube on a wooden table whose elastic layers are set by hand.
+    pub LayeredCube(h_cube: f64 = 0.01) {
+        world = Object3D(feature = Scene(profile = Volume)),
+        table = Object3D(parent = world, translation = [0.0, 0.0, -0.05],
+                         feature = Solid(shape = Box(lengths = [1.0, 1.0, 0.1]), solid_material = "DryWood",
+                                         collision = true, layer_depth = 0.02)),
+        cube  = Object3D(feature = Solid(shape = Box(lengths = [0.1, 0.1, 0.1]), solid_material = "DryWood",
+                                         collision = true, layer_depth = h_cube)),
+        free  = FreeMotion(obj1 = world, obj2 = cube, r = Var(init = [0.0, 0.0, 0.05])),
+    }
+}
+
+/// The layer depth of each solid sets its stiffness per volume `E/((1 − ν²) H)`, in series
+/// (`model!`'s `layer_depth` and `Solid::layer_depth`); without it a box's is half its smallest
+/// edge. A depth that is not finite and positive is a scene error naming the solid.
+#[test]
+fn layer_depths_set_the_stiffness_per_volume_and_bad_ones_are_named() {
+    let wood = modia3d::core::scene::builtin_solid_material("DryWood").unwrap();
+    let c = wood.young_modulus / (1.0 - wood.poisson_ratio * wood.poisson_ratio);
+    let series = |h1: f64, h2: f64| 1.0 / (h1 / c + h2 / c);
+    let kappa = |m: &Model| m.contact_pairs()[0].volume_stiffness.expect("volume law");
+    let m = LayeredCube { h_cube: 0.01 }.build().unwrap();
+    let k = kappa(&m);
+    assert!((k - series(0.02, 0.01)).abs() < 1e-12 * k, "{k}");
+    // The defaults: half the smallest edges (0.05 m both).
+    let mut s = LayeredCube::default().scene();
+    for o in &mut s.objects {
+        if let Feature::Solid(solid) = &mut o.feature {
+            solid.layer_depth = None;
+        }
+    }
+    let k = kappa(&s.clone().build().unwrap());
+    assert!((k - series(0.05, 0.05)).abs() < 1e-12 * k, "{k}");
+    for bad in [0.0, -0.01, f64::NAN, f64::INFINITY] {
+        let err = LayeredCube { h_cube: bad }.build().unwrap_err().to_string();
+        assert!(
+            err.contains("cube") && err.contains("layer depth"),
+            "{bad}: {err}"
+        );
+    }
+    // The paper's profile has no volume law.
+    let mut s = LayeredCube::default().scene();
+    if let Feature::Scene(o) = &mut s.objects[0].feature {
+        o.contact_profile = ContactProfile::Paper2019;
+    }
+    assert_eq!(s.build().unwrap().contact_pairs()[0].volume_stiffness, None);
+}
