@@ -50,17 +50,49 @@ pub struct ContactPhase {
     pub impulse: Vector3<f64>,
 }
 
+/// Largest exit / impact speed of a phase that [`ContactPhase::restitution`] counts as an
+/// impact \[1\] (see there).
+const MAX_IMPACT_RESTITUTION: f64 = 1.01;
+
+/// Smallest `max_penetration / (impact_speed · duration)` of a phase that
+/// [`ContactPhase::restitution`] counts as an impact \[1\] (see there).
+const MIN_IMPACT_PENETRATION: f64 = 0.005;
+
 impl ContactPhase {
     /// Duration \[s\] (`None` while in contact).
     pub fn duration(&self) -> Option<f64> {
         self.end.map(|e| e - self.start)
     }
 
-    /// Effective coefficient of restitution: exit speed / impact speed \[1\]; `None` while in
-    /// contact or for an impact speed of zero (a resting start).
+    /// Effective coefficient of restitution of an impact: exit speed / impact speed \[1\].
+    /// `None` unless the phase is an impact, which here means all of:
+    /// - it ended (`exit_speed` is known) with the bodies approaching at the start and
+    ///   separating at the end (both speeds > 0);
+    /// - the exit speed is at most 1.01 times the impact speed: a collision of two bodies
+    ///   returns at most the normal motion it took (1 % allows for gravity and the solver's
+    ///   error in an elastic impact, which measured 1 + 1e-5, `tests/contact_phases.rs`); a
+    ///   faster exit means something else pushed them apart (a block tipping over a table's
+    ///   edge left at 7.33 times the speed it touched down with, issue 44);
+    /// - the largest penetration \[m\] is at least 0.005 times `impact_speed · duration`
+    ///   ([m/s]·\[s\]): in an impact the contact force stops and reverses the approach within
+    ///   the phase (steel ball on a steel table, `tests/first_hour.rs`: δ_max = 0.30 · v·T at
+    ///   cor 0.8, 0.15 at 0.3, 0.06 at 0.1, 0.012 at 0.02, where the heavy damping draws out
+    ///   the rebound), whereas a phase that rests, rolls or slides for long before it ends has
+    ///   a penetration far below its impact speed times its duration (a block sliding 0.2 s on
+    ///   a table before it tips off the edge: 0.0036), and its exit speed has nothing to do
+    ///   with the impact.
+    ///
+    /// Why from these fields and not from the pair's `v_min`: they are what the phase
+    /// measured, and an impact below `v_min` (where the regularised cor applies) is still an
+    /// impact whose effective restitution this reports.
     pub fn restitution(&self) -> Option<f64> {
         let exit = self.exit_speed?;
-        (self.impact_speed != 0.0).then(|| exit / self.impact_speed)
+        let (v, duration) = (self.impact_speed, self.duration()?);
+        let impact = v > 0.0
+            && exit > 0.0
+            && exit <= MAX_IMPACT_RESTITUTION * v
+            && self.max_penetration >= MIN_IMPACT_PENETRATION * v * duration;
+        impact.then(|| exit / v)
     }
 
     /// The same phase seen from the pair in the other order, `"b|a"`: impulses on `a` (the

@@ -341,6 +341,46 @@ impl std::fmt::Debug for SimulationResult {
     }
 }
 
+/// Warnings listed by [`SimulationResult::summary`]; the rest are counted.
+const SUMMARY_WARNINGS: usize = 3;
+
+impl SimulationResult {
+    /// One line about what the run recorded: output points, time span \[s\], events, e.g.
+    /// `output points: 437, t = 0 … 0.4374 s, events: 12` (how far a failed run got, in
+    /// `SimError`'s `Debug`).
+    pub(crate) fn span_line(&self) -> String {
+        let span = match (self.time.first(), self.time.last()) {
+            (Some(a), Some(b)) => format!(", t = {a} … {b} s"),
+            _ => String::new(),
+        };
+        format!(
+            "output points: {}{span}, events: {}",
+            self.time.len(),
+            self.events.len()
+        )
+    }
+
+    /// A short report of the run, a few lines: the output points, time span \[s\] and events,
+    /// the statistics (as `println!("{}", result.stats)`), and the number of
+    /// [`warnings`](Self::warnings) with the first three as one-line
+    /// [`headline`](SimWarning::headline)s (`result.warnings` has them in full).
+    pub fn summary(&self) -> String {
+        let mut text = format!("{}\n{}\n", self.span_line(), self.stats);
+        let n = self.warnings.len();
+        text.push_str(&match n {
+            0 => "warnings: none".to_string(),
+            _ => format!("warnings: {n} (in `result.warnings`)"),
+        });
+        for w in self.warnings.iter().take(SUMMARY_WARNINGS) {
+            text.push_str(&format!("\n  - {}", w.headline()));
+        }
+        if n > SUMMARY_WARNINGS {
+            text.push_str(&format!("\n  … and {} more", n - SUMMARY_WARNINGS));
+        }
+        text
+    }
+}
+
 #[derive(Clone, Copy)]
 enum Quantity {
     Pos,

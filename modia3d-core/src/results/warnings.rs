@@ -88,3 +88,38 @@ pub enum SimWarning {
         interval: f64,
     },
 }
+
+impl SimWarning {
+    /// A one-line summary (the culprit and the number that matters; the `Display` message
+    /// adds what to check), as [`SimulationResult::summary`](super::SimulationResult::summary)
+    /// lists it. Lengths in m, masses in kg, times in s.
+    pub fn headline(&self) -> String {
+        match self {
+            SimWarning::InitialPenetration { pair, depth, .. } => {
+                format!("`{pair}` starts {depth:.3e} m deep inside each other")
+            }
+            SimWarning::ScaleOutlier {
+                object,
+                quantity,
+                value,
+                ratio,
+                unit,
+                ..
+            } => format!(
+                "`{object}`: {quantity} {value:.3e} {unit}, {ratio:.0e} times the median (units?)"
+            ),
+            SimWarning::NeverCollide { a, b, joint } => {
+                format!("`{a}` and `{b}` can never touch (joint `{joint}` has can_collide = false)")
+            }
+            SimWarning::Chattering {
+                pair, events, t, ..
+            } => format!("contact `{pair}` chatters: {events} events from t = {t:.6} s"),
+            SimWarning::ContactTighteningRelaxed { t, from, to } => {
+                format!("contact tightening relaxed from {from:.3e} to {to:.3e} at t = {t:.6e} s")
+            }
+            SimWarning::MissedContacts { pair, phases, .. } => {
+                format!("{phases} contact phase(s) of `{pair}` fell between output points")
+            }
+        }
+    }
+}

@@ -77,6 +77,13 @@ pub struct SimOptions {
     /// the run goes on from IDA's last step with the factor divided by 10 (down to 1) and the
     /// warning `SimWarning::ContactTighteningRelaxed`. Range `[1, 1e6]`.
     pub contact_tightening: f64,
+    /// Keep the run's warnings ([`SimulationResult::warnings`](crate::SimulationResult::warnings))
+    /// off standard error (default false). By default a run prints the warnings it finds to
+    /// standard error once (each warning once, when [`Simulation::advance_to`](crate::Simulation::advance_to)
+    /// returns) when no `tracing` subscriber is installed; with a subscriber they reach it
+    /// through `tracing::warn!` instead and are not printed. Runs of a
+    /// [`Sweep`](crate::Sweep) are always quiet. The warnings stay in `result.warnings`.
+    pub quiet: bool,
 }
 
 /// Default of [`SimOptions::contact_tightening`]: an impact of ~100 steps then ends with the
@@ -111,7 +118,14 @@ impl SimOptions {
             max_steps: Some(DEFAULT_MAX_STEPS),
             max_wall_time: None,
             contact_tightening: DEFAULT_CONTACT_TIGHTENING,
+            quiet: false,
         }
+    }
+    /// Keeps the run's warnings off standard error (true) or prints them there when no
+    /// `tracing` subscriber is installed (false, the default); see [`SimOptions::quiet`].
+    pub fn quiet(mut self, on: bool) -> Self {
+        self.quiet = on;
+        self
     }
     /// Sets the step budget of the run (`None` = unlimited; see [`SimOptions::max_steps`]).
     pub fn max_steps(mut self, n: Option<u64>) -> Self {

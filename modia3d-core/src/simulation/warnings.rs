@@ -20,6 +20,28 @@ pub const CHATTER_WARN_EVENTS: usize = 20;
 /// ... within this fraction of the run's duration.
 pub const CHATTER_WARN_SPAN: f64 = 1e-3;
 
+/// At most this many warnings are printed in full by [`report`]; the rest are counted.
+pub const REPORTED_WARNINGS: usize = 5;
+
+/// The text printed to standard error for the warnings `new` a run found (see
+/// `SimOptions::quiet`): a header with their number and how to silence it, then each
+/// warning's full message (it names the culprit and what to check), at most
+/// [`REPORTED_WARNINGS`] of them.
+pub(super) fn report(new: &[SimWarning]) -> String {
+    let n = new.len();
+    let mut text = format!(
+        "modia3d: the run found {n} warning{} (kept in `result.warnings`; `SimOptions::quiet(true)` hides this):\n",
+        if n == 1 { "" } else { "s" }
+    );
+    for w in new.iter().take(REPORTED_WARNINGS) {
+        text.push_str(&format!("  - {w}\n"));
+    }
+    if n > REPORTED_WARNINGS {
+        text.push_str(&format!("  … and {} more\n", n - REPORTED_WARNINGS));
+    }
+    text
+}
+
 /// The median of `values` without entry `k`.
 fn median_of_others(values: &[f64], k: usize) -> Option<f64> {
     let others = values

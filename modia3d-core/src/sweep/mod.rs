@@ -269,7 +269,8 @@ impl Sweep {
         self
     }
 
-    /// Sets the options of every run (their progress bar is always off; the sweep has one).
+    /// Sets the options of every run (their progress bar is always off, the sweep has one; and
+    /// they are always [`quiet`](SimOptions::quiet): no warnings on standard error).
     pub fn options(mut self, options: SimOptions) -> Self {
         self.options = options;
         self
@@ -502,7 +503,9 @@ impl Sweep {
                 return Some(RunError::Panic(msg));
             }
         };
-        let opts = self.options.clone().progress(false);
+        // Quiet: a sweep of many runs would flood standard error with the same warnings; they
+        // stay in each run's result.
+        let opts = self.options.clone().progress(false).quiet(true);
         let res = match catch_unwind(AssertUnwindSafe(|| model.simulate(&opts))) {
             Ok(Ok(res)) => res,
             Ok(Err(e)) => {

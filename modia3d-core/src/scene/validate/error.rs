@@ -260,8 +260,29 @@ fn hint_text(h: &Option<String>) -> String {
 }
 
 /// All errors found in a scene, in one pass.
-#[derive(thiserror::Error, Debug, Clone, PartialEq)]
+///
+/// `Debug` (what `fn main() -> Result<(), Box<dyn Error>>` prints for `build()?`) is the
+/// message, each error with its hint, then the variants, e.g.
+/// `(SceneError::UnknownParent; the errors are in e.0)`, not a nested struct dump.
+#[derive(thiserror::Error, Clone, PartialEq)]
 pub struct SceneErrors(pub Vec<SceneError>);
+
+impl fmt::Debug for SceneErrors {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        // The variant's name is the derived `Debug` of `SceneError` up to its fields.
+        let variants = self
+            .0
+            .iter()
+            .map(|e| {
+                let d = format!("{e:?}");
+                let name = d.split([' ', '{', '(']).next().unwrap_or_default();
+                format!("SceneError::{name}")
+            })
+            .collect::<Vec<_>>()
+            .join(", ");
+        write!(f, "{self}\n  ({variants}; the errors are in e.0)")
+    }
+}
 
 impl fmt::Display for SceneErrors {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
