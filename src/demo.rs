@@ -878,3 +878,39 @@ pub fn downhill_speed(res: &SimulationResult, alpha: f64, t: f64) -> Result<f64,
     let v = res.signal_at("body.v_abs", t)?;
     Ok(v[0] * alpha.cos() - v[2] * alpha.sin())
 }
+
+/// A steel ball (Ø 0.02 m) on a Prismatic joint `slide` along z from the world (0.1 m up) above
+/// a fixed 1 × 1 × 0.1 m steel `table` (top face at z = 0), the joint's `can_collide` as given:
+/// with `false` (the default) the two can never touch, which a run warns about
+/// (`SimWarning::NeverCollide`); with `true` they form a collision pair.
+pub fn ball_on_a_slide(can_collide: bool) -> SceneDesc {
+    let mut s = SceneDesc::new();
+    s.add(world(SceneOptions::default()))
+        .add(fixed_box(
+            "table",
+            [1.0, 1.0, 0.1],
+            [0.0, 0.0, -0.05],
+            "Steel",
+        ))
+        .add(
+            Object3D::new("ball").solid(
+                Solid::new(Shape::Sphere { diameter: 0.02 })
+                    .material("Steel")
+                    .collision(true),
+            ),
+        )
+        .add_joint(
+            Joint::new(
+                "slide",
+                "world",
+                "ball",
+                JointKind::Prismatic {
+                    axis: Vector3::z(),
+                    s: 0.1,
+                    v: 0.0,
+                },
+            )
+            .can_collide(can_collide),
+        );
+    s
+}

@@ -187,35 +187,10 @@ fn a_block_sliding_off_an_edge_has_no_restitution() {
     );
 }
 
-/// The never-colliding solids of `tests/warnings.rs`: a ball on a Prismatic joint from the
-/// world, which can never touch the table fixed to the world (one `NeverCollide` warning).
+/// The never-colliding solids of `tests/warnings.rs` (`demo::ball_on_a_slide`): one
+/// `NeverCollide` warning.
 fn never_colliding() -> Model {
-    let mut s = SceneDesc::new();
-    s.add(demo::world(SceneOptions::default()))
-        .add(demo::fixed_box(
-            "table",
-            [1.0, 1.0, 0.1],
-            [0.0, 0.0, -0.05],
-            "Steel",
-        ))
-        .add(
-            Object3D::new("ball").solid(
-                Solid::new(Shape::Sphere { diameter: 0.02 })
-                    .material("Steel")
-                    .collision(true),
-            ),
-        )
-        .add_joint(Joint::new(
-            "slide",
-            "world",
-            "ball",
-            JointKind::Prismatic {
-                axis: Vector3::z(),
-                s: 0.1,
-                v: 0.0,
-            },
-        ));
-    s.build().unwrap()
+    demo::ball_on_a_slide(false).build().unwrap()
 }
 
 /// Env var that makes [`warning_worker`] run its scenario: `default`, `quiet` or `subscriber`.

@@ -47,37 +47,7 @@ fn diameter_100_ball_on_a_table() {
 /// the joint. With can_collide = true the pair exists and there is no warning.
 #[test]
 fn joint_without_collision_is_named() {
-    let scene = |can_collide: bool| {
-        let mut s = SceneDesc::new();
-        s.add(demo::world(SceneOptions::default()))
-            .add(demo::fixed_box(
-                "table",
-                [1.0, 1.0, 0.1],
-                [0.0, 0.0, -0.05],
-                "Steel",
-            ))
-            .add(
-                Object3D::new("ball").solid(
-                    Solid::new(Shape::Sphere { diameter: 0.02 })
-                        .material("Steel")
-                        .collision(true),
-                ),
-            )
-            .add_joint(
-                Joint::new(
-                    "slide",
-                    "world",
-                    "ball",
-                    JointKind::Prismatic {
-                        axis: Vector3::z(),
-                        s: 0.1,
-                        v: 0.0,
-                    },
-                )
-                .can_collide(can_collide),
-            );
-        s.build().unwrap()
-    };
+    let scene = |can_collide: bool| modia3d::demo::ball_on_a_slide(can_collide).build().unwrap();
     let opts = SimOptions::new(0.01).progress(false);
     let res = scene(false).simulate(&opts).unwrap();
     assert_eq!(res.stats.root_functions, 0);

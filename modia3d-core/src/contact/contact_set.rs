@@ -553,7 +553,7 @@ impl ContactState {
                     let PairGeometry(sd, patch, ov) = self.base[k];
                     let sl = &mut self.slots[p];
                     sl.state.geometry = sd;
-                    if st_is_point(&sl.plan) {
+                    if sl.plan.law == PairLaw::Point {
                         sl.state.z = sd.distance;
                     }
                     self.patches[k] = patch;
@@ -1071,12 +1071,6 @@ const EMPTY_PATCH: ContactPatch = ContactPatch {
 /// A placeholder for `ContactState::base`.
 const EMPTY_GEOMETRY: PairGeometry =
     PairGeometry(PairState::APART.geometry, EMPTY_PATCH, VolumeGeometry::NONE);
-
-/// Whether pair `pp` has the single-point law (its `z` then follows the residual's narrow phase).
-#[inline]
-fn st_is_point(pp: &PairPlan) -> bool {
-    pp.law == PairLaw::Point
-}
 
 /// World AABB of shape `s` at `pose`: of the sharp shape if it takes part in a volume pair (it
 /// contains the smoothed one, and its distance must bound the sharp shapes'), else of the

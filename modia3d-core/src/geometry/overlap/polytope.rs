@@ -291,18 +291,7 @@ impl Polytope {
         if faces.len() < 4 {
             return Err(GeometryError::DegenerateHull);
         }
-        let pts: Vec<Point3<f64>> = face_vertices
-            .iter()
-            .map(|&i| vertices[i as usize])
-            .collect();
-        let polys: Vec<Poly> = faces
-            .iter()
-            .map(|f| Poly {
-                start: f.start,
-                len: f.len,
-                cap: false,
-            })
-            .collect();
+        let (pts, polys) = face_polygons(&vertices, &face_vertices, &faces);
         let m = moments(&pts, &polys).ok_or(GeometryError::DegenerateHull)?;
         let layer_depth = faces
             .iter()
@@ -438,6 +427,28 @@ impl Poly {
     fn range(&self) -> std::ops::Range<usize> {
         self.start as usize..(self.start + self.len) as usize
     }
+}
+
+/// A polytope's own faces as a polygon set (points gathered through `face_vertices`, no caps),
+/// for [`moments`]: at build time (its mass properties) and in the tests.
+fn face_polygons(
+    vertices: &[Point3<f64>],
+    face_vertices: &[u32],
+    faces: &[Face],
+) -> (Vec<Point3<f64>>, Vec<Poly>) {
+    let pts = face_vertices
+        .iter()
+        .map(|&i| vertices[i as usize])
+        .collect();
+    let polys = faces
+        .iter()
+        .map(|f| Poly {
+            start: f.start,
+            len: f.len,
+            cap: false,
+        })
+        .collect();
+    (pts, polys)
 }
 
 /// Integrals over the solid bounded by a closed set of polygons.
@@ -850,20 +861,7 @@ mod tests {
         }
         // The closed-form mass properties equal the integrated ones (tol: rounding of a few
         // dozen operations on O(1) numbers).
-        let pts: Vec<_> = p
-            .face_vertices
-            .iter()
-            .map(|&i| p.vertices[i as usize])
-            .collect();
-        let polys: Vec<_> = p
-            .faces
-            .iter()
-            .map(|f| Poly {
-                start: f.start,
-                len: f.len,
-                cap: false,
-            })
-            .collect();
+        let (pts, polys) = face_polygons(&p.vertices, &p.face_vertices, &p.faces);
         let m = moments(&pts, &polys).unwrap();
         assert!(rel_err(m.volume, p.volume, p.volume) < 1e-14);
         assert!((m.second_moment - p.second_moment).norm() < 1e-13 * p.second_moment.norm());
