@@ -40,7 +40,7 @@ pub struct ShapePlan {
     /// its rotation).
     pub round: bool,
     /// What the volume law needs of the shape ([`ContactProfile::Volume`]; boxes, hulls, mesh
-    /// parts, cylinders and cones), `None` otherwise.
+    /// parts, beams, cylinders and cones), `None` otherwise.
     pub volume: Option<VolumeShape>,
     /// Mass \[kg\] of the body the shape is on (infinite for a shape fixed to the world): the
     /// volume law's resting damping (docs/contact-model.md §3.2).
@@ -67,7 +67,8 @@ pub struct VolumeShape {
 /// The solid of a [`VolumeShape`].
 #[derive(Clone, Debug)]
 pub enum VolumeSolid {
-    /// A box, convex hull or convex part of a mesh.
+    /// A box, convex hull, convex part of a mesh, or a beam (its rounded ends as inscribed
+    /// polygons: `geometry::overlap::polytope::beam_points`).
     Polytope(Polytope),
     /// A cylinder or cone.
     Frustum(Frustum),
@@ -499,7 +500,7 @@ fn volume_law(a: &ShapePlan, b: &ShapePlan) -> Option<PairLaw> {
 
 /// The volume law's view of `shape` with stiffness `c = E/(1 − ν²)` \[N/m²\] and the solid's
 /// layer depth `layer_depth` \[m\] (`None`: the shape's own): `Ok(None)` for shapes that keep a
-/// point law (spheres, capsules, ellipsoids, beams); an error for a degenerate hull.
+/// point law (spheres, capsules, ellipsoids); an error for a degenerate hull.
 fn volume_shape(
     shape: &Shape,
     layer_depth: Option<f64>,
@@ -514,8 +515,19 @@ fn volume_shape(
         return Ok(None);
     };
     let h = layer_depth.unwrap_or(own_depth);
+    // A beam's volume is that of its polytope (rounded ends as inscribed polygons): its signed
+    // distance must be of the same solid, so that the force is zero at both events.
+    let sharp = match (shape, &solid) {
+        (Shape::Beam { .. }, VolumeSolid::Polytope(p)) => CollisionShape::with_smoothing(
+            &Shape::ConvexHull {
+                points: p.vertices().to_vec(),
+            },
+            0.0,
+        )?,
+        _ => CollisionShape::with_smoothing(shape, 0.0)?,
+    };
     Ok(Some(VolumeShape {
-        sharp: CollisionShape::with_smoothing(shape, 0.0)?,
+        sharp,
         solid,
         kappa: c / h,
         in_volume_pair: false,

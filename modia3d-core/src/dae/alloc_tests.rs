@@ -143,6 +143,16 @@ fn volume_law_pairs_do_not_allocate() {
             },
             Vector3::new(0.5, 0.0, -1e-7),
         ),
+        (
+            "beam",
+            Shape::Beam {
+                axis: crate::geometry::Axis::X,
+                length: 0.2,
+                width: 0.05,
+                thickness: 0.02,
+            },
+            Vector3::new(0.0, 0.5, 0.01 - 1e-7),
+        ),
     ] {
         add_wooden_body(&mut s, name, shape, r);
     }

@@ -51,7 +51,7 @@
 //! `geometry/smoothing.rs` (`hull_planes`) does.
 
 use super::Overlap;
-use crate::geometry::{GeometryError, Shape};
+use crate::geometry::{Axis, GeometryError, Shape};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
 /// Relative tolerance (to the hull's size) for merging coplanar hull triangles into one face
@@ -89,22 +89,36 @@ pub struct Polytope {
 
 impl Polytope {
     /// The polytope of a [`Shape::Box`], [`Shape::ConvexHull`] or [`Shape::Mesh`] (the convex
-    /// hull of its vertices); `Ok(None)` for every other shape (sphere, cylinder, cone,
-    /// capsule, ellipsoid, beam, unloaded file mesh). Errors: a box edge not finite and > 0
-    /// ([`GeometryError::InvalidDimension`]), a degenerate hull
+    /// hull of its vertices), or of a [`Shape::Beam`] (the prism over its outline with the
+    /// rounded ends as inscribed polygons, [`beam_points`]); `Ok(None)` for every other shape
+    /// (sphere, cylinder, cone, capsule, ellipsoid, unloaded file mesh). Errors: a box or beam
+    /// dimension not finite and > 0 ([`GeometryError::InvalidDimension`]), a degenerate hull
     /// ([`GeometryError::DegenerateHull`]).
     pub fn from_shape(shape: &Shape) -> Result<Option<Polytope>, GeometryError> {
+        let positive = |name: &'static str, value: f64| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(GeometryError::InvalidDimension { name, value })
+            }
+        };
         match shape {
             Shape::Box { lengths } => {
                 for &l in lengths.iter() {
-                    if !(l.is_finite() && l > 0.0) {
-                        return Err(GeometryError::InvalidDimension {
-                            name: "lengths",
-                            value: l,
-                        });
-                    }
+                    positive("lengths", l)?;
                 }
                 Ok(Some(Polytope::from_box(lengths / 2.0)))
+            }
+            Shape::Beam {
+                axis,
+                length,
+                width,
+                thickness,
+            } => {
+                positive("length", *length)?;
+                positive("width", *width)?;
+                positive("thickness", *thickness)?;
+                Polytope::from_points(&beam_points(*axis, *length, *width, *thickness)).map(Some)
             }
             Shape::ConvexHull { points } => Polytope::from_points(points).map(Some),
             Shape::Mesh { mesh, .. } => Polytope::from_points(&mesh.vertices).map(Some),
@@ -349,6 +363,48 @@ impl Polytope {
     }
 }
 
+/// Segments of each rounded end of a beam's polytope (a half circle): the flat facets of a
+/// beam standing on its rounded end are `w·sin(π/(2N))` = 0.098 `w` wide and the outline's
+/// area is short by `(1 − N sin(π/N)/π)` = 0.64 % of the ends' area `π w²/4`.
+pub const BEAM_END_SEGMENTS: usize = 16;
+
+/// The vertices \[m, shape frame\] of the polytope the volume law uses for a
+/// [`Shape::Beam`]`{ axis, length, width, thickness }`: the straight part exact (the flat sides
+/// at `±width/2` and `±thickness/2`, its corners at `±length/2`), each half-cylinder end
+/// replaced by the prism over the regular polygon inscribed in its half circle,
+/// [`BEAM_END_SEGMENTS`] segments (`4 (N + 1)` points).
+///
+/// Inscribed rather than area-preserving: every vertex lies on the exact beam, so the flat
+/// sides stay where they are and the polytope never reaches outside the solid whose mass
+/// properties the body has.
+pub fn beam_points(axis: Axis, length: f64, width: f64, thickness: f64) -> Vec<Point3<f64>> {
+    let (k, (iw, it)) = (axis.index(), axis.beam_directions());
+    let (r, half_l, half_t) = (0.5 * width, 0.5 * length, 0.5 * thickness);
+    let n = BEAM_END_SEGMENTS;
+    let mut points = Vec::with_capacity(4 * (n + 1));
+    for end in [1.0, -1.0] {
+        for j in 0..=n {
+            // From −π/2 to π/2 about the end's centre, facing outward along `end·axis`;
+            // mirror-symmetric to the last bit, the junctions with the flat sides exact.
+            let m = j.min(n - j);
+            let (s, c) = if m == 0 {
+                (1.0, 0.0)
+            } else {
+                (std::f64::consts::PI * (0.5 - m as f64 / n as f64)).sin_cos()
+            };
+            let s = if j < n - j { -s } else { s };
+            for z in [half_t, -half_t] {
+                let mut p = Point3::origin();
+                p[k] = end * (half_l + r * c);
+                p[iw] = r * s;
+                p[it] = z;
+                points.push(p);
+            }
+        }
+    }
+    points
+}
+
 /// A deterministic unit vector perpendicular to the unit vector `n`.
 fn tangent_of(n: &Vector3<f64>) -> Vector3<f64> {
     let k = n.iamin();
@@ -558,9 +614,14 @@ impl OverlapScratch {
             v.clear();
             v.reserve_exact(n);
         }
+        // Symmetric in a and b: `polytope_overlap` clips whichever boundary is cheaper.
         let f = a.faces.len() + b.faces.len();
-        let points = 2 * (6 * f).max(a.face_vertices.len()) + 8;
-        grow(&mut self.cuts, b.faces.len());
+        let points = 2
+            * (6 * f)
+                .max(a.face_vertices.len())
+                .max(b.face_vertices.len())
+            + 8;
+        grow(&mut self.cuts, a.faces.len().max(b.faces.len()));
         grow(&mut self.b_vertices, b.vertices.len());
         grow(&mut self.pts, points);
         grow(&mut self.next_pts, points);
@@ -757,6 +818,7 @@ pub fn polytope_overlap(
         .b_vertices
         .extend(b.vertices.iter().map(|v| r * v + t));
     let mut b_inside_a = true;
+    let mut a_cuts_b = 0;
     for f in &a.faces {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for v in &scratch.b_vertices {
@@ -767,6 +829,7 @@ pub fn polytope_overlap(
             return Overlap::NONE;
         }
         b_inside_a &= hi <= 0.0;
+        a_cuts_b += usize::from(hi > 0.0);
     }
     if scratch.cuts.is_empty() {
         return a.whole(pose_a);
@@ -774,19 +837,50 @@ pub fn polytope_overlap(
     if b_inside_a {
         return b.whole(pose_b);
     }
-    // A's boundary, clipped by every cutting plane of B.
+    // Clip the boundary that costs less: the work is about (cutting planes) × (boundary
+    // vertices). A beam or hull on a large box is cut by one plane of the box, while every one
+    // of its own planes cuts the box (21 µs against 1.5 µs for a 36-face beam). Both give the
+    // same overlap to rounding; the area vector of B's boundary inside A is minus A's.
+    if a_cuts_b * b.face_vertices.len() < scratch.cuts.len() * a.face_vertices.len() {
+        let ri = r.inverse();
+        scratch.cuts.clear();
+        for f in &a.faces {
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for v in &scratch.b_vertices {
+                widen(&mut lo, &mut hi, f.normal.dot(&v.coords) - f.offset);
+            }
+            if hi > 0.0 {
+                // A's plane n·x ≤ h with x = r y + t, in B's frame: (rᵀn)·y ≤ h − n·t.
+                scratch.cuts.push(Cut {
+                    normal: ri * f.normal,
+                    offset: f.offset - f.normal.dot(&t),
+                    tangent: ri * f.tangent,
+                });
+            }
+        }
+        let mut o = clip_boundary(b, pose_b, scratch);
+        o.area_vector = -o.area_vector;
+        return o;
+    }
+    clip_boundary(a, pose_a, scratch)
+}
+
+/// The overlap of polytope `p` at `pose` with the intersection of the half-spaces of
+/// `scratch.cuts` (in `p`'s frame): `p`'s boundary clipped by every cut, integrated. The area
+/// vector is that of `p`'s boundary inside the cuts.
+fn clip_boundary(p: &Polytope, pose: &Isometry3<f64>, scratch: &mut OverlapScratch) -> Overlap {
     scratch.pts.clear();
     scratch.polys.clear();
-    for f in &a.faces {
+    for f in &p.faces {
         scratch.polys.push(Poly {
             start: scratch.pts.len() as u32,
             len: f.len,
             cap: false,
         });
-        let ids = &a.face_vertices[f.start as usize..(f.start + f.len) as usize];
+        let ids = &p.face_vertices[f.start as usize..(f.start + f.len) as usize];
         scratch
             .pts
-            .extend(ids.iter().map(|&i| a.vertices[i as usize]));
+            .extend(ids.iter().map(|&i| p.vertices[i as usize]));
     }
     for k in 0..scratch.cuts.len() {
         let cut = scratch.cuts[k];
@@ -797,12 +891,12 @@ pub fn polytope_overlap(
     let Some(m) = moments(&scratch.pts, &scratch.polys) else {
         return Overlap::NONE;
     };
-    let ra = pose_a.rotation.to_rotation_matrix();
+    let rp = pose.rotation.to_rotation_matrix();
     Overlap {
         volume: m.volume,
-        centroid: pose_a * m.centroid,
-        second_moment: ra.matrix() * m.second_moment * ra.matrix().transpose(),
-        area_vector: -(ra * m.cap_area),
+        centroid: pose * m.centroid,
+        second_moment: rp.matrix() * m.second_moment * rp.matrix().transpose(),
+        area_vector: -(rp * m.cap_area),
     }
 }
 
@@ -845,6 +939,106 @@ mod tests {
 
     fn rel_err(x: f64, y: f64, scale: f64) -> f64 {
         (x - y).abs() / scale
+    }
+
+    /// The overlap does not depend on the order of its arguments (the query clips whichever
+    /// boundary is cheaper, so one order clips the beam in its own frame and the other in the
+    /// box's): over random poses of a beam and a box cutting through each other, the volume,
+    /// centroid and second moment agree and the area vectors are opposite, to 1e-12 of their
+    /// scales (rounding of two different clippings).
+    #[test]
+    fn the_overlap_is_the_same_in_either_order() {
+        let beam = Polytope::from_shape(&Shape::Beam {
+            axis: crate::geometry::Axis::Z,
+            length: 0.6,
+            width: 0.3,
+            thickness: 0.2,
+        })
+        .unwrap()
+        .unwrap();
+        let block = Polytope::from_box(Vector3::new(0.5, 0.4, 0.3));
+        let mut rng = Rng(7);
+        let mut both = [0usize; 2];
+        for _ in 0..300 {
+            let (pa, pb) = (rng.pose(0.3), rng.pose(0.3));
+            let o1 = overlap(&beam, &pa, &block, &pb);
+            let o2 = overlap(&block, &pb, &beam, &pa);
+            if o1.volume <= 0.0 {
+                continue;
+            }
+            both[usize::from(o1.volume < beam.volume())] += 1;
+            let v = o1.volume;
+            assert!(rel_err(o1.volume, o2.volume, v) < 1e-12);
+            assert!((o1.centroid - o2.centroid).norm() < 1e-12);
+            assert!((o1.second_moment - o2.second_moment).norm() < 1e-12 * v);
+            assert!((o1.area_vector + o2.area_vector).norm() < 1e-12);
+        }
+        assert!(both[1] > 100, "enough partial overlaps: {both:?}");
+    }
+
+    /// A beam's polytope against closed forms: its volume is the straight part plus two
+    /// inscribed half 16-gons, `t (l w + N r² sin(π/N))`, its centroid the origin, its flat
+    /// sides exactly at `±w/2` and `±t/2`, every vertex on the exact beam's surface, and its
+    /// outline short of the exact `l w + π r²` by the documented 0.64 % of the ends' area
+    /// (tolerances: rounding, 1e-14 relative).
+    #[test]
+    fn a_beams_polytope_is_its_straight_part_and_inscribed_ends() {
+        use crate::geometry::Axis;
+        let n = BEAM_END_SEGMENTS as f64;
+        for (axis, l, w, t) in [
+            (Axis::X, 0.3, 0.05, 0.02),
+            (Axis::Y, 0.01, 0.2, 0.1),
+            (Axis::Z, 1.0, 0.1, 0.3),
+        ] {
+            let shape = Shape::Beam {
+                axis,
+                length: l,
+                width: w,
+                thickness: t,
+            };
+            let p = Polytope::from_shape(&shape).unwrap().unwrap();
+            let r = 0.5 * w;
+            let v = t * (l * w + n * r * r * (std::f64::consts::PI / n).sin());
+            assert!(
+                rel_err(p.volume(), v, v) < 1e-14,
+                "{axis:?}: {} vs {v}",
+                p.volume()
+            );
+            assert!(p.centroid().coords.norm() < 1e-14 * (l + w + t));
+            let deficit = 1.0 - p.volume() / (t * (l * w + std::f64::consts::PI * r * r));
+            let bound = (1.0 - n * (std::f64::consts::PI / n).sin() / std::f64::consts::PI)
+                * std::f64::consts::PI
+                * r
+                * r
+                / (l * w + std::f64::consts::PI * r * r);
+            assert!(
+                deficit > 0.0 && (deficit - bound).abs() < 1e-12,
+                "{deficit} vs {bound}"
+            );
+            let (k, (iw, it)) = (axis.index(), axis.beam_directions());
+            let unit = |i: usize| {
+                let mut e = Vector3::zeros();
+                e[i] = 1.0;
+                e
+            };
+            let (ew, et) = (unit(iw), unit(it));
+            for (dir, h) in [(ew, r), (-ew, r), (et, 0.5 * t), (-et, 0.5 * t)] {
+                assert!(
+                    p.face_planes()
+                        .any(|(m, o)| (m - dir).norm() < 1e-15 && (o - h).abs() < 1e-15),
+                    "{axis:?}: no face at {h} along {dir:?}"
+                );
+            }
+            for q in p.vertices() {
+                // On an end circle (|q_k| ≥ l/2) or a corner of the straight part.
+                let along = q[k].abs() - 0.5 * l;
+                let rho = (along.max(0.0).powi(2) + q[iw] * q[iw]).sqrt();
+                assert!((rho - r).abs() < 1e-15 && (q[it].abs() - 0.5 * t).abs() < 1e-15);
+            }
+            assert_eq!(p.vertices().len(), 4 * (BEAM_END_SEGMENTS + 1));
+            assert_eq!(p.face_planes().count(), 4 + 2 * BEAM_END_SEGMENTS);
+            assert!((p.layer_depth() - r.min(0.5 * t)).abs() < 1e-15);
+        }
     }
 
     #[test]
