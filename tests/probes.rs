@@ -554,7 +554,7 @@ fn free_micrometre_sphere_builds_and_falls() {
     let r = r.last().unwrap();
     let w = res.signal("dust.w_abs").unwrap();
     let w = w.last().unwrap();
-    // The velocity-product torque leaves out `v × (m v)` exactly (dynamics/spatial.rs
+    // The velocity-product torque leaves out `v × (m v)` exactly (modia3d-core/src/spatial.rs
     // `bias_force`): its rounding swamped the 1e-25 kg·m² inertia and IDA took 650,000 steps
     // (70 now, as for a 1 cm sphere).
     assert!(res.stats.solver.steps < 1_000, "{:?}", res.stats.solver);

@@ -32,6 +32,10 @@ mod results;
 pub mod scene;
 #[cfg(feature = "solver")]
 mod simulation;
+// Spatial (6D) algebra: vocabulary of `joints/`, `dynamics/`, `contact/` and `dae/`, so it sits
+// below all of them (it imports nothing of the crate).
+#[cfg(feature = "solver")]
+mod spatial;
 #[cfg(feature = "solver")]
 mod sweep;
 // The safe IDA wrapper is complete (vector tolerances, both `IDACalcIC` modes, recoverable

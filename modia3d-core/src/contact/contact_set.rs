@@ -16,8 +16,6 @@ use super::response::{
 };
 use crate::dynamics::forces::{add_world_wrench, world_wrench_in_body};
 use crate::dynamics::kinematics::point_velocity;
-use crate::dynamics::spatial::Force;
-use crate::dynamics::spatial::Transform;
 use crate::dynamics::{Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
 use crate::geometry::overlap::{frustum_planes_overlap, polytope_overlap, Overlap, OverlapScratch};
@@ -27,6 +25,8 @@ use crate::geometry::{
     aabb_distance, contact_patch, signed_distance_method, world_aabb, ContactPatch, GeometryError,
     SignedDistance,
 };
+use crate::spatial::Force;
+use crate::spatial::Transform;
 use nalgebra::{Isometry3, Point3, Rotation3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::bounding_volume::BoundingVolume;
 

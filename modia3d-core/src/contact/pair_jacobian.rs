@@ -36,9 +36,9 @@
 use super::contact_set::ContactState;
 use super::preprocess::ContactPlan;
 use super::regularise::{reg, reg_slope, soft_clamp, soft_clamp_slope};
-use crate::dynamics::spatial::Force;
 use crate::dynamics::{BodyId, Workspace};
 use crate::geometry::{CoreShape, ShapeKind};
+use crate::spatial::Force;
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Tangent directions per moving body: `δx` (3), `δθ` (3), `δω` (3), `δv` (3).

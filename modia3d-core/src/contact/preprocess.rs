@@ -7,11 +7,11 @@
 //! time and result queries only).
 
 use crate::dynamics::plan::BodyPlan;
-use crate::dynamics::spatial::Transform;
 use crate::dynamics::{BodyId, IdVec, ObjectPlan};
 use crate::geometry::overlap::{Frustum, OverlapScratch, Polytope};
 use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
+use crate::spatial::Transform;
 
 /// A collision shape of the plan.
 #[derive(Clone, Debug)]

@@ -48,12 +48,12 @@ use super::jacobian::{bias_force_derivative, central_back, own_body};
 use super::MultibodyDae;
 use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::plan::JointPlan;
-use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
 use crate::dynamics::BodyId;
 use crate::dynamics::{forces, kinematics, rnea, InputTarget, Plan, Workspace};
 use crate::joints::JointCoord;
 use crate::scene::ValidForce;
 use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
+use crate::spatial::{axis_angle, Force, Motion, Transform};
 use nalgebra::Vector3;
 
 /// The hinge trees of a plan and the scratch of their tangent passes.

@@ -42,11 +42,11 @@
 use super::increment_caps::{rotation_cap, with_step_floor};
 use super::MultibodyDae;
 use crate::contact::{pair_wrench_jacobian, ContactPlan, ContactState, PER_BODY};
-use crate::dynamics::spatial::{quat_to_matrix, Force, Inertia, Motion};
 use crate::dynamics::{kinematics, BodyId, InputTarget, Plan, Workspace};
 use crate::joints::JointCoord;
 use crate::scene::ValidForce;
 use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
+use crate::spatial::{quat_to_matrix, Force, Inertia, Motion};
 use nalgebra::{Matrix3, Matrix4, SMatrix, Vector3, Vector4};
 
 /// A joint tree that is one body on a FreeMotion joint to the world (or to an object fixed to
@@ -1241,12 +1241,16 @@ pub(super) mod tests {
                             let g = cs.pair_geometry(&plan, cp, &ws, k, 0.0).unwrap();
                             // The rows' frame of each free body (`in_rows`).
                             let (fa, fb) = cs.pair_wrenches(cp, &ws, k, &g);
-                            let turn = |b: Option<crate::dynamics::BodyId>, f: Option<crate::dynamics::spatial::Force>| {
-                                match (b.and_then(|b| tb.free[tb.of_body[b.index()]]), f) {
-                                    (Some(fb), Some(f)) => Some(super::in_rows(&plan, &ws, &fb, &f)),
-                                    (_, f) => f,
-                                }
-                            };
+                            let turn =
+                                |b: Option<crate::dynamics::BodyId>,
+                                 f: Option<crate::spatial::Force>| {
+                                    match (b.and_then(|b| tb.free[tb.of_body[b.index()]]), f) {
+                                        (Some(fb), Some(f)) => {
+                                            Some(super::in_rows(&plan, &ws, &fb, &f))
+                                        }
+                                        (_, f) => f,
+                                    }
+                                };
                             (yy[j] - y[j], (turn(ba, fa), turn(bb, fb)))
                         };
                         let ((hp, wp), (hm, wm)) = (eval(eta), eval(-eta));

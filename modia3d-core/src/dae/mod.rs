@@ -730,7 +730,7 @@ impl DaeSystem for MultibodyDae {
                 .filter(|&(t, _)| !hinge.get(t).copied().unwrap_or(false) && lone[t].is_none())
                 .map(|(_, g)| g)
         };
-        mc.ws.f_ext.fill(crate::dynamics::spatial::Force::default());
+        mc.ws.f_ext.fill(crate::spatial::Force::default());
         let width = others().map(Vec::len).max().unwrap_or(0);
         let prescribed = |k: usize| plan.prescribed.get(k).is_some_and(Option::is_some);
         for c in 0..width {

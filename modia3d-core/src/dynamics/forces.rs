@@ -3,10 +3,10 @@
 //! Needs `kinematics::position_velocity` first. No allocation.
 
 use super::kinematics::{object_in_world, point_velocity};
-use super::spatial::Force;
 use super::{BodyId, InputTarget, ObjectId, Plan, Workspace};
 use crate::scene::{Bushing, Law, ObjectMotion, ScalarLaw, VectorLaw, Wrench};
 use crate::scene::{SceneError, SceneErrors, ValidForce};
+use crate::spatial::Force;
 use nalgebra::{Matrix3, Vector3};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 

@@ -2,8 +2,8 @@
 //! (parents first), and the kinematic part of the residual `q̇ − q̇(q, v)`.
 
 use super::plan::BodyPlan;
-use super::spatial::{Motion, Transform};
 use super::{BodyId, ObjectId, Plan, Workspace};
+use crate::spatial::{Motion, Transform};
 use nalgebra::Vector3;
 
 /// Computes `ws.x`, `ws.world`, `ws.vj`, `ws.vel` (and `ws.cj` of joints whose motion

@@ -6,8 +6,8 @@
 
 use super::forces::applied_forces;
 use super::kinematics::position_velocity;
-use super::spatial::Force;
 use super::{Plan, Workspace};
+use crate::spatial::Force;
 use nalgebra::{DMatrix, Vector3};
 
 /// The diagonal blocks of `M(q)`, one per joint tree: the tree's velocity indices (ascending)
@@ -306,7 +306,8 @@ pub fn singular_coordinate(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{kinematics, rnea, spatial::Force};
+    use crate::dynamics::{kinematics, rnea};
+    use crate::spatial::Force;
     use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
     use nalgebra::Vector3;
 

@@ -10,12 +10,11 @@ pub mod loops;
 pub mod mass_matrix;
 pub mod plan;
 pub mod rnea;
-pub mod spatial;
 
 pub use ids::{BodyId, IdVec, ObjectId};
 pub use plan::{InputTarget, ObjectPlan, Plan};
 
-use spatial::{Force, Motion, Transform};
+use crate::spatial::{Force, Motion, Transform};
 
 /// Mutable per-body scratch of the recursive algorithms; allocated once per plan, so the
 /// residual allocates nothing.

@@ -5,11 +5,11 @@
 //! states. Touches only scene data.
 
 use super::ids::{BodyId, IdVec, JointId, ObjectId};
-use super::spatial::{Inertia, Transform};
 pub use crate::joints::JointCoord;
 use crate::scene::{
     GravityField, SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene,
 };
+use crate::spatial::{Inertia, Transform};
 use nalgebra::{Isometry3, Vector3};
 
 /// A moving body: the objects rigidly attached to each other, moved by one joint.

@@ -3,8 +3,8 @@
 //! `kinematics::position_velocity`) and accelerations `v̇`, the generalised forces
 //! `τ = M(q) v̇ + C(q, v) − τ_ext` that the joints must transmit. O(n), no allocation.
 
-use super::spatial::{Force, Motion};
 use super::{Plan, Workspace};
+use crate::spatial::{Force, Motion};
 use nalgebra::Vector3;
 
 /// Fills `tau` (len nv) with the joint forces for accelerations `vd` at positions `q` (the

@@ -4,9 +4,9 @@
 
 use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
 #[cfg(feature = "solver")]
-use crate::dynamics::loops::Row;
+use crate::joints::rows::Row;
 #[cfg(feature = "solver")]
-use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
+use crate::spatial::{axis_angle, Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::Vector3;
 
@@ -109,7 +109,7 @@ pub(crate) fn validate(
 /// alignments of the axis.
 #[cfg(feature = "solver")]
 pub(crate) fn locked_rows(axis: &nalgebra::Vector3<f64>) -> Vec<Row> {
-    let (u, w) = crate::dynamics::loops::perpendiculars(axis);
+    let (u, w) = crate::joints::rows::perpendiculars(axis);
     let mut r = Row::translations(&[u, w]);
     r.extend(Row::alignments(axis));
     r

@@ -32,9 +32,9 @@
 
 use super::{Checker, KindInfo, SignalSpec, Source, ValidJointKind};
 #[cfg(feature = "solver")]
-use crate::dynamics::loops::Row;
+use crate::joints::rows::Row;
 #[cfg(feature = "solver")]
-use crate::dynamics::spatial::{quat_rate, quat_to_matrix, Force, Motion, Transform};
+use crate::spatial::{quat_rate, quat_to_matrix, Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 

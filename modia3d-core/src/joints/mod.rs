@@ -9,7 +9,7 @@
 //! the plan and residual (dynamics). This module compiles without the `solver` feature so that
 //! validation — which the `model!` macro runs at compile time without SUNDIALS — asks the same
 //! kind the dynamics asks; the dynamics functions are gated behind `solver` because they use
-//! the spatial algebra of `dynamics/`. Touches only the slices of `q`, `v` it is given.
+//! the spatial algebra of `spatial.rs`. Touches only the slices of `q`, `v` it is given.
 //!
 //! The rest of the crate asks a [`JointCoord`] (a small enum whose methods dispatch to the
 //! per-kind files; no trait objects in the hot path). Each kind's file also validates the
@@ -26,14 +26,16 @@ pub(crate) mod free;
 pub(crate) mod planar;
 pub(crate) mod prismatic;
 pub(crate) mod revolute;
+#[cfg(feature = "solver")]
+pub(crate) mod rows;
 pub(crate) mod spherical;
 pub(crate) mod universal;
 
 #[cfg(feature = "solver")]
-use crate::dynamics::loops::Row;
-#[cfg(feature = "solver")]
-use crate::dynamics::spatial::{Force, Motion, Transform};
+use crate::joints::rows::Row;
 use crate::scene::validate::Checker;
+#[cfg(feature = "solver")]
+use crate::spatial::{Force, Motion, Transform};
 use crate::{FreeRotation, JointKind};
 use nalgebra::UnitQuaternion;
 use nalgebra::Vector3;

@@ -7,9 +7,9 @@
 
 use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
 #[cfg(feature = "solver")]
-use crate::dynamics::loops::Row;
+use crate::joints::rows::Row;
 #[cfg(feature = "solver")]
-use crate::dynamics::spatial::{axis_angle, Force, Motion, Transform};
+use crate::spatial::{axis_angle, Force, Motion, Transform};
 use nalgebra::Vector3;
 
 /// Signals: `x`, `y` \[m\], `phi` \[rad\], `vx`, `vy` [m/s], `w` [rad/s].

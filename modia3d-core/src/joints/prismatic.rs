@@ -3,9 +3,9 @@
 
 use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
 #[cfg(feature = "solver")]
-use crate::dynamics::loops::Row;
+use crate::joints::rows::Row;
 #[cfg(feature = "solver")]
-use crate::dynamics::spatial::{Force, Motion, Transform};
+use crate::spatial::{Force, Motion, Transform};
 #[cfg(feature = "solver")]
 use nalgebra::{Matrix3, Vector3};
 
@@ -86,7 +86,7 @@ pub(crate) fn validate(
 /// rotations.
 #[cfg(feature = "solver")]
 pub(crate) fn locked_rows(axis: &nalgebra::Vector3<f64>) -> Vec<Row> {
-    let (u, w) = crate::dynamics::loops::perpendiculars(axis);
+    let (u, w) = crate::joints::rows::perpendiculars(axis);
     let mut r = Row::translations(&[u, w]);
     r.extend(Row::rotations());
     r

@@ -37,7 +37,6 @@
 use super::{derivative_error, ida_options, record, SimErrorKind, Simulation};
 use crate::dae::MultibodyDae;
 use crate::dynamics::ids::ObjectId;
-use crate::dynamics::spatial::Transform;
 use crate::dynamics::{kinematics, Plan, Workspace};
 use crate::geometry::{signed_distance, CollisionShape, NarrowPhaseOptions};
 use crate::model::Model;
@@ -47,6 +46,7 @@ use crate::scene::{
     JointKind, Rotation, SceneDesc, SceneErrors,
 };
 use crate::solver::{DaeSystem, Ida, IdaStats};
+use crate::spatial::Transform;
 use nalgebra::{
     DMatrix, DVector, Isometry3, Matrix3, Rotation3, Translation3, UnitQuaternion, Vector3,
 };
