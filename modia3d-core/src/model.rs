@@ -1,16 +1,15 @@
 //! Model stage: compiles a validated scene, in one place, into the two immutable plans a run
 //! shares — the multibody [`Plan`] (dynamics) and, beside it, the collision pipeline's
-//! [`ContactPlan`] (`None` without candidate pairs) — and is the entry point of a run
-//! ([`Model::simulate`], [`Model::simulation`]). Neither plan refers to the other: the DAE
-//! stage takes both.
+//! [`ContactPlan`] (`None` without candidate pairs). Neither plan refers to the other: the DAE
+//! stage takes both. A model is data: its runners ([`Model::simulate`], [`Model::simulation`])
+//! are the driver's (`simulation.rs`) and its signal names the result store's
+//! (`results/mod.rs`), so this file imports nothing above the plans.
 // No panic on user input: indexing goes through `get` and iterators (issue 15's audit).
 #![deny(clippy::indexing_slicing)]
 
 use crate::contact::ContactPlan;
 use crate::dynamics::Plan;
-use crate::results::SimulationResult;
 use crate::scene::{SceneDesc, SceneErrors, ValidScene};
-use crate::simulation::{SimError, SimOptions, Simulation};
 use std::sync::Arc;
 
 /// A compiled, runnable model. Cheap to clone; runs share the immutable plans. `Debug` prints
@@ -228,24 +227,5 @@ impl Model {
     /// Names of the declared inputs.
     pub fn input_names(&self) -> Vec<&str> {
         self.plan.inputs.iter().map(|i| i.name.as_str()).collect()
-    }
-
-    /// Names of the signals a result of this model has (joint coordinates and object motions;
-    /// see [`SimulationResult::signal_names`]). Contact signals (`"<a>|<b>.f_n"`, …) exist in
-    /// addition for each of [`Model::contact_pairs`] when the run records them
-    /// ([`SimOptions::contact_results`]).
-    pub fn signal_names(&self) -> Vec<String> {
-        SimulationResult::new(self.clone()).signal_names()
-    }
-
-    /// Runs the model with error control from `opts.start_time` to `opts.stop_time`.
-    pub fn simulate(&self, opts: &SimOptions) -> Result<SimulationResult, SimError> {
-        crate::simulation::run(self, opts)
-    }
-
-    /// A step-wise simulation of this model (see [`Simulation`]); the plans are shared, not
-    /// recompiled.
-    pub fn simulation(&self, opts: &SimOptions) -> Result<Simulation, SimError> {
-        Simulation::new(self, opts)
     }
 }

@@ -301,6 +301,21 @@ impl SimErrorKind {
     }
 }
 
+// The runners of a model live with the driver they run (issue 41, "runners up"): `model.rs`
+// holds the compiled plans and knows nothing of runs.
+impl Model {
+    /// Runs the model with error control from `opts.start_time` to `opts.stop_time`.
+    pub fn simulate(&self, opts: &SimOptions) -> Result<SimulationResult, SimError> {
+        run(self, opts)
+    }
+
+    /// A step-wise simulation of this model (see [`Simulation`]); the plans are shared, not
+    /// recompiled.
+    pub fn simulation(&self, opts: &SimOptions) -> Result<Simulation, SimError> {
+        Simulation::new(self, opts)
+    }
+}
+
 /// `model.simulate(opts)`: a [`Simulation`] advanced to the stop time, with a progress bar on
 /// a terminal.
 pub(crate) fn run(model: &Model, opts: &SimOptions) -> Result<SimulationResult, SimError> {

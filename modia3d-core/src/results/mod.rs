@@ -344,6 +344,16 @@ impl std::fmt::Debug for SimulationResult {
 /// Warnings listed by [`SimulationResult::summary`]; the rest are counted.
 const SUMMARY_WARNINGS: usize = 3;
 
+impl Model {
+    /// Names of the signals a result of this model has (joint coordinates and object motions;
+    /// see [`SimulationResult::signal_names`]). Contact signals (`"<a>|<b>.f_n"`, …) exist in
+    /// addition for each of [`Model::contact_pairs`] when the run records them
+    /// ([`SimOptions::contact_results`](crate::SimOptions::contact_results)).
+    pub fn signal_names(&self) -> Vec<String> {
+        SimulationResult::new(self.clone()).signal_names()
+    }
+}
+
 impl SimulationResult {
     /// One line about what the run recorded: output points, time span \[s\], events, e.g.
     /// `output points: 437, t = 0 … 0.4374 s, events: 12` (how far a failed run got, in
