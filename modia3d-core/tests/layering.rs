@@ -1,9 +1,8 @@
 //! The crate's imports point down its layering (ARCHITECTURE.md, "Layers"; issue 41): every
 //! `use crate::…`/`use super::…` and every `crate::…` path in the code of `src/**/*.rs` (comments
-//! and `#[cfg(test)]` modules left out) names a file of the same or a lower layer. The imports
-//! that still run up are listed in `KNOWN_UP`, each with the step that removes it: a new one
-//! fails this test, and so does a listed one that is gone (delete its line), so the list only
-//! shrinks.
+//! and `#[cfg(test)]` modules left out) names a file of the same or a lower layer; `crate::Item`
+//! paths are followed through the crate root's re-exports. The layer table is the one of
+//! ARCHITECTURE.md.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
@@ -15,28 +14,26 @@ const LAYERS: &[(&str, u32)] = &[
     ("solver/", 0),
     ("spatial.rs", 0),
     ("joints/rows.rs", 0),
+    // The description (builder data, materials, force laws) and validation's errors.
     ("scene/", 1),
+    // The joint kinds: each checks its own parameters with validation's `Checker`.
     ("joints/", 2),
-    ("dynamics/", 3),
-    ("contact/", 4),
-    ("dae/", 5),
-    ("model.rs", 6),
-    ("results/", 7),
-    ("simulation.rs", 8),
-    ("simulation/", 8),
-    ("sweep/", 9),
-    ("bench.rs", 9),
-    ("lib.rs", 10),
-];
-
-/// Imports that still run up, `(from, to)`, and what removes them.
-const KNOWN_UP: &[(&str, &str)] = &[
-    // Validation asks the joint kinds' table, which takes validation's `Checker`: `Checker` and
-    // the errors move to a leaf (`scene/error.rs`, issue 41 A).
-    ("scene/topology.rs", "joints/mod.rs"),
-    ("scene/validate/forces.rs", "joints/mod.rs"),
-    ("scene/validate/joints.rs", "joints/mod.rs"),
-    ("scene/validate/mod.rs", "joints/mod.rs"),
+    // Validation, the tree search and the contact rules of a validated scene ask the joint
+    // kinds.
+    ("scene/validate/", 3),
+    ("scene/validate/error.rs", 1),
+    ("scene/topology.rs", 3),
+    ("scene/contact_rules.rs", 3),
+    ("dynamics/", 4),
+    ("contact/", 5),
+    ("dae/", 6),
+    ("model.rs", 7),
+    ("results/", 8),
+    ("simulation.rs", 9),
+    ("simulation/", 9),
+    ("sweep/", 10),
+    ("bench.rs", 10),
+    ("lib.rs", 11),
 ];
 
 fn layer(file: &str) -> u32 {
@@ -82,6 +79,18 @@ fn code_of(src: &str) -> String {
         .join("\n")
 }
 
+/// A statement without its leading attributes (`#[cfg(…)]`) and whitespace.
+fn without_attributes(stmt: &str) -> &str {
+    let mut s = stmt.trim_start();
+    while s.starts_with("#[") {
+        match s.find(']') {
+            Some(end) => s = s[end + 1..].trim_start(),
+            None => break,
+        }
+    }
+    s
+}
+
 /// The paths a `use` tree names, braces expanded (`a::{b, c::{d}}` → `a::b`, `a::c::d`).
 fn expand(prefix: &str, tree: &str, out: &mut Vec<String>) {
     let tree = tree.trim();
@@ -122,13 +131,34 @@ fn imports_point_down_the_layers() {
                 .replace('\\', "/")
         })
         .collect();
-    // The file a module path lands in: its longest prefix that is a file.
-    let file_of = |path: &[String]| -> Option<String> {
+    // The crate root's re-exports (`crate::Model` is `crate::model::Model`).
+    let mut reexports = vec![];
+    for stmt in code_of(&std::fs::read_to_string(src.join("lib.rs")).unwrap()).split(';') {
+        if let Some(tree) = without_attributes(stmt).strip_prefix("pub use ") {
+            expand(
+                "",
+                &tree.split_whitespace().collect::<String>(),
+                &mut reexports,
+            );
+        }
+    }
+    // The file a module path lands in: its longest prefix that is a file, through the root's
+    // re-exports for `crate::Item`.
+    let longest = |path: &[&str]| -> Option<String> {
         (1..=path.len()).rev().find_map(|k| {
             let p = path[..k].join("/");
             [format!("{p}.rs"), format!("{p}/mod.rs")]
                 .into_iter()
                 .find(|f| names.contains(f))
+        })
+    };
+    let file_of = |path: &[String]| -> Option<String> {
+        let path: Vec<&str> = path.iter().map(String::as_str).collect();
+        longest(&path).or_else(|| {
+            let full = reexports
+                .iter()
+                .find(|r| r.rsplit("::").next() == path.first().copied())?;
+            longest(&full.split("::").collect::<Vec<_>>())
         })
     };
     let mut up = BTreeSet::new();
@@ -137,7 +167,7 @@ fn imports_point_down_the_layers() {
         let me = module_of(name);
         let mut paths = vec![];
         for stmt in code.split(';') {
-            let s = stmt.trim_start();
+            let s = without_attributes(stmt);
             let s = s
                 .strip_prefix("pub(crate) ")
                 .or(s.strip_prefix("pub "))
@@ -192,15 +222,5 @@ fn imports_point_down_the_layers() {
             }
         }
     }
-    let known: BTreeSet<(String, String)> = KNOWN_UP
-        .iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect();
-    let new: Vec<_> = up.difference(&known).collect();
-    let gone: Vec<_> = known.difference(&up).collect();
-    assert!(new.is_empty(), "imports that run up the layers: {new:?}");
-    assert!(
-        gone.is_empty(),
-        "listed in KNOWN_UP but gone (delete them): {gone:?}"
-    );
+    assert!(up.is_empty(), "imports that run up the layers: {up:?}");
 }

@@ -33,7 +33,7 @@ pub(crate) mod universal;
 
 #[cfg(feature = "solver")]
 use crate::joints::rows::Row;
-use crate::scene::validate::Checker;
+use crate::scene::validate::error::Checker;
 #[cfg(feature = "solver")]
 use crate::spatial::{Force, Motion, Transform};
 use crate::{FreeRotation, JointKind};

@@ -307,3 +307,38 @@ pub fn did_you_mean<'a>(name: &str, candidates: impl Iterator<Item = &'a str>) -
         .min_by_key(|(d, _)| *d)
         .map(|(_, c)| c.to_string())
 }
+
+/// Collects the errors of one validation round.
+pub(crate) struct Checker {
+    /// Every error found so far, in the order found.
+    pub(crate) errors: Vec<SceneError>,
+}
+
+impl Checker {
+    pub(crate) fn value(
+        &mut self,
+        what: impl FnOnce() -> String,
+        v: f64,
+        ok: bool,
+        expected: &'static str,
+    ) {
+        if !ok || !v.is_finite() {
+            self.errors.push(SceneError::InvalidValue {
+                what: what(),
+                value: v,
+                expected,
+            });
+        }
+    }
+    pub(crate) fn finite(&mut self, what: impl Fn() -> String, vals: &[f64]) {
+        for &v in vals {
+            self.value(&what, v, true, "finite");
+        }
+    }
+    pub(crate) fn positive(&mut self, what: impl FnOnce() -> String, v: f64) {
+        self.value(what, v, v > 0.0, "finite and > 0");
+    }
+    pub(crate) fn non_negative(&mut self, what: impl FnOnce() -> String, v: f64) {
+        self.value(what, v, v >= 0.0, "finite and ≥ 0");
+    }
+}

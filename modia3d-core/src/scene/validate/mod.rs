@@ -9,7 +9,7 @@
 //! contact-pair material ranges), `error.rs`; the topology is `../topology.rs`.
 
 mod actions;
-mod error;
+pub(crate) mod error;
 mod forces;
 mod joints;
 mod objects;
@@ -17,6 +17,7 @@ mod options;
 
 /// The resolved joint kinds are defined with the kinds themselves (`joints/mod.rs`).
 pub use crate::joints::ValidJointKind;
+pub(crate) use error::Checker;
 pub use error::{did_you_mean, SceneError, SceneErrors};
 
 use super::desc::{ForceElement, SceneDesc};
@@ -255,41 +256,6 @@ impl ValidScene {
             self.defined_contact_pair(b, b)?,
         );
         Some(average_pair(&p, &q))
-    }
-}
-
-/// Collects the errors of one validation round.
-pub(crate) struct Checker {
-    /// Every error found so far, in the order found.
-    pub(crate) errors: Vec<SceneError>,
-}
-
-impl Checker {
-    pub(crate) fn value(
-        &mut self,
-        what: impl FnOnce() -> String,
-        v: f64,
-        ok: bool,
-        expected: &'static str,
-    ) {
-        if !ok || !v.is_finite() {
-            self.errors.push(SceneError::InvalidValue {
-                what: what(),
-                value: v,
-                expected,
-            });
-        }
-    }
-    pub(crate) fn finite(&mut self, what: impl Fn() -> String, vals: &[f64]) {
-        for &v in vals {
-            self.value(&what, v, true, "finite");
-        }
-    }
-    pub(super) fn positive(&mut self, what: impl FnOnce() -> String, v: f64) {
-        self.value(what, v, v > 0.0, "finite and > 0");
-    }
-    pub(super) fn non_negative(&mut self, what: impl FnOnce() -> String, v: f64) {
-        self.value(what, v, v >= 0.0, "finite and ≥ 0");
     }
 }
 
