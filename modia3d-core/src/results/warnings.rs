@@ -87,6 +87,16 @@ pub enum SimWarning {
         /// The output interval \[s\].
         interval: f64,
     },
+    /// A solid's mesh was repaired for its mass properties when the scene was built
+    /// (`geometry::repair_mesh`: coincident vertices merged, small holes closed): the message
+    /// says what was repaired and how much it changed the volume.
+    #[error("solid `{object}`: {repair}; if the change matters, repair the file or give the mass properties explicitly")]
+    MeshRepaired {
+        /// The solid.
+        object: String,
+        /// What was repaired, with the volumes before and after [m³].
+        repair: crate::geometry::MeshRepair,
+    },
 }
 
 impl SimWarning {
@@ -120,6 +130,12 @@ impl SimWarning {
             SimWarning::MissedContacts { pair, phases, .. } => {
                 format!("{phases} contact phase(s) of `{pair}` fell between output points")
             }
+            SimWarning::MeshRepaired { object, repair } => format!(
+                "`{object}`: mesh repaired ({} vertices merged, {} hole(s) closed), volume {:+.3} %",
+                repair.merged_vertices,
+                repair.holes,
+                100.0 * repair.relative_volume_change()
+            ),
         }
     }
 }

@@ -1,5 +1,5 @@
 //! Driver: the checks behind `SimulationResult::warnings` ([`SimWarning`]). At the start of a
-//! run: collision solids that can never meet, unit slips (sizes and masses far from the
+//! run: meshes repaired when the scene was built, collision solids that can never meet, unit slips (sizes and masses far from the
 //! scene's others), initial penetrations deeper than the smoothing radius. After each
 //! `advance_to`: chattering contacts and contact phases the output grid missed. Reads the
 //! model, the initial contact set and the recorded result; allocates freely (not a hot path).
@@ -68,6 +68,13 @@ fn median(mut v: Vec<f64>) -> Option<f64> {
 pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<SimWarning> {
     let mut out = never_collide(model);
     out.extend(scale_outliers(model));
+    out.extend(model.plan.scene.objects.iter().filter_map(|o| {
+        let repair = o.solid.as_ref()?.mesh_repair.clone()?;
+        Some(SimWarning::MeshRepaired {
+            object: o.name.clone(),
+            repair,
+        })
+    }));
     if let (Some(cs), Some(cp)) = (cs, model.contact.as_deref()) {
         let radius = model.plan.scene.options.smoothing_radius;
         for (_, pp, st) in cs.active_pairs() {

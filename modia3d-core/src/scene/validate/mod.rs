@@ -59,6 +59,9 @@ pub struct ValidSolid {
     /// Material whose Young's modulus and Poisson's ratio the contact law uses (collision
     /// solids only): the solid material, else the solid material named by the contact material.
     pub contact_elasticity: Option<SolidMaterial>,
+    /// What was repaired in the solid's mesh for its mass properties (merged vertices, closed
+    /// holes, the volume change), if anything; `shape` is the repaired mesh.
+    pub mesh_repair: Option<crate::geometry::MeshRepair>,
 }
 
 /// A resolved object.
