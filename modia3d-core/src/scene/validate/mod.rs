@@ -17,7 +17,7 @@ mod options;
 
 /// The resolved joint kinds are defined with the kinds themselves (`joints/mod.rs`).
 pub use crate::joints::ValidJointKind;
-pub use error::{did_you_mean, SceneError, SceneErrors};
+pub use error::{did_you_mean, LoopReach, SceneError, SceneErrors, SizeSlip};
 
 use super::desc::{ForceElement, SceneDesc};
 use super::materials::{average_pair, builtin_contact_pair, ContactPairMaterial, SolidMaterial};
