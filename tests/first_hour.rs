@@ -1,6 +1,7 @@
 //! Issue 44, "the first hour of a new user": errors that read well through `main`'s
-//! `Result` (point 2), a restitution only for impacts (point 7), and warnings that reach the
-//! user without a `tracing` subscriber (point 3).
+//! `Result` (point 2), a restitution only for impacts (point 7), warnings that reach the
+//! user without a `tracing` subscriber (point 3), and an initial-penetration error that names
+//! the size slip behind it (point 8; the loop that cannot close is in `tests/loops.rs`).
 
 use modia3d::demo;
 use modia3d::prelude::*;
