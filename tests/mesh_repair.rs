@@ -14,34 +14,33 @@ fn mesh_path(name: &str) -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/meshes")).join(name)
 }
 
+/// The mesh file `path` as a shape, unloaded.
+fn file_mesh(path: PathBuf) -> Shape {
+    Shape::FileMesh {
+        path,
+        scale: Vector3::repeat(1.0),
+        collision: MeshCollision::ConvexHull,
+    }
+}
+
 /// A world and one steel solid `link` of the mesh file `path`, swinging on a revolute joint
 /// about the world's x axis.
 fn link_scene(path: PathBuf) -> SceneDesc {
+    shape_scene(file_mesh(path))
+}
+
+/// [`link_scene`] with the solid's shape `shape`.
+fn shape_scene(shape: Shape) -> SceneDesc {
     let mut s = SceneDesc::new();
     s.add(world(SceneOptions::default()))
-        .add(
-            Object3D::new("link").solid(
-                Solid::new(Shape::FileMesh {
-                    path,
-                    scale: Vector3::repeat(1.0),
-                    collision: MeshCollision::ConvexHull,
-                })
-                .material("Steel"),
-            ),
-        )
+        .add(Object3D::new("link").solid(Solid::new(shape).material("Steel")))
         .add_joint(Joint::new("rev", "world", "link", JointKind::revolute(1)));
     s
 }
 
 /// The mesh file `path` read and repaired as `build()` does for a solid.
 fn repaired(path: PathBuf) -> (TriangleMesh, MeshRepair) {
-    let shape = Shape::FileMesh {
-        path,
-        scale: Vector3::repeat(1.0),
-        collision: MeshCollision::ConvexHull,
-    }
-    .load()
-    .unwrap();
+    let shape = file_mesh(path).load().unwrap();
     let Shape::Mesh { mesh, .. } = shape else {
         panic!("{shape:?}")
     };
@@ -385,6 +384,19 @@ fn a_mesh_with_a_large_hole_is_rejected_with_the_reason() {
     ] {
         assert!(text.contains(part), "{part}: {text}");
     }
+    // The same mesh given as a loaded `Shape::Mesh` is checked the same way.
+    let loaded = file_mesh(path.clone()).load().unwrap();
+    let errs = shape_scene(loaded).build().unwrap_err();
+    assert!(
+        matches!(
+            &errs.0[..],
+            [SceneError::Mesh {
+                error: GeometryError::MeshHoles { holes: 1, .. },
+                ..
+            }]
+        ),
+        "{errs:?}"
+    );
     // The closed box builds, and needs no repair.
     std::fs::write(&path, cube_obj(None)).unwrap();
     link_scene(path.clone()).build().unwrap();

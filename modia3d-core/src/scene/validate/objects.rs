@@ -127,7 +127,17 @@ pub(super) fn objects(
                 // validation sees the mesh.
                 let loaded;
                 let mut mesh_repair = None;
-                let s = match s.shape.as_ref().and_then(|sh| load_shape(c, &o.name, sh)) {
+                // A mesh given as `Shape::Mesh` (not read from a file) is repaired too.
+                let mesh = s
+                    .shape
+                    .clone()
+                    .filter(|sh| matches!(sh, Shape::Mesh { .. }));
+                let s = match s
+                    .shape
+                    .as_ref()
+                    .and_then(|sh| load_shape(c, &o.name, sh))
+                    .or(mesh)
+                {
                     Some(shape) => {
                         let (shape, repair) = solid_mesh(c, &o.name, shape);
                         mesh_repair = repair;
