@@ -94,7 +94,7 @@ pub enum SimWarning {
     MeshRepaired {
         /// The solid.
         object: String,
-        /// What was repaired, with the volumes before and after [m³].
+        /// What was repaired, with the volumes before and after \[m³\].
         repair: crate::geometry::MeshRepair,
     },
 }
