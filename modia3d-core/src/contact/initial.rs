@@ -84,6 +84,14 @@ pub(crate) fn size_outliers(scene: &crate::scene::ValidScene, cp: &ContactPlan) 
     out
 }
 
+/// The size slip among `slips` of either object of the pair named `pair` (`"a|b"`, a
+/// decomposed mesh's part named `<object>#<k>`), if any.
+pub(crate) fn slip_of_pair<'a>(slips: &'a [SizeSlip], pair: &str) -> Option<&'a SizeSlip> {
+    let (a, b) = pair.split_once('|').unwrap_or((pair, ""));
+    let is = |s: &SizeSlip, name: &str| name.split('#').next() == Some(s.object.as_str());
+    slips.iter().find(|s| is(s, a) || is(s, b))
+}
+
 /// One [`SceneError::InitialPenetration`] for every candidate pair of `cp` whose signed
 /// distance at the plan's initial state `y0` is below `−MAX_INITIAL_DEPTH_RATIO · extent` of
 /// the thinner shape, naming a size slip of either object ([`size_outliers`]) as the likely
@@ -135,15 +143,8 @@ pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneEr
             let size = a.bounding_radius() + b.bounding_radius();
             let names = cp.pair_name(&plan.scene, &pp);
             let (object1, object2) = names.split_once('|').unwrap_or((&names, ""));
-            // A decomposed mesh's part is named `<object>#<k>`.
-            let object = |name: &str| name.split('#').next().unwrap_or(name).to_string();
-            let (o1, o2) = (object(object1), object(object2));
-            let size_slip = slips
-                .get_or_insert_with(|| size_outliers(&plan.scene, cp))
-                .iter()
-                .find(|s| s.object == o1 || s.object == o2)
-                .cloned()
-                .map(Box::new);
+            let slips = slips.get_or_insert_with(|| size_outliers(&plan.scene, cp));
+            let size_slip = slip_of_pair(slips, &names).cloned().map(Box::new);
             errors.push(SceneError::InitialPenetration {
                 object1: object1.to_string(),
                 object2: object2.to_string(),

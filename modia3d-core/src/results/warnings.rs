@@ -8,7 +8,7 @@ pub enum SimWarning {
     /// A colliding pair starts deeper inside each other than the smoothing radius (deeper than
     /// half the thinner shape's extent is already a build error,
     /// `SceneError::InitialPenetration`).
-    #[error("`{pair}` starts {depth:.3e} m deep inside each other (more than the smoothing radius {radius:.1e} m): the contact pushes them apart with a large force at t = 0; check the initial positions and the units (mm vs m)")]
+    #[error("`{pair}` starts {depth:.3e} m deep inside each other (more than the smoothing radius {radius:.1e} m): the contact pushes them apart with a large force at t = 0; {}", match .size_slip { Some(s) => format!("likely cause: {s}"), None => "check the initial positions and the units (mm vs m)".into() })]
     InitialPenetration {
         /// The pair `"a|b"`.
         pair: String,
@@ -16,6 +16,9 @@ pub enum SimWarning {
         depth: f64,
         /// The scene's smoothing radius \[m\].
         radius: f64,
+        /// One of the two far larger than the scene's other collision solids (the unit check
+        /// of sizes, also a [`SimWarning::ScaleOutlier`]): the likely cause.
+        size_slip: Option<crate::scene::SizeSlip>,
     },
     /// A collision solid far larger or smaller than the scene's others (often a length in mm
     /// where m was meant), or a body far heavier or lighter than the others.

@@ -4,10 +4,11 @@
 //! `advance_to`: chattering contacts and contact phases the output grid missed. Reads the
 //! model, the initial contact set and the recorded result; allocates freely (not a hot path).
 
-use crate::contact::initial::{median_of_others, size_outliers};
+use crate::contact::initial::{median_of_others, size_outliers, slip_of_pair};
 use crate::contact::ContactState;
 use crate::model::Model;
 use crate::results::{SimWarning, SimulationResult};
+use crate::scene::SizeSlip;
 use crate::scene::{colliding_objects, CollisionFilter};
 
 /// A body this many times heavier or lighter than the median of the others.
@@ -42,7 +43,12 @@ pub(super) fn report(new: &[SimWarning]) -> String {
 /// Warnings about the model and its initial state `cs` (the contact set at the start time).
 pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<SimWarning> {
     let mut out = never_collide(model);
-    out.extend(scale_outliers(model));
+    let slips = model
+        .contact
+        .as_deref()
+        .map(|cp| size_outliers(&model.plan.scene, cp))
+        .unwrap_or_default();
+    out.extend(scale_outliers(model, &slips));
     out.extend(model.plan.scene.objects.iter().filter_map(|o| {
         let repair = o.solid.as_ref()?.mesh_repair.clone()?;
         Some(SimWarning::MeshRepaired {
@@ -55,10 +61,13 @@ pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<Si
         for (_, pp, st) in cs.active_pairs() {
             let depth = -st.z;
             if depth > radius {
+                let pair = cp.pair_name(&model.plan.scene, pp);
+                let size_slip = slip_of_pair(&slips, &pair).cloned();
                 out.push(SimWarning::InitialPenetration {
-                    pair: cp.pair_name(&model.plan.scene, pp),
+                    pair,
                     depth,
                     radius,
+                    size_slip,
                 });
             }
         }
@@ -90,23 +99,22 @@ fn never_collide(model: &Model) -> Vec<SimWarning> {
     out
 }
 
-/// Moving collision solids far larger than the others, bodies far heavier or lighter.
-fn scale_outliers(model: &Model) -> Vec<SimWarning> {
-    let mut out = vec![];
+/// Moving collision solids far larger than the others (`slips`, the unit check of sizes),
+/// bodies far heavier or lighter.
+fn scale_outliers(model: &Model, slips: &[SizeSlip]) -> Vec<SimWarning> {
     let plan = &model.plan;
-    if let Some(cp) = model.contact.as_deref() {
-        for slip in size_outliers(&plan.scene, cp) {
-            out.push(SimWarning::ScaleOutlier {
-                object: slip.object,
-                quantity: "size",
-                value: slip.size,
-                median: slip.median,
-                ratio: slip.size / slip.median,
-                unit: "m",
-                what: "collision solids",
-            });
-        }
-    }
+    let mut out: Vec<SimWarning> = slips
+        .iter()
+        .map(|slip| SimWarning::ScaleOutlier {
+            object: slip.object.clone(),
+            quantity: "size",
+            value: slip.size,
+            median: slip.median,
+            ratio: slip.size / slip.median,
+            unit: "m",
+            what: "collision solids",
+        })
+        .collect();
     let masses: Vec<f64> = plan.bodies.iter().map(|b| b.inertia.mass).collect();
     for (k, b) in plan.bodies.iter().enumerate() {
         let Some(&mass) = masses.get(k) else { continue };
