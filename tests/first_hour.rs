@@ -1,6 +1,7 @@
 //! Issue 44, "the first hour of a new user": errors that read well through `main`'s
-//! `Result` (point 2), a restitution only for impacts (point 7), and warnings that reach the
-//! user without a `tracing` subscriber (point 3).
+//! `Result` (point 2), a restitution only for impacts (point 7), warnings that reach the
+//! user without a `tracing` subscriber (point 3), and an initial-penetration error that names
+//! the size slip behind it (point 8; the loop that cannot close is in `tests/loops.rs`).
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -338,4 +339,57 @@ fn restitution_is_defined_for_impacts_only() {
         ..impact
     };
     assert_eq!(grazing.restitution(), None);
+}
+
+/// A ball given diameter 100 where 0.1 (m) was meant, placed 1.3 m above the table as for
+/// the 0.1 m ball: it starts 48.7 m deep in the table. The initial-penetration error names the
+/// likely cause that the run's unit check (`SimWarning::ScaleOutlier`) would find: the ball is
+/// 100 times the size of the scene's other collision solid (the 1 m table). Before, the error
+/// said only "start 4.870e1 m inside each other".
+#[test]
+fn initial_penetration_names_a_size_slip() {
+    let pair = ContactPairMaterial::new(0.7, 0.5, 0.001);
+    let d = 100.0;
+    let scene = demo::sphere_on_plane(
+        d,
+        steel(),
+        0.0,
+        1.3 - d / 2.0,
+        pair,
+        SceneOptions::default(),
+    );
+    let errors = scene.build().unwrap_err();
+    let text = errors.to_string();
+    println!("{text}");
+    let [SceneError::InitialPenetration {
+        depth, size_slip, ..
+    }] = &errors.0[..]
+    else {
+        panic!("{errors:?}");
+    };
+    // The ball's lowest point is 50 − 1.3 m below the table's top face.
+    assert!((depth - 48.7).abs() < 1e-6, "{depth}");
+    let slip = size_slip.as_ref().expect("the size slip is named");
+    // Sizes are the largest extents: the ball's diameter, the table's 1 m edge.
+    assert_eq!(slip.object, "ball");
+    assert_eq!((slip.size, slip.median), (100.0, 1.0));
+    assert!(
+        text.contains("likely cause: `ball` is 1.000e2 m across, 100 times the median")
+            && text.contains("wrong unit"),
+        "{text}"
+    );
+    // A penetration of a ball of the right size is reported without a cause it does not have.
+    let scene = demo::sphere_on_plane(0.1, steel(), 0.0, -0.08, pair, SceneOptions::default());
+    let errors = scene.build().unwrap_err();
+    assert!(
+        matches!(
+            &errors.0[..],
+            [SceneError::InitialPenetration {
+                size_slip: None,
+                ..
+            }]
+        ),
+        "{errors:?}"
+    );
+    assert!(!errors.to_string().contains("likely cause"), "{errors}");
 }

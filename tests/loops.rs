@@ -164,6 +164,7 @@ fn a_loop_that_cannot_close_is_a_typed_error_naming_it() {
         cut,
         joints,
         residual,
+        reach,
     }] = &errors.0[..]
     else {
         panic!("expected one ImpossibleLoop, got {errors:?}");
@@ -173,10 +174,57 @@ fn a_loop_that_cannot_close_is_a_typed_error_naming_it() {
     // The closest approach leaves a gap of at least 0.2 − 0.15 = 0.05 m.
     assert!(*residual > 0.01, "residual {residual}");
     let text = errors.to_string();
+    println!("{text}");
     assert!(
         text.contains("loop_joint") && text.contains("cannot close"),
         "{text}"
     );
+    // And why (issue 44, point 8): the ground, 0.3 m from the crank's pivot to the rocker's,
+    // is longer than crank, coupler and rocker together (0.1 + 0.05 + 0.1 = 0.25 m) — the
+    // polygon of the four pivots cannot close, whatever the angles. The lengths are the
+    // scene's own numbers, so they agree to rounding.
+    let reach = reach
+        .as_ref()
+        .expect("the link lengths show the loop cannot close");
+    let mut ends = [reach.from.as_str(), reach.to.as_str()];
+    ends.sort_unstable();
+    assert_eq!(ends, ["ground_b", "world"]);
+    assert!((reach.length - 0.3).abs() < 1e-12, "{reach:?}");
+    assert!((reach.others - 0.25).abs() < 1e-12, "{reach:?}");
+    assert!(
+        text.contains("too short to reach")
+            && text.contains("3.0000e-1 m")
+            && text.contains("2.5000e-1 m"),
+        "{text}"
+    );
+}
+
+/// A four-bar whose links reach but whose start is far off still assembles: the reach test
+/// claims nothing about it (the default four-bar, and one with the ground exactly as long as
+/// the others together, a flat limit that closes stretched out).
+#[test]
+fn a_loop_that_can_close_has_no_reach_complaint() {
+    FourBar::default().build().unwrap();
+    let flat = FourBar {
+        a: 0.1,
+        b: 0.1,
+        c: 0.1,
+        d: 0.3,
+        theta2: 0.0,
+        phi3: 0.0,
+        phi4: 0.0,
+        ..FourBar::default()
+    };
+    // Stretched flat the loop closes (or fails for the singular position, but never for
+    // its lengths).
+    if let Err(errors) = flat.build() {
+        for e in &errors.0 {
+            assert!(
+                !matches!(e, SceneError::ImpossibleLoop { reach: Some(_), .. }),
+                "{e}"
+            );
+        }
+    }
 }
 
 /// Constraint drift of the driven four-bar over 100 s (100 crank turns) at rtol = atol = 1e-8

@@ -40,6 +40,12 @@ fn diameter_100_ball_on_a_table() {
         SimWarning::ScaleOutlier { object, quantity: "size", .. } if object == "ball")));
     let text = w.iter().map(|w| w.to_string()).collect::<String>();
     assert!(text.contains("`ball|plane`") && text.contains("units"));
+    // The penetration names the size slip as its likely cause (issue 44, point 8).
+    assert!(
+        text.contains("5.000e-3 m deep inside each other")
+            && text.contains("likely cause: `ball` is 1.000e2 m across"),
+        "{text}"
+    );
 }
 
 /// A ball on a Prismatic joint from the world (can_collide = false, the default) can never

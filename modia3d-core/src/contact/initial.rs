@@ -15,7 +15,7 @@ use super::preprocess::ContactPlan;
 use crate::dynamics::{kinematics, Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
 use crate::geometry::{signed_distance_method, world_aabb, BroadPhase, CollisionShape};
-use crate::scene::SceneError;
+use crate::scene::{SceneError, SizeSlip};
 use nalgebra::{Isometry3, Vector3};
 
 /// Deepest admissible initial penetration relative to the thinner shape's extent [-]: a
@@ -29,10 +29,74 @@ pub fn extent(s: &CollisionShape) -> f64 {
     2.0 * s.local_half_extents().min()
 }
 
+/// A moving collision solid this many times larger than the median of the others is a
+/// suspected unit slip (a length in mm where m was meant is 1000 times too large; a billiard
+/// ball on its table is 1/44 of it, a marble on a floor smaller still).
+pub(crate) const SIZE_RATIO: f64 = 50.0;
+
+/// The median of `values` without entry `k`.
+pub(crate) fn median_of_others(values: &[f64], k: usize) -> Option<f64> {
+    let mut v: Vec<f64> = values
+        .iter()
+        .enumerate()
+        .filter(|&(i, _)| i != k)
+        .map(|(_, &x)| x)
+        .collect();
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let hi = v.get(n / 2).copied()?;
+    Some(if n % 2 == 0 {
+        0.5 * (hi + v.get(n / 2 - 1).copied().unwrap_or(hi))
+    } else {
+        hi
+    })
+}
+
+/// The unit check of sizes: every moving collision shape of `cp` whose largest extent
+/// \[m\] is more than [`SIZE_RATIO`] times the median of the other shapes', as the shape's
+/// object name with the size (its value, and the median of the others). Build-time: the
+/// initial-penetration error names it as the likely cause, and every run warns about it
+/// (`SimWarning::ScaleOutlier`).
+pub(crate) fn size_outliers(scene: &crate::scene::ValidScene, cp: &ContactPlan) -> Vec<SizeSlip> {
+    let sizes: Vec<f64> = cp
+        .shapes
+        .iter()
+        .map(|s| 2.0 * s.shape.local_half_extents().max())
+        .collect();
+    let mut out = vec![];
+    for (k, s) in cp.shapes.iter().enumerate() {
+        let (Some(_), Some(&size)) = (s.body, sizes.get(k)) else {
+            continue;
+        };
+        if let Some(median) =
+            median_of_others(&sizes, k).filter(|&m| m > 0.0 && size > SIZE_RATIO * m)
+        {
+            out.push(SizeSlip {
+                object: scene
+                    .objects
+                    .get(s.object)
+                    .map_or_else(String::new, |o| o.name.clone()),
+                size,
+                median,
+            });
+        }
+    }
+    out
+}
+
+/// The size slip among `slips` of either object of the pair named `pair` (`"a|b"`, a
+/// decomposed mesh's part named `<object>#<k>`), if any.
+pub(crate) fn slip_of_pair<'a>(slips: &'a [SizeSlip], pair: &str) -> Option<&'a SizeSlip> {
+    let (a, b) = pair.split_once('|').unwrap_or((pair, ""));
+    let is = |s: &SizeSlip, name: &str| name.split('#').next() == Some(s.object.as_str());
+    slips.iter().find(|s| is(s, a) || is(s, b))
+}
+
 /// One [`SceneError::InitialPenetration`] for every candidate pair of `cp` whose signed
 /// distance at the plan's initial state `y0` is below `−MAX_INITIAL_DEPTH_RATIO · extent` of
-/// the thinner shape. Pairs whose narrow phase fails here are left to the simulation, which
-/// reports the failure with its time.
+/// the thinner shape, naming a size slip of either object ([`size_outliers`]) as the likely
+/// cause. Pairs whose narrow phase fails here are left to the simulation, which reports the
+/// failure with its time.
 pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneError> {
     let mut ws = Workspace::new(plan);
     let y0 = plan.y0();
@@ -57,6 +121,7 @@ pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneEr
     );
     overlapping.sort_unstable();
     let mut errors = vec![];
+    let mut slips = None;
     for pp in overlapping
         .iter()
         .filter_map(|&(a, b)| cp.pair(a as usize, b as usize))
@@ -78,12 +143,15 @@ pub(crate) fn initial_penetrations(plan: &Plan, cp: &ContactPlan) -> Vec<SceneEr
             let size = a.bounding_radius() + b.bounding_radius();
             let names = cp.pair_name(&plan.scene, &pp);
             let (object1, object2) = names.split_once('|').unwrap_or((&names, ""));
+            let slips = slips.get_or_insert_with(|| size_outliers(&plan.scene, cp));
+            let size_slip = slip_of_pair(slips, &names).cloned().map(Box::new);
             errors.push(SceneError::InitialPenetration {
                 object1: object1.to_string(),
                 object2: object2.to_string(),
                 depth,
                 limit,
                 coincident: centre_gap <= 1e-9 * size,
+                size_slip,
             });
         }
     }

@@ -10,7 +10,7 @@
 //! A scene without candidate pairs has no `ContactPlan` at all, so none of this runs.
 
 mod contact_set;
-mod initial;
+pub(crate) mod initial;
 mod pair_jacobian;
 mod preprocess;
 mod regularise;

@@ -92,7 +92,7 @@ use super::ids::BodyId;
 use super::kinematics::{position_derivative, position_velocity};
 use super::{Plan, Workspace};
 use crate::joints::rows::Row;
-use crate::scene::{SceneError, ValidJointKind, ValidScene};
+use crate::scene::{LoopReach, SceneError, ValidJointKind, ValidScene};
 use crate::spatial::Transform;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
@@ -129,6 +129,8 @@ pub struct CutPlan {
     pub rows: Vec<Row>,
     /// The joints of its loop (names), the cut joint first.
     pub loop_joints: Vec<String>,
+    /// Why the loop can never close, when its link lengths show it ([`loop_reach`]).
+    pub reach: Option<LoopReach>,
 }
 
 /// The loops of a plan: cut joints and the rows kept after redundancy removal.
@@ -188,6 +190,7 @@ pub fn cut_plans(
                     .iter()
                     .map(|&k| scene.joints[k].name.clone())
                     .collect(),
+                reach: loop_reach(scene, in_ref, &c.loop_joints),
             }
         })
         .collect();
@@ -195,6 +198,60 @@ pub fn cut_plans(
         cuts,
         ..LoopPlan::default()
     }
+}
+
+/// The link that is too long for the loop through the joints `loop_joints` (indices into
+/// `scene.joints`) ever to close, if there is one. When every joint of the loop keeps the
+/// origins of its two frames together (it locks all three translations: revolute, spherical,
+/// universal, fixed), the joints' points form a closed polygon whose sides are the rigid
+/// links: each side is the distance between the two joint frames' origins on one rigid part
+/// (placed by `in_ref` in their cluster's frame, so no motion changes it). A closed polygon
+/// needs every side no longer than the others together; a longer one is reported, with both
+/// lengths. `None` when the polygon can close, and for loops with a sliding joint (their
+/// lengths change) or a part the loop passes more than once (not a simple chain). Necessary,
+/// not sufficient: a spatial loop can fail for its axes with every length fitting.
+pub(crate) fn loop_reach(
+    scene: &ValidScene,
+    in_ref: &[Transform],
+    loop_joints: &[usize],
+) -> Option<LoopReach> {
+    let cluster = &scene.topology.cluster;
+    // The joints' ends on each rigid part of the loop: (object, position in its cluster).
+    let mut ends: Vec<(usize, Vec<usize>)> = vec![];
+    for &k in loop_joints {
+        let j = scene.joints.get(k)?;
+        let translations = rows_of(&j.kind)
+            .iter()
+            .filter(|r| matches!(r, Row::Translation { .. }))
+            .count();
+        if translations < 3 {
+            return None;
+        }
+        for o in [j.obj1, j.obj2] {
+            let c = *cluster.get(o)?;
+            match ends.iter_mut().find(|(cl, _)| *cl == c) {
+                Some((_, objs)) => objs.push(o),
+                None => ends.push((c, vec![o])),
+            }
+        }
+    }
+    let mut links = vec![];
+    for (_, objs) in &ends {
+        let [a, b] = objs[..] else { return None };
+        let length = (in_ref.get(a)?.pos - in_ref.get(b)?.pos).norm();
+        links.push((a, b, length));
+    }
+    let total: f64 = links.iter().map(|l| l.2).sum();
+    let &(a, b, length) = links.iter().max_by(|x, y| x.2.total_cmp(&y.2))?;
+    let others = total - length;
+    let name = |o: usize| scene.objects.get(o).map(|x| x.name.clone());
+    (length > others * (1.0 + 1e-9)).then_some(())?;
+    Some(LoopReach {
+        from: name(a)?,
+        to: name(b)?,
+        length,
+        others,
+    })
 }
 
 /// Placement in world of a frame `x` of body `b` (`None` = the world) at the workspace state.
@@ -525,6 +582,8 @@ pub struct LoopFailure {
     pub joints: Vec<String>,
     /// Largest remaining residual of its rows (\[m\] or \[1\]).
     pub residual: f64,
+    /// Why the loop can never close, when its link lengths show it.
+    pub reach: Option<LoopReach>,
 }
 
 impl From<LoopFailure> for SceneError {
@@ -533,6 +592,7 @@ impl From<LoopFailure> for SceneError {
             cut: f.cut,
             joints: f.joints,
             residual: f.residual,
+            reach: f.reach.map(Box::new),
         }
     }
 }
@@ -550,6 +610,7 @@ fn failure(lp: &LoopPlan, rows: &[(usize, usize)], g: &DVector<f64>) -> LoopFail
         cut: cut.name.clone(),
         joints: cut.loop_joints.clone(),
         residual: r,
+        reach: cut.reach.clone(),
     }
 }
 

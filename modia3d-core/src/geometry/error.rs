@@ -43,18 +43,60 @@ pub enum GeometryError {
     },
     /// A triangle mesh is not closed and consistently oriented, so it bounds no solid.
     #[error(
-        "mesh `{path}` is not closed and consistently oriented: {edges} edge(s) not shared by \
-         exactly two triangles in opposite directions, e.g. vertices {example}; repair the mesh \
+        "mesh `{path}` is not closed and consistently oriented: {edges} edge(s) crossed more \
+         often in one direction than in the other, e.g. vertices {example}; repair the mesh \
          (close holes, make all triangles counter-clockwise seen from outside) or give explicit \
          mass properties and use it as a Visual"
     )]
     MeshNotClosed {
         /// The mesh's source (file path).
         path: String,
-        /// How many directed edges are wrong.
+        /// How many edges are unbalanced.
         edges: usize,
         /// One of them: vertex indices and positions.
         example: String,
+    },
+    /// A mesh for a solid has holes too large to close without guessing its shape
+    /// (`geometry::mesh_file::repair_mesh` closes those whose caps cover at most
+    /// `MAX_HOLE_AREA_RATIO` of the surface).
+    #[error(
+        "mesh `{path}` has {holes} hole(s) whose closing caps would cover {hole_area:.3e} m², \
+         {:.1} % of its surface {area:.3e} m² (at most {:.0} % is closed automatically); the \
+         largest, {largest_area:.3e} m² bounded by {largest_edges} edges, is centred at \
+         {largest_centre:?} m (file coordinates × scale): close it in a mesh editor (Blender: \
+         Select > Select All by Trait > Non Manifold, then Face > Fill), or give the solid \
+         explicit mass properties (`MassSpec::Explicit`) and collide it as its convex hull",
+        100.0 * hole_area / area,
+        100.0 * super::mesh_file::MAX_HOLE_AREA_RATIO
+    )]
+    MeshHoles {
+        /// The mesh's source (file path).
+        path: String,
+        /// Number of holes (boundary loops).
+        holes: u32,
+        /// Area of the caps that would close them all \[m²\].
+        hole_area: f64,
+        /// Surface area of the mesh \[m²\].
+        area: f64,
+        /// Area of the largest hole's cap \[m²\].
+        largest_area: f64,
+        /// Number of edges around the largest hole.
+        largest_edges: u32,
+        /// Centroid of the largest hole's boundary vertices, in the shape frame \[m\] (boxed:
+        /// every error that can hold a `GeometryError` stays small).
+        largest_centre: Box<[f64; 3]>,
+    },
+    /// A triangle of a mesh refers to a vertex that does not exist.
+    #[error("mesh `{path}`: triangle {triangle} refers to vertex {index}, but there are only {vertices} vertices; build the `TriangleMesh` with indices into its `vertices`")]
+    MeshIndex {
+        /// The mesh's source (file path).
+        path: String,
+        /// Index of the triangle (0-based).
+        triangle: usize,
+        /// The vertex index it holds (0-based).
+        index: u32,
+        /// Number of vertices.
+        vertices: usize,
     },
     /// A closed mesh encloses no positive volume (turned inside out, or flat).
     #[error(

@@ -33,7 +33,8 @@ pub use broad_phase::BroadPhase;
 pub use collision_shape::CollisionShape;
 pub use error::GeometryError;
 pub use mesh_file::{
-    convex_hull_from_obj, convex_parts, load_mesh, mesh_mass_properties, obj_vertices, TriangleMesh,
+    convex_hull_from_obj, convex_parts, load_mesh, mesh_mass_properties, obj_vertices, repair_mesh,
+    MeshRepair, TriangleMesh,
 };
 pub use narrow_phase::{
     contact_patch, contact_point, signed_distance, signed_distance_method, ContactPatch,

@@ -8,7 +8,7 @@ pub enum SimWarning {
     /// A colliding pair starts deeper inside each other than the smoothing radius (deeper than
     /// half the thinner shape's extent is already a build error,
     /// `SceneError::InitialPenetration`).
-    #[error("`{pair}` starts {depth:.3e} m deep inside each other (more than the smoothing radius {radius:.1e} m): the contact pushes them apart with a large force at t = 0; check the initial positions and the units (mm vs m)")]
+    #[error("`{pair}` starts {depth:.3e} m deep inside each other (more than the smoothing radius {radius:.1e} m): the contact pushes them apart with a large force at t = 0; {}", match .size_slip { Some(s) => format!("likely cause: {s}"), None => "check the initial positions and the units (mm vs m)".into() })]
     InitialPenetration {
         /// The pair `"a|b"`.
         pair: String,
@@ -16,6 +16,9 @@ pub enum SimWarning {
         depth: f64,
         /// The scene's smoothing radius \[m\].
         radius: f64,
+        /// One of the two far larger than the scene's other collision solids (the unit check
+        /// of sizes, also a [`SimWarning::ScaleOutlier`]): the likely cause.
+        size_slip: Option<crate::scene::SizeSlip>,
     },
     /// A collision solid far larger or smaller than the scene's others (often a length in mm
     /// where m was meant), or a body far heavier or lighter than the others.
@@ -87,6 +90,16 @@ pub enum SimWarning {
         /// The output interval \[s\].
         interval: f64,
     },
+    /// A solid's mesh was repaired for its mass properties when the scene was built
+    /// (`geometry::repair_mesh`: coincident vertices merged, small holes closed): the message
+    /// says what was repaired and how much it changed the volume.
+    #[error("solid `{object}`: {repair}; if the change matters, repair the file or give the mass properties explicitly")]
+    MeshRepaired {
+        /// The solid.
+        object: String,
+        /// What was repaired, with the volumes before and after \[m³\].
+        repair: crate::geometry::MeshRepair,
+    },
 }
 
 impl SimWarning {
@@ -120,6 +133,12 @@ impl SimWarning {
             SimWarning::MissedContacts { pair, phases, .. } => {
                 format!("{phases} contact phase(s) of `{pair}` fell between output points")
             }
+            SimWarning::MeshRepaired { object, repair } => format!(
+                "`{object}`: mesh repaired ({} vertices merged, {} hole(s) closed), volume {:+.3} %",
+                repair.merged_vertices,
+                repair.holes,
+                100.0 * repair.relative_volume_change()
+            ),
         }
     }
 }

@@ -23,6 +23,6 @@ pub use materials::{
 /// Closest candidate to a misspelt name (shared with the `model!` macro's messages).
 #[doc(hidden)]
 pub use validate::did_you_mean;
-pub use validate::{SceneError, SceneErrors};
+pub use validate::{LoopReach, SceneError, SceneErrors, SizeSlip};
 #[cfg(feature = "solver")]
 pub(crate) use validate::{ValidForce, ValidInputKind, ValidJointKind, ValidScene};

@@ -1,18 +1,16 @@
 //! Driver: the checks behind `SimulationResult::warnings` ([`SimWarning`]). At the start of a
-//! run: collision solids that can never meet, unit slips (sizes and masses far from the
+//! run: meshes repaired when the scene was built, collision solids that can never meet, unit slips (sizes and masses far from the
 //! scene's others), initial penetrations deeper than the smoothing radius. After each
 //! `advance_to`: chattering contacts and contact phases the output grid missed. Reads the
 //! model, the initial contact set and the recorded result; allocates freely (not a hot path).
 
+use crate::contact::initial::{median_of_others, size_outliers, slip_of_pair};
 use crate::contact::ContactState;
 use crate::model::Model;
 use crate::results::{SimWarning, SimulationResult};
+use crate::scene::SizeSlip;
 use crate::scene::{colliding_objects, CollisionFilter};
 
-/// A moving collision solid this many times larger than the median of the others is a
-/// suspected unit slip (a length in mm where m was meant is 1000 times too large; a billiard
-/// ball on its table is 1/44 of it, a marble on a floor smaller still).
-pub const SIZE_RATIO: f64 = 50.0;
 /// A body this many times heavier or lighter than the median of the others.
 pub const MASS_RATIO: f64 = 1e6;
 /// Chattering: this many contact-set changes of one pair ...
@@ -42,41 +40,34 @@ pub(super) fn report(new: &[SimWarning]) -> String {
     text
 }
 
-/// The median of `values` without entry `k`.
-fn median_of_others(values: &[f64], k: usize) -> Option<f64> {
-    let others = values
-        .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != k)
-        .map(|(_, &x)| x)
-        .collect();
-    median(others)
-}
-
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    let hi = v.get(n / 2).copied()?;
-    Some(if n % 2 == 0 {
-        0.5 * (hi + v.get(n / 2 - 1).copied().unwrap_or(hi))
-    } else {
-        hi
-    })
-}
-
 /// Warnings about the model and its initial state `cs` (the contact set at the start time).
 pub(super) fn start_warnings(model: &Model, cs: Option<&ContactState>) -> Vec<SimWarning> {
     let mut out = never_collide(model);
-    out.extend(scale_outliers(model));
+    let slips = model
+        .contact
+        .as_deref()
+        .map(|cp| size_outliers(&model.plan.scene, cp))
+        .unwrap_or_default();
+    out.extend(scale_outliers(model, &slips));
+    out.extend(model.plan.scene.objects.iter().filter_map(|o| {
+        let repair = o.solid.as_ref()?.mesh_repair.clone()?;
+        Some(SimWarning::MeshRepaired {
+            object: o.name.clone(),
+            repair,
+        })
+    }));
     if let (Some(cs), Some(cp)) = (cs, model.contact.as_deref()) {
         let radius = model.plan.scene.options.smoothing_radius;
         for (_, pp, st) in cs.active_pairs() {
             let depth = -st.z;
             if depth > radius {
+                let pair = cp.pair_name(&model.plan.scene, pp);
+                let size_slip = slip_of_pair(&slips, &pair).cloned();
                 out.push(SimWarning::InitialPenetration {
-                    pair: cp.pair_name(&model.plan.scene, pp),
+                    pair,
                     depth,
                     radius,
+                    size_slip,
                 });
             }
         }
@@ -108,39 +99,22 @@ fn never_collide(model: &Model) -> Vec<SimWarning> {
     out
 }
 
-/// Moving collision solids far larger than the others, bodies far heavier or lighter.
-fn scale_outliers(model: &Model) -> Vec<SimWarning> {
-    let mut out = vec![];
+/// Moving collision solids far larger than the others (`slips`, the unit check of sizes),
+/// bodies far heavier or lighter.
+fn scale_outliers(model: &Model, slips: &[SizeSlip]) -> Vec<SimWarning> {
     let plan = &model.plan;
-    if let Some(cp) = model.contact.as_deref() {
-        let sizes: Vec<f64> = cp
-            .shapes
-            .iter()
-            .map(|s| 2.0 * s.shape.local_half_extents().max())
-            .collect();
-        for (k, s) in cp.shapes.iter().enumerate() {
-            let (Some(_), Some(&size)) = (s.body, sizes.get(k)) else {
-                continue;
-            };
-            if let Some(m) =
-                median_of_others(&sizes, k).filter(|&m| m > 0.0 && size > SIZE_RATIO * m)
-            {
-                out.push(SimWarning::ScaleOutlier {
-                    object: plan
-                        .scene
-                        .objects
-                        .get(s.object)
-                        .map_or_else(String::new, |o| o.name.clone()),
-                    quantity: "size",
-                    value: size,
-                    median: m,
-                    ratio: size / m,
-                    unit: "m",
-                    what: "collision solids",
-                });
-            }
-        }
-    }
+    let mut out: Vec<SimWarning> = slips
+        .iter()
+        .map(|slip| SimWarning::ScaleOutlier {
+            object: slip.object.clone(),
+            quantity: "size",
+            value: slip.size,
+            median: slip.median,
+            ratio: slip.size / slip.median,
+            unit: "m",
+            what: "collision solids",
+        })
+        .collect();
     let masses: Vec<f64> = plan.bodies.iter().map(|b| b.inertia.mass).collect();
     for (k, b) in plan.bodies.iter().enumerate() {
         let Some(&mass) = masses.get(k) else { continue };

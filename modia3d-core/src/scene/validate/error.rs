@@ -110,7 +110,7 @@ pub enum SceneError {
     },
     /// A closed loop whose constraints cannot be satisfied near the given initial coordinates
     /// (link lengths or axes that do not fit together).
-    #[error("kinematic loop closed by joint `{cut}` (through {}) cannot close: after assembly its constraint residual is {residual:.3e} (metres or radians, largest component); check the lengths, axes and initial coordinates of the loop's bodies", list(.joints))]
+    #[error("kinematic loop closed by joint `{cut}` (through {}) cannot close: after assembly its constraint residual is {residual:.3e} (metres or radians, largest component); {}", list(.joints), match .reach { Some(r) => r.to_string(), None => "check the lengths, axes and initial coordinates of the loop's bodies".into() })]
     ImpossibleLoop {
         /// The cut joint that closes the loop.
         cut: String,
@@ -118,6 +118,9 @@ pub enum SceneError {
         joints: Vec<String>,
         /// Largest remaining constraint residual, \[m\] for translations, \[rad\]-like for rotations.
         residual: f64,
+        /// A link longer than all the others together, when the loop's joints keep their
+        /// frames' origins together: the loop can never close.
+        reach: Option<Box<LoopReach>>,
     },
     /// Objects that are neither attached nor jointed to the world.
     #[error("object `{object}` is not connected to the world: give it a parent or connect it with a joint (a FreeMotion for a free body)")]
@@ -211,7 +214,7 @@ pub enum SceneError {
     },
     /// Two solids that can collide start deeper inside each other than the contact law can
     /// push apart (found when the model is built, with the narrow phase at the initial state).
-    #[error("objects `{object1}` and `{object2}` start {depth:.3e} m inside each other{}, deeper than {limit:.3e} m (half the extent of the thinner one): the contact force would throw them apart or stall the solver; move one of them out of the other, or turn collision off for one of them (`Solid::collision(false)`)", if *.coincident { " (their centres coincide)" } else { "" })]
+    #[error("objects `{object1}` and `{object2}` start {depth:.3e} m inside each other{}, deeper than {limit:.3e} m (half the extent of the thinner one): the contact force would throw them apart or stall the solver; {}", if *.coincident { " (their centres coincide)" } else { "" }, match .size_slip { Some(s) => format!("likely cause: {s}"), None => "move one of them out of the other, or turn collision off for one of them (`Solid::collision(false)`)".into() })]
     InitialPenetration {
         /// The first object of the pair.
         object1: String,
@@ -223,6 +226,9 @@ pub enum SceneError {
         limit: f64,
         /// The two shapes' centres coincide.
         coincident: bool,
+        /// One of the two is far larger than the scene's other collision solids (the unit
+        /// check of sizes, also a `SimWarning::ScaleOutlier` of every run): the likely cause.
+        size_slip: Option<Box<SizeSlip>>,
     },
     /// A joint spring-damper or joint input on a joint without a scalar coordinate.
     #[error("joint spring-damper or input on `{joint}`: a {kind} joint has no scalar coordinate; use a joint with one (Revolute, Prismatic, Cylindrical, Universal, Planar)")]
@@ -340,5 +346,60 @@ impl Checker {
     }
     pub(crate) fn non_negative(&mut self, what: impl FnOnce() -> String, v: f64) {
         self.value(what, v, v >= 0.0, "finite and ≥ 0");
+    }
+}
+
+/// A collision solid far larger than the scene's others: a suspected length in the wrong unit
+/// (the unit check of sizes; see [`SceneError::InitialPenetration`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SizeSlip {
+    /// The object.
+    pub object: String,
+    /// Its largest extent \[m\].
+    pub size: f64,
+    /// The median of the largest extents of the scene's other collision solids \[m\].
+    pub median: f64,
+}
+
+impl std::fmt::Display for SizeSlip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "`{}` is {:.3e} m across, {:.0} times the median {:.3e} m of the scene's other \
+             collision solids: a length in the wrong unit? (a diameter of 100 meant as 100 mm \
+             is 0.1 m; check the shape's dimensions and, for a mesh, its scale)",
+            self.object,
+            self.size,
+            self.size / self.median,
+            self.median
+        )
+    }
+}
+
+/// A link of a closed loop too long for the others to reach round (see
+/// [`SceneError::ImpossibleLoop`]): in a loop of joints that keep their frames' origins
+/// together (revolute, spherical, universal, fixed) the joints' points form a polygon whose
+/// sides are the links, and no side of a closed polygon is longer than the others together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoopReach {
+    /// The object of the link's first joint frame.
+    pub from: String,
+    /// The object of its second joint frame (on the same rigid part).
+    pub to: String,
+    /// The link's length: the distance between the two frames' origins \[m\].
+    pub length: f64,
+    /// The lengths of the loop's other links added up \[m\].
+    pub others: f64,
+}
+
+impl std::fmt::Display for LoopReach {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the links are too short to reach: the link from `{}` to `{}` is {:.4e} m between \
+             its joints, longer than the {:.4e} m of all the other links together, so no \
+             joint angles close the loop; lengthen the other links or shorten that one",
+            self.from, self.to, self.length, self.others
+        )
     }
 }

@@ -18,7 +18,7 @@ mod options;
 /// The resolved joint kinds are defined with the kinds themselves (`joints/mod.rs`).
 pub use crate::joints::ValidJointKind;
 pub(crate) use error::Checker;
-pub use error::{did_you_mean, SceneError, SceneErrors};
+pub use error::{did_you_mean, LoopReach, SceneError, SceneErrors, SizeSlip};
 
 use super::desc::{ForceElement, SceneDesc};
 use super::materials::{average_pair, builtin_contact_pair, ContactPairMaterial, SolidMaterial};
@@ -60,6 +60,9 @@ pub struct ValidSolid {
     /// Material whose Young's modulus and Poisson's ratio the contact law uses (collision
     /// solids only): the solid material, else the solid material named by the contact material.
     pub contact_elasticity: Option<SolidMaterial>,
+    /// What was repaired in the solid's mesh for its mass properties (merged vertices, closed
+    /// holes, the volume change), if anything; `shape` is the repaired mesh.
+    pub mesh_repair: Option<crate::geometry::MeshRepair>,
 }
 
 /// A resolved object.

@@ -123,10 +123,24 @@ pub(super) fn objects(
         let mut visual = None;
         match &o.feature {
             Feature::Solid(s) => {
-                // Mesh files are read here, once; the rest of validation sees the mesh.
+                // Mesh files are read here, once, and a solid's mesh repaired; the rest of
+                // validation sees the mesh.
                 let loaded;
-                let s = match s.shape.as_ref().and_then(|sh| load_shape(c, &o.name, sh)) {
+                let mut mesh_repair = None;
+                // A mesh given as `Shape::Mesh` (not read from a file) is repaired too.
+                let mesh = s
+                    .shape
+                    .clone()
+                    .filter(|sh| matches!(sh, Shape::Mesh { .. }));
+                let s = match s
+                    .shape
+                    .as_ref()
+                    .and_then(|sh| load_shape(c, &o.name, sh))
+                    .or(mesh)
+                {
                     Some(shape) => {
+                        let (shape, repair) = solid_mesh(c, &o.name, shape);
+                        mesh_repair = repair;
                         loaded = crate::scene::desc::Solid {
                             shape: Some(shape),
                             ..s.clone()
@@ -137,15 +151,6 @@ pub(super) fn objects(
                 };
                 if let Some(shape) = &s.shape {
                     check_shape(c, &o.name, shape);
-                    // A solid's mesh must bound a volume (a visual's need not).
-                    if let Shape::Mesh { mesh, .. } = shape {
-                        if let Err(error) = crate::geometry::mesh_mass_properties(mesh) {
-                            c.errors.push(SceneError::Mesh {
-                                object: o.name.clone(),
-                                error,
-                            });
-                        }
-                    }
                 }
                 let (material_name, material) = match &s.material {
                     None => (None, None),
@@ -240,6 +245,7 @@ pub(super) fn objects(
                     smoothing_radius: s.smoothing_radius,
                     layer_depth: s.layer_depth,
                     contact_elasticity,
+                    mesh_repair,
                 });
             }
             Feature::Visual(shape) => {
@@ -283,6 +289,44 @@ fn load_shape(c: &mut Checker, object: &str, shape: &Shape) -> Option<Shape> {
                 error,
             });
             None
+        }
+    }
+}
+
+/// A solid's loaded mesh repaired for its mass properties
+/// ([`repair_mesh`](crate::geometry::repair_mesh)), and what was repaired (if anything: also
+/// traced, and a `SimWarning::MeshRepaired` of every run). A solid's mesh must bound a volume
+/// (a visual's need not): what cannot be repaired is an error. Other shapes pass unchanged.
+fn solid_mesh(
+    c: &mut Checker,
+    object: &str,
+    shape: Shape,
+) -> (Shape, Option<crate::geometry::MeshRepair>) {
+    let Shape::Mesh { mesh, collision } = &shape else {
+        return (shape, None);
+    };
+    let repaired = crate::geometry::repair_mesh(mesh).and_then(|(mesh, repair)| {
+        crate::geometry::mesh_mass_properties(&mesh)?;
+        Ok((mesh, repair))
+    });
+    match repaired {
+        Ok((mesh, repair)) => {
+            let repair = repair.changed().then(|| {
+                tracing::warn!("solid `{object}`: {repair}");
+                repair
+            });
+            let shape = Shape::Mesh {
+                mesh: std::sync::Arc::new(mesh),
+                collision: *collision,
+            };
+            (shape, repair)
+        }
+        Err(error) => {
+            c.errors.push(SceneError::Mesh {
+                object: object.into(),
+                error,
+            });
+            (shape, None)
         }
     }
 }
