@@ -31,9 +31,11 @@ model! {
                                          solid_material = "DryWood", collision = true)),
         ball  = Object3D(feature = Solid(shape = Sphere(diameter = 0.05),
                                          solid_material = "Steel", collision = true)),
-        slide = FreeMotion(obj1 = world, obj2 = block, r = Var(init = on_slope(alpha, -0.5, -0.2, 0.05)),
+        slide = FreeMotion(obj1 = world, obj2 = block,
+                           r = Var(init = on_slope(alpha, -0.5, -0.2, 0.05)),
                            rot = Var(init = [0.0, alpha, 0.0])),
-        roll  = FreeMotion(obj1 = world, obj2 = ball, r = Var(init = on_slope(alpha, -0.5, 0.2, 0.025))),
+        roll  = FreeMotion(obj1 = world, obj2 = ball,
+                           r = Var(init = on_slope(alpha, -0.5, 0.2, 0.025))),
     }
 }
 

@@ -4,7 +4,8 @@
 //! Cargo's default `dev` profile (`cargo run`, `cargo test` of a crate that depends on
 //! modia3d) compiles every dependency at opt-level 0, and the hot loops (contact detection,
 //! the multibody residual, SUNDIALS' callbacks) then run up to about 100 times slower than in a
-//! release build (measured in the README's section "Using modia3d in your own crate"). A crate's own `Cargo.toml` fixes that for its dependencies with the lines of
+//! release build (measured in the README's section "Using modia3d in your own crate"). A
+//! crate's own `Cargo.toml` fixes that for its dependencies with the lines of
 //! [`CARGO_TOML_FIX`]; this repository's `[profile.dev]` settings do not carry over to a crate
 //! that depends on it.
 //!
@@ -33,8 +34,8 @@ pub const OPT_LEVEL: &str = env!("MODIA3D_CORE_OPT_LEVEL");
 pub const CARGO_TOML_FIX: &str = "[profile.dev.package.\"*\"]\nopt-level = 3";
 
 /// Whether a package compiled at `opt_level` (cargo's `OPT_LEVEL`: `"0"` … `"3"`, `"s"`,
-/// `"z"`) is unoptimised: only `"0"` is. Opt-level 1 already runs the hot loops within a few
-/// times of release speed.
+/// `"z"`) is unoptimised: only `"0"` is, cargo's default for `dev`; any other level was chosen
+/// on purpose.
 pub fn is_unoptimised(opt_level: &str) -> bool {
     opt_level.trim() == "0"
 }
