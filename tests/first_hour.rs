@@ -1,7 +1,8 @@
 //! Issue 44, "the first hour of a new user": errors that read well through `main`'s
 //! `Result` (point 2), a restitution only for impacts (point 7), warnings that reach the
-//! user without a `tracing` subscriber (point 3), and an initial-penetration error that names
-//! the size slip behind it (point 8; the loop that cannot close is in `tests/loops.rs`).
+//! user without a `tracing` subscriber (point 3), an initial-penetration error that names
+//! the size slip behind it (point 8; the loop that cannot close is in `tests/loops.rs`),
+//! and a user crate told how to build optimised (point 1).
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -266,6 +267,9 @@ fn warnings_reach_standard_error_once() {
             && text.contains("quiet(true)"),
         "{text}"
     );
+    // This workspace compiles modia3d-core at opt-level 2 (its `[profile.dev]`): no notice of
+    // an unoptimised build.
+    assert!(!text.contains("without optimisation"), "{text}");
     for mode in ["quiet", "subscriber"] {
         let text = worker_stderr(mode);
         assert!(!text.contains("warning"), "{mode}: {text}");
@@ -392,4 +396,40 @@ fn initial_penetration_names_a_size_slip() {
         "{errors:?}"
     );
     assert!(!errors.to_string().contains("likely cause"), "{errors}");
+}
+
+/// Point 1: a crate that depends on modia3d compiles it at opt-level 0 in `cargo run` unless
+/// its `Cargo.toml` says otherwise. The README's section on depending on the crate gives the
+/// lines ([`build_profile::CARGO_TOML_FIX`]) in a `toml` block with the measured dev/release
+/// ratio, the notice of an unoptimised build names the same lines, and this workspace's own
+/// builds are optimised, so its tests never see the notice.
+#[test]
+fn a_user_crate_is_told_how_to_build_optimised() {
+    use modia3d::core::build_profile;
+    let readme = include_str!("../README.md");
+    let section = readme
+        .split("\n## ")
+        .find(|s| s.starts_with("Using modia3d in your own crate"))
+        .expect("the README's section on depending on modia3d");
+    let toml = section
+        .split("```toml\n")
+        .nth(1)
+        .and_then(|s| s.split("```").next())
+        .expect("a toml block");
+    assert!(toml.contains(build_profile::CARGO_TOML_FIX), "{toml}");
+    assert!(toml.contains("modia3d = {"), "{toml}");
+    assert!(
+        section.contains("median of 3"),
+        "the measured ratio: {section}"
+    );
+    let notice = build_profile::unoptimised_notice();
+    for line in build_profile::CARGO_TOML_FIX.lines() {
+        assert!(notice.contains(line), "{notice}");
+    }
+    assert!(notice.contains("Cargo.toml"), "{notice}");
+    assert!(
+        !build_profile::unoptimised(),
+        "{}",
+        build_profile::OPT_LEVEL
+    );
 }

@@ -17,6 +17,7 @@
 #[cfg(feature = "solver")]
 #[doc(hidden)]
 pub mod bench;
+pub mod build_profile;
 #[cfg(feature = "solver")]
 mod contact;
 #[cfg(feature = "solver")]

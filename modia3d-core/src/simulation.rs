@@ -435,6 +435,12 @@ impl std::fmt::Debug for Simulation {
     }
 }
 
+/// Whether a `tracing` subscriber is installed (for this thread or globally): it then gets the
+/// warnings through `tracing::warn!`, and they are not printed to standard error.
+pub(crate) fn subscriber_installed() -> bool {
+    tracing::dispatcher::get_default(|d| !d.is::<tracing::subscriber::NoSubscriber>())
+}
+
 impl Simulation {
     /// Prepares a run of `model` with `opts`: validates the options, computes consistent
     /// initial values (initial contact set included) and records the start point.
@@ -448,6 +454,10 @@ impl Simulation {
         };
         if let Err(msg) = opts.check() {
             return Err(fail(SimErrorKind::InvalidOptions(msg), result));
+        }
+        if !opts.quiet {
+            // An unoptimised build says so once per process, naming the Cargo.toml fix.
+            crate::build_profile::notice_once();
         }
         if opts.contact_results {
             result.enable_contact_record();
@@ -576,9 +586,7 @@ impl Simulation {
             return;
         }
         self.reported.extend(new.iter().cloned());
-        let subscriber =
-            tracing::dispatcher::get_default(|d| !d.is::<tracing::subscriber::NoSubscriber>());
-        if self.opts.quiet || subscriber {
+        if self.opts.quiet || subscriber_installed() {
             return;
         }
         let text = warnings::report(&new);

@@ -83,6 +83,9 @@ pub struct SimOptions {
     /// returns) when no `tracing` subscriber is installed; with a subscriber they reach it
     /// through `tracing::warn!` instead and are not printed. Runs of a
     /// [`Sweep`](crate::Sweep) are always quiet. The warnings stay in `result.warnings`.
+    /// A quiet run also leaves out the notice of an unoptimised build
+    /// ([`build_profile`](crate::build_profile)), which the first run of a process that is not
+    /// quiet gives once.
     pub quiet: bool,
 }
 
