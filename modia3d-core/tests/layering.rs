@@ -14,6 +14,7 @@ const LAYERS: &[(&str, u32)] = &[
     ("solver/", 0),
     ("spatial.rs", 0),
     ("joints/rows.rs", 0),
+    ("build_profile.rs", 0),
     // The description (builder data, materials, force laws) and validation's errors.
     ("scene/", 1),
     // The joint kinds: each checks its own parameters with validation's `Checker`.
