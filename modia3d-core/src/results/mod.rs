@@ -12,6 +12,7 @@ mod gltf;
 mod html;
 mod mesh;
 pub(crate) mod plot;
+mod plot_text;
 mod segments;
 mod threejs;
 mod warnings;

@@ -2,9 +2,11 @@
 //! the user gives), each y axis labelled with its unit, a title, legends, vertical markers at
 //! contact events, an optional logarithmic y axis; written as SVG (plotters' SVG backend) or
 //! PNG (plotters' bitmap backend, encoded by the `png` crate). Text is laid out and, for PNG,
-//! rasterised with the DejaVu Sans font bundled in `modia3d-core/assets/fonts/` (plotters'
-//! `ab_glyph` feature), so no system font stack is needed. Reads a `SimulationResult` only.
+//! rasterised with the DejaVu Sans font bundled in `modia3d-core/assets/fonts/` (through
+//! `ab_glyph`: `plot_text.rs`), so no system font stack is needed. Reads a `SimulationResult`
+//! only.
 
+use super::plot_text::PngBackend;
 use super::{ResultError, SimulationResult};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -378,8 +380,10 @@ pub(crate) fn render_bytes(
             Ok(svg.into_bytes())
         }
         PlotFormat::Png => {
+            let font = ab_glyph::FontRef::try_from_slice(FONT)
+                .map_err(|_| "the bundled font cannot be read".to_string())?;
             let mut rgb = vec![0u8; w as usize * h as usize * 3];
-            drawing.draw(BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area())?;
+            drawing.draw(PngBackend::new(&mut rgb, (w, h), font).into_drawing_area())?;
             let mut out = vec![];
             let mut enc = png::Encoder::new(&mut out, w, h);
             enc.set_color(png::ColorType::Rgb);
