@@ -203,3 +203,66 @@ fn log_axis_draws_positive_values_and_names_a_signal_without_any() {
         .unwrap_err();
     assert!(err.to_string().contains(".svg` or `.png`"), "{err}");
 }
+
+/// The `<text>` elements of an SVG: `(text-anchor, text)`.
+fn svg_texts(svg: &str) -> Vec<(String, String)> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let anchor = t.split("text-anchor=\"").nth(1)?.split('"').next()?;
+            let body = t.split_once('>')?.1.split("</text>").next()?.trim();
+            Some((anchor.to_string(), body.to_string()))
+        })
+        .collect()
+}
+
+/// Notation (scientific or not) and decimals of the mantissa of a tick label.
+fn label_format(label: &str) -> (bool, usize) {
+    let (mantissa, sci) = match label.split_once('e') {
+        Some((m, _)) => (m, true),
+        None => (label, false),
+    };
+    (sci, mantissa.split_once('.').map_or(0, |(_, d)| d.len()))
+}
+
+/// Tick labels of ball0's angular velocity (0 down to about -1 rad/s), a force up to 2.6 kN and
+/// an angle up to 2.1 mrad, over a time axis of 0.02 s: a tick meant as 0 reads `0` (plotters'
+/// ticks, accumulated from the lower end, read `-1.11e-16` on the velocity axis), every
+/// other label parses as a number at least 1e-6 of the axis span away from zero, and the labels
+/// of an axis share one notation and one number of decimals (the time axis read `0.0` beside
+/// `0.002` and `0.01`).
+#[test]
+fn tick_labels_read_0_for_zero_and_share_one_format_per_axis() {
+    let result = cradle();
+    for name in ["ball0.w_abs", "ball0|ball1.f_n", "rev0.phi"] {
+        let svg = result.plot_svg(&[name]).unwrap();
+        let texts = svg_texts(&svg);
+        // Tick labels: numbers; y labels are right-aligned, x labels centred.
+        for anchor in ["end", "middle"] {
+            let labels: Vec<&str> = texts
+                .iter()
+                .filter(|(a, t)| a == anchor && t.parse::<f64>().is_ok())
+                .map(|(_, t)| t.as_str())
+                .collect();
+            println!("{name}: {labels:?}");
+            assert!(labels.len() >= 3, "{name}: {anchor} labels {labels:?}");
+            let values: Vec<f64> = labels.iter().map(|l| l.parse().unwrap()).collect();
+            let span = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (l, v) in labels.iter().zip(&values) {
+                assert!(
+                    *l == "0" || v.abs() > 1e-6 * span,
+                    "{name}: label {l} on an axis of {labels:?}"
+                );
+            }
+            let formats: Vec<(bool, usize)> = labels
+                .iter()
+                .filter(|l| **l != "0")
+                .map(|l| label_format(l))
+                .collect();
+            assert!(
+                formats.windows(2).all(|w| w[0] == w[1]),
+                "{name}: mixed formats {labels:?}"
+            );
+        }
+    }
+}

@@ -12,6 +12,7 @@ mod gltf;
 mod html;
 mod mesh;
 pub(crate) mod plot;
+pub(crate) mod plot_axis;
 mod plot_text;
 mod segments;
 mod threejs;

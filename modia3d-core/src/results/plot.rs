@@ -3,12 +3,13 @@
 //! contact events, an optional logarithmic y axis; written as SVG (plotters' SVG backend) or
 //! PNG (plotters' bitmap backend, encoded by the `png` crate). Text is laid out and, for PNG,
 //! rasterised with the DejaVu Sans font bundled in `modia3d-core/assets/fonts/` (through
-//! `ab_glyph`: `plot_text.rs`), so no system font stack is needed. Reads a `SimulationResult`
-//! only.
+//! `ab_glyph`: `plot_text.rs`), so no system font stack is needed. Ticks and their labels come
+//! from `plot_axis.rs` (whole multiples of a 1-2-5 step, one format per axis). Reads a
+//! `SimulationResult` only.
 
+use super::plot_axis::{TickAxis, TickFormat, X_TICKS, Y_TICKS};
 use super::plot_text::PngBackend;
 use super::{ResultError, SimulationResult};
-use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -443,7 +444,7 @@ impl Drawing for Figure<'_> {
             let last = i + 1 == self.panels.len();
             let colours: Vec<RGBColor> =
                 colours.by_ref().take(panel.curves.len()).copied().collect();
-            let x = RangedCoordf64::from(self.x.0..self.x.1);
+            let x = TickAxis::new(self.x.0, self.x.1, X_TICKS);
             if self.options.log_y {
                 let (lo, hi) =
                     value_range(panel, |v| v > 0.0).ok_or_else(|| no_values(panel, "positive "))?;
@@ -453,28 +454,47 @@ impl Drawing for Figure<'_> {
                     (lo / 2.0, hi * 2.0)
                 };
                 let y: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
-                self.panel(a, x, y, (lo, hi), panel, &colours, last, |v| v > 0.0)?;
+                let format = TickFormat::log(lo, hi);
+                let label = |v: f64| format.label(v);
+                let axes = Axes {
+                    x,
+                    y,
+                    label: &label,
+                };
+                self.panel(a, axes, (lo, hi), panel, &colours, last, |v| v > 0.0)?;
             } else {
                 let (lo, hi) = value_range(panel, |_| true).ok_or_else(|| no_values(panel, ""))?;
                 let pad = if hi > lo { 0.05 * (hi - lo) } else { 0.5 };
                 let (lo, hi) = (lo - pad, hi + pad);
-                let y = RangedCoordf64::from(lo..hi);
-                self.panel(a, x, y, (lo, hi), panel, &colours, last, |_| true)?;
+                let y = TickAxis::new(lo, hi, Y_TICKS);
+                let label = |v: f64| y.label(v);
+                let axes = Axes {
+                    x,
+                    y: y.clone(),
+                    label: &label,
+                };
+                self.panel(a, axes, (lo, hi), panel, &colours, last, |_| true)?;
             }
         }
         root.present().map_err(err)
     }
 }
 
+/// A subplot's axes: time, values (linear or logarithmic), and the y tick labels.
+struct Axes<'l, Y> {
+    x: TickAxis,
+    y: Y,
+    label: &'l dyn Fn(f64) -> String,
+}
+
 impl Figure<'_> {
-    /// Draws one subplot with y coordinate `y` (linear or logarithmic) spanning `lo..hi`;
-    /// values for which `keep` is false are left out.
+    /// Draws one subplot with y axis spanning `lo..hi`; values for which `keep` is false are
+    /// left out.
     #[allow(clippy::too_many_arguments)]
     fn panel<DB, Y>(
         &self,
         area: &DrawingArea<DB, Shift>,
-        x: RangedCoordf64,
-        y: Y,
+        Axes { x, y, label }: Axes<'_, Y>,
         (lo, hi): (f64, f64),
         panel: &Panel,
         colours: &[RGBColor],
@@ -486,17 +506,25 @@ impl Figure<'_> {
         Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
     {
         let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        let x_format = x.clone();
         let mut chart = ChartBuilder::on(area)
             .margin(12)
+            // Room for half the last time label, centred on the right edge.
+            .margin_right(28)
             .x_label_area_size(if x_label { 44 } else { 28 })
             .y_label_area_size(84)
             .build_cartesian_2d(x, y)
             .map_err(err)?;
+        let x_format = |v: &f64| x_format.label(*v);
+        let y_format = |v: &f64| label(*v);
         let mut mesh = chart.configure_mesh();
         mesh.y_desc(panel.y_desc.as_str())
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
-            .y_label_formatter(&|v| tick_label(*v))
+            .x_labels(X_TICKS)
+            .y_labels(Y_TICKS)
+            .x_label_formatter(&x_format)
+            .y_label_formatter(&y_format)
             .light_line_style(RGBColor(235, 235, 235));
         if x_label {
             mesh.x_desc("time [s]");
@@ -581,37 +609,6 @@ impl Figure<'_> {
             runs.push(current);
         }
         runs
-    }
-}
-
-/// A tick label: plain decimals from 1e-3 to 1e5, otherwise `1.5e-7`; at most 4 significant
-/// digits, trailing zeros dropped.
-pub(crate) fn tick_label(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        // 1e-3 ≤ a < 1e5: the exponent is in -3..=4.
-        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
-        let s = format!("{v:.decimals$}");
-        let s = if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        };
-        if s == "-0" {
-            "0".into()
-        } else {
-            s
-        }
-    } else {
-        let s = format!("{v:.3e}");
-        match s.split_once('e') {
-            Some((m, e)) if m.contains('.') => {
-                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
-            }
-            _ => s,
-        }
     }
 }
 
