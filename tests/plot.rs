@@ -266,3 +266,84 @@ fn tick_labels_read_0_for_zero_and_share_one_format_per_axis() {
         }
     }
 }
+
+/// The points of the SVG polylines drawn with `stroke` (curves; the legend's sample line too).
+fn polylines(svg: &str, stroke: &str) -> Vec<Vec<(f64, f64)>> {
+    svg.lines()
+        .filter(|l| l.contains("<polyline") && l.contains(&format!("stroke=\"{stroke}\"")))
+        .filter_map(|l| {
+            let points = l.split("points=\"").nth(1)?.split('"').next()?;
+            Some(
+                points
+                    .split_whitespace()
+                    .filter_map(|p| {
+                        let (x, y) = p.split_once(',')?;
+                        Some((x.parse().ok()?, y.parse().ok()?))
+                    })
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// Whether segment a–b meets the rectangle (x0, y0, x1, y1): sampled every 0.25 px.
+fn segment_meets(a: (f64, f64), b: (f64, f64), (x0, y0, x1, y1): (f64, f64, f64, f64)) -> bool {
+    let n = ((b.0 - a.0).hypot(b.1 - a.1) * 4.0).ceil().max(1.0) as usize;
+    (0..=n).any(|k| {
+        let s = k as f64 / n as f64;
+        let (x, y) = (a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1));
+        (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+    })
+}
+
+/// The pendulum angle of the cradle rises in the first 2 ms and stays at its top: a legend in
+/// the upper right corner (where plotters put it) lies on the curve. The legend box (the
+/// translucent white rectangle) must meet no segment of the curve (sampled every 0.25 px: the
+/// curve is 2 px wide, the rectangle's edges are whole pixels); the lower half of the plot
+/// right of the rise is empty, so a free place exists.
+#[test]
+fn the_legend_box_covers_no_curve() {
+    let result = cradle();
+    let options = PlotOptions::new().event_markers(false);
+    let svg = result
+        .plot_bytes(&[&["rev0.phi"]], PlotFormat::Svg, &options)
+        .unwrap();
+    let svg = String::from_utf8(svg).unwrap();
+    let rect = svg
+        .lines()
+        .find(|l| l.contains("<rect") && l.contains("opacity=\"0.85\""))
+        .expect("legend box");
+    let attr = |a: &str| -> f64 {
+        rect.split(&format!(" {a}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (x, y, w, h) = (attr("x"), attr("y"), attr("width"), attr("height"));
+    let boxed = (x, y, x + w, y + h);
+    let curves: Vec<Vec<(f64, f64)>> = polylines(&svg, "#1F77B4")
+        .into_iter()
+        // The legend's own sample line lies inside the box.
+        .filter(|c| {
+            !c.iter()
+                .all(|&(px, py)| (x..=x + w).contains(&px) && (y..=y + h).contains(&py))
+        })
+        .collect();
+    assert!(!curves.is_empty());
+    let n_points: usize = curves.iter().map(Vec::len).sum();
+    assert!(n_points > 20, "{n_points} curve points");
+    for c in &curves {
+        for s in c.windows(2) {
+            assert!(
+                !segment_meets(s[0], s[1], boxed),
+                "the legend box {boxed:?} covers the curve segment {:?}–{:?}",
+                s[0],
+                s[1]
+            );
+        }
+    }
+}

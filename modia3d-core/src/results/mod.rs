@@ -13,6 +13,7 @@ mod html;
 mod mesh;
 pub(crate) mod plot;
 pub(crate) mod plot_axis;
+mod plot_legend;
 mod plot_text;
 mod segments;
 mod threejs;

@@ -4,14 +4,17 @@
 //! PNG (plotters' bitmap backend, encoded by the `png` crate). Text is laid out and, for PNG,
 //! rasterised with the DejaVu Sans font bundled in `modia3d-core/assets/fonts/` (through
 //! `ab_glyph`: `plot_text.rs`), so no system font stack is needed. Ticks and their labels come
-//! from `plot_axis.rs` (whole multiples of a 1-2-5 step, one format per axis). Reads a
+//! from `plot_axis.rs` (whole multiples of a 1-2-5 step, one format per axis), the legend's
+//! place from `plot_legend.rs` (where the fewest curve segments are). Reads a
 //! `SimulationResult` only.
 
 use super::plot_axis::{TickAxis, TickFormat, X_TICKS, Y_TICKS};
+use super::plot_legend::legend_spot;
 use super::plot_text::PngBackend;
 use super::{ResultError, SimulationResult};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 /// Colours of successive curves (Matplotlib's "tab10" without its red, which marks events).
@@ -487,6 +490,12 @@ struct Axes<'l, Y> {
     label: &'l dyn Fn(f64) -> String,
 }
 
+/// One legend line: its text and the style of its sample line.
+struct LegendEntry {
+    text: String,
+    style: ShapeStyle,
+}
+
 impl Figure<'_> {
     /// Draws one subplot with y axis spanning `lo..hi`; values for which `keep` is false are
     /// left out.
@@ -532,50 +541,100 @@ impl Figure<'_> {
         mesh.draw().map_err(err)?;
         let [r, g, b] = EVENT_MARKER_COLOR;
         let marker = RGBColor(r, g, b);
-        for (k, &t) in self.events.iter().enumerate() {
-            let series = chart
+        let mut legend = vec![];
+        for &t in self.events {
+            chart
                 .draw_series(LineSeries::new([(t, lo), (t, hi)], marker.stroke_width(1)))
                 .map_err(err)?;
-            if k == 0 {
-                series
-                    .label("contact event")
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], marker));
-            }
         }
+        if !self.events.is_empty() {
+            legend.push(LegendEntry {
+                text: "contact event".into(),
+                style: marker.stroke_width(1),
+            });
+        }
+        // The curves in pixels relative to the plotting area, for the legend's place.
+        let base = chart.plotting_area().get_base_pixel();
+        let mut drawn: Vec<Vec<(i32, i32)>> = vec![];
         for (c, &color) in panel.curves.iter().zip(colours) {
-            let label = format!("{} [{}]", c.label, unit_text(c.unit));
             let style = color.stroke_width(2);
-            for (k, run) in self
-                .runs(&c.values, &keep, |p| chart.backend_coord(p))
-                .iter()
-                .enumerate()
-            {
-                let series = if self.segments {
+            for run in self.runs(&c.values, &keep, |p| chart.backend_coord(p)) {
+                if self.segments {
                     // Thick polylines in the bitmap rasteriser put the inner corner of a sharp
                     // spike far off the chart: draw its segments one by one (no joins).
                     let segments = run.windows(2).map(|w| PathElement::new(w.to_vec(), style));
-                    chart.draw_series(segments).map_err(err)?
+                    chart.draw_series(segments).map_err(err)?;
                 } else {
                     chart
                         .draw_series(LineSeries::new(run.iter().copied(), style))
-                        .map_err(err)?
-                };
-                if k == 0 {
-                    series.label(label.clone()).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
+                        .map_err(err)?;
                 }
+                drawn.push(
+                    run.iter()
+                        .map(|p| {
+                            let (x, y) = chart.backend_coord(p);
+                            (x - base.0, y - base.1)
+                        })
+                        .collect(),
+                );
             }
+            legend.push(LegendEntry {
+                text: format!("{} [{}]", c.label, unit_text(c.unit)),
+                style,
+            });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font(("sans-serif", 13))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)
+        draw_legend(&chart.plotting_area().strip_coord_spec(), &legend, &drawn)
     }
+}
+
+/// Draws the legend `entries` (a sample line and a text each, in a framed box on a translucent
+/// white ground) on the plotting area `area` where the fewest segments of `curves` (pixels
+/// relative to the area) are.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+    curves: &[Vec<(i32, i32)>],
+) -> Result<(), String> {
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let text_style =
+        TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    let (pad, sample, gap) = (8, 24, 8);
+    let mut text_w = 0;
+    let mut line_h = 13;
+    for e in entries {
+        let (w, h) = area.estimate_text_size(&e.text, &text_style).map_err(err)?;
+        text_w = text_w.max(w as i32);
+        line_h = line_h.max(h as i32);
+    }
+    let line_h = line_h + 4;
+    let size = (
+        pad + sample + gap + text_w + pad,
+        pad + line_h * entries.len() as i32 + pad - 4,
+    );
+    let (w, h) = area.dim_in_pixel();
+    let (x, y) = legend_spot((w as i32, h as i32), size, curves);
+    let corners = [(x, y), (x + size.0, y + size.1)];
+    area.draw(&Rectangle::new(corners, WHITE.mix(0.85).filled()))
+        .map_err(err)?;
+    area.draw(&Rectangle::new(corners, BLACK)).map_err(err)?;
+    for (k, e) in entries.iter().enumerate() {
+        let cy = y + pad + line_h * k as i32 + (line_h - 4) / 2;
+        area.draw(&PathElement::new(
+            vec![(x + pad, cy), (x + pad + sample, cy)],
+            e.style,
+        ))
+        .map_err(err)?;
+        area.draw(&Text::new(
+            e.text.clone(),
+            (x + pad + sample + gap, cy),
+            text_style.clone(),
+        ))
+        .map_err(err)?;
+    }
+    Ok(())
 }
 
 impl Figure<'_> {
