@@ -265,38 +265,33 @@ fn html_player_loads_and_plays_in_headless_chromium() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// A rubber ball (Ø 10 cm) dropped 0.3 m onto a concrete table with contact results: the
-/// contact lasts ~8 ms (Hertz, E ≈ 2 MPa), so a 1 ms grid has points inside it.
-fn rubber_ball() -> SimulationResult {
+/// A rubber ball (Ø 10 cm) at `r` with velocity `v` over a fixed concrete table of size
+/// `table` whose top is at z = 0, simulated with contact results.
+fn ball_on_table(table: [f64; 3], r: [f64; 3], v: [f64; 3], opts: SimOptions) -> SimulationResult {
     let mut s = SceneDesc::new();
     s.add(modia3d::demo::world(SceneOptions::default()))
         .add(modia3d::demo::fixed_box(
             "table",
-            [0.6, 0.6, 0.1],
-            [0.0, 0.0, -0.05],
+            table,
+            [0.0, 0.0, -table[2] / 2.0],
             "Concrete",
         ));
-    let r = [0.0, 0.0, 0.35];
-    modia3d::demo::add_free_sphere(
-        &mut s,
-        "ball",
-        0.1,
-        "NaturalRubber",
-        None,
-        r,
-        [0.0; 3],
-        [0.0; 3],
-    );
+    modia3d::demo::add_free_sphere(&mut s, "ball", 0.1, "NaturalRubber", None, r, v, [0.0; 3]);
     s.build()
         .unwrap()
-        .simulate(
-            &SimOptions::new(0.5)
-                .tolerance(1e-6)
-                .interval(1e-3)
-                .contact_results(true)
-                .progress(false),
-        )
+        .simulate(&opts.tolerance(1e-6).contact_results(true).progress(false))
         .unwrap()
+}
+
+/// The ball dropped 0.3 m onto the table: the contact lasts ~8 ms (Hertz, E ≈ 2 MPa), so a
+/// 1 ms grid has points inside it.
+fn rubber_ball() -> SimulationResult {
+    ball_on_table(
+        [0.6, 0.6, 0.1],
+        [0.0, 0.0, 0.35],
+        [0.0; 3],
+        SimOptions::new(0.5).interval(1e-3),
+    )
 }
 
 /// Scrubbed to three output times (falling, in contact, after the rebound) the page draws the
@@ -387,6 +382,80 @@ fn scrubbed_pose_matches_the_result_and_contact_arrows_appear_during_contact() {
             "t = {}: the ball's centre pixel {pixel:?} is {p:?}",
             time[k]
         );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The ball set down on the table with 0.3 m/s along x: it slides, then rolls, and is in
+/// contact at the end of the run with its contact point under it. The run starts at 0.2 s: the
+/// page's keyframes are at the result's times, not from 0.
+fn rolling_ball() -> SimulationResult {
+    ball_on_table(
+        [0.8, 0.4, 0.1],
+        [-0.2, 0.0, 0.0495],
+        [0.3, 0.0, 0.0],
+        SimOptions::new(0.8).start_time(0.2).interval(0.01),
+    )
+}
+
+/// Opened at the first output time, one in the middle and the last (`?t=<t_end>`, where the
+/// animation clip ends) the page draws the ball where the result has it and its contact marker
+/// at the result's contact point. The drawn position must equal `ball.r_abs` to 1e-5 m (three.js
+/// keeps keyframes and matrices in float32: ~1e-7 relative at 0.2 m; the ball moves ~0.11 m,
+/// so a pose from another output time is off by millimetres, the start pose by ~0.11 m). The
+/// marker is drawn from the page's overlay, rounded to 1 µm there: to 1e-5 m of the
+/// `point` contact signal too. The number of markers equals the `in_contact` signal. Times past
+/// the end (and before the start) show the last (first) pose.
+#[test]
+fn first_middle_and_last_frames_match_the_result_with_their_contact_markers() {
+    let result = rolling_ball();
+    let time = result.time().to_vec();
+    let last = time.len() - 1;
+    let r = result.signal("ball.r_abs").unwrap();
+    let pair = |f: &str| {
+        result
+            .signal(&format!("table|ball.{f}"))
+            .or_else(|_| result.signal(&format!("ball|table.{f}")))
+            .unwrap()
+    };
+    let (on, point) = (pair("in_contact"), pair("point"));
+    assert!(on.values()[last] > 0.5, "in contact at the end");
+    let moved = (r.at(last).unwrap()[0] - r.at(0).unwrap()[0]).abs();
+    assert!(moved > 0.05, "the ball rolled {moved} m");
+    let Some((chromium, dir, page)) = page_of(&result, "player-ends") else {
+        return;
+    };
+    let t_end = time[last];
+    // (time asked for in the URL, output index whose state is expected)
+    let cases = [
+        (format!("{:e}", time[0]), 0),
+        (format!("{:e}", time[last / 2]), last / 2),
+        (format!("{t_end:e}"), last),
+        // As a user types it: the end time printed with a few digits.
+        (format!("{t_end}"), last),
+        (format!("{}", t_end + 1.0), last),
+        (format!("{}", time[0] - 1.0), 0),
+    ];
+    for (t, k) in cases {
+        let url = format!("file://{}?t={t}&probe=ball", page.display());
+        let dom = run_chromium(&chromium, &url, &["--dump-dom"], &dir);
+        let attr = |a: &str| info_attr(&dom, a).unwrap_or_else(|| panic!("{a}; DOM: {dom:.3000}"));
+        // The page's "x,y,z" against the result's vector, to 1e-5 m (see above).
+        let check = |what: &str, want: &[f64]| {
+            let drawn: Vec<f64> = attr(what).split(',').map(|v| v.parse().unwrap()).collect();
+            println!("t = {t}: {what} {drawn:?}, result {want:?}");
+            assert!(
+                drawn.len() == 3 && (0..3).all(|i| (drawn[i] - want[i]).abs() < 1e-5),
+                "t = {t}: {what} {drawn:?}, result (k = {k}) {want:?}"
+            );
+        };
+        check("data-probe-position", r.at(k).unwrap());
+        let contact = on.values()[k] > 0.5;
+        let markers: usize = attr("data-contacts-visible").parse().unwrap();
+        assert_eq!(markers, usize::from(contact), "contact markers at t = {t}");
+        if contact {
+            check("data-contact-points", point.at(k).unwrap());
+        }
     }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -203,3 +203,147 @@ fn log_axis_draws_positive_values_and_names_a_signal_without_any() {
         .unwrap_err();
     assert!(err.to_string().contains(".svg` or `.png`"), "{err}");
 }
+
+/// The `<text>` elements of an SVG: `(text-anchor, text)`.
+fn svg_texts(svg: &str) -> Vec<(String, String)> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let anchor = t.split("text-anchor=\"").nth(1)?.split('"').next()?;
+            let body = t.split_once('>')?.1.split("</text>").next()?.trim();
+            Some((anchor.to_string(), body.to_string()))
+        })
+        .collect()
+}
+
+/// Notation (scientific or not) and decimals of the mantissa of a tick label.
+fn label_format(label: &str) -> (bool, usize) {
+    let (mantissa, sci) = match label.split_once('e') {
+        Some((m, _)) => (m, true),
+        None => (label, false),
+    };
+    (sci, mantissa.split_once('.').map_or(0, |(_, d)| d.len()))
+}
+
+/// Tick labels of ball0's angular velocity (0 down to about -1 rad/s), a force up to 2.6 kN and
+/// an angle up to 2.1 mrad, over a time axis of 0.02 s: a tick meant as 0 reads `0` (plotters'
+/// ticks, accumulated from the lower end, read `-1.11e-16` on the velocity axis), every
+/// other label parses as a number at least 1e-6 of the axis span away from zero, and the labels
+/// of an axis share one notation and one number of decimals (the time axis read `0.0` beside
+/// `0.002` and `0.01`).
+#[test]
+fn tick_labels_read_0_for_zero_and_share_one_format_per_axis() {
+    let result = cradle();
+    for name in ["ball0.w_abs", "ball0|ball1.f_n", "rev0.phi"] {
+        let svg = result.plot_svg(&[name]).unwrap();
+        let texts = svg_texts(&svg);
+        // Tick labels: numbers; y labels are right-aligned, x labels centred.
+        for anchor in ["end", "middle"] {
+            let labels: Vec<&str> = texts
+                .iter()
+                .filter(|(a, t)| a == anchor && t.parse::<f64>().is_ok())
+                .map(|(_, t)| t.as_str())
+                .collect();
+            println!("{name}: {labels:?}");
+            assert!(labels.len() >= 3, "{name}: {anchor} labels {labels:?}");
+            let values: Vec<f64> = labels.iter().map(|l| l.parse().unwrap()).collect();
+            let span = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            for (l, v) in labels.iter().zip(&values) {
+                assert!(
+                    *l == "0" || v.abs() > 1e-6 * span,
+                    "{name}: label {l} on an axis of {labels:?}"
+                );
+            }
+            let formats: Vec<(bool, usize)> = labels
+                .iter()
+                .filter(|l| **l != "0")
+                .map(|l| label_format(l))
+                .collect();
+            assert!(
+                formats.windows(2).all(|w| w[0] == w[1]),
+                "{name}: mixed formats {labels:?}"
+            );
+        }
+    }
+}
+
+/// The points of the SVG polylines drawn with `stroke` (curves; the legend's sample line too).
+fn polylines(svg: &str, stroke: &str) -> Vec<Vec<(f64, f64)>> {
+    svg.lines()
+        .filter(|l| l.contains("<polyline") && l.contains(&format!("stroke=\"{stroke}\"")))
+        .filter_map(|l| {
+            let points = l.split("points=\"").nth(1)?.split('"').next()?;
+            Some(
+                points
+                    .split_whitespace()
+                    .filter_map(|p| {
+                        let (x, y) = p.split_once(',')?;
+                        Some((x.parse().ok()?, y.parse().ok()?))
+                    })
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// Whether segment a–b meets the rectangle (x0, y0, x1, y1): sampled every 0.25 px.
+fn segment_meets(a: (f64, f64), b: (f64, f64), (x0, y0, x1, y1): (f64, f64, f64, f64)) -> bool {
+    let n = ((b.0 - a.0).hypot(b.1 - a.1) * 4.0).ceil().max(1.0) as usize;
+    (0..=n).any(|k| {
+        let s = k as f64 / n as f64;
+        let (x, y) = (a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1));
+        (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
+    })
+}
+
+/// The pendulum angle of the cradle rises in the first 2 ms and stays at its top: a legend in
+/// the upper right corner (where plotters put it) lies on the curve. The legend box (the
+/// translucent white rectangle) must meet no segment of the curve (sampled every 0.25 px: the
+/// curve is 2 px wide, the rectangle's edges are whole pixels); the lower half of the plot
+/// right of the rise is empty, so a free place exists.
+#[test]
+fn the_legend_box_covers_no_curve() {
+    let result = cradle();
+    let options = PlotOptions::new().event_markers(false);
+    let svg = result
+        .plot_bytes(&[&["rev0.phi"]], PlotFormat::Svg, &options)
+        .unwrap();
+    let svg = String::from_utf8(svg).unwrap();
+    let rect = svg
+        .lines()
+        .find(|l| l.contains("<rect") && l.contains("opacity=\"0.85\""))
+        .expect("legend box");
+    let attr = |a: &str| -> f64 {
+        rect.split(&format!(" {a}=\""))
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (x, y, w, h) = (attr("x"), attr("y"), attr("width"), attr("height"));
+    let boxed = (x, y, x + w, y + h);
+    let curves: Vec<Vec<(f64, f64)>> = polylines(&svg, "#1F77B4")
+        .into_iter()
+        // The legend's own sample line lies inside the box.
+        .filter(|c| {
+            !c.iter()
+                .all(|&(px, py)| (x..=x + w).contains(&px) && (y..=y + h).contains(&py))
+        })
+        .collect();
+    assert!(!curves.is_empty());
+    let n_points: usize = curves.iter().map(Vec::len).sum();
+    assert!(n_points > 20, "{n_points} curve points");
+    for c in &curves {
+        for s in c.windows(2) {
+            assert!(
+                !segment_meets(s[0], s[1], boxed),
+                "the legend box {boxed:?} covers the curve segment {:?}–{:?}",
+                s[0],
+                s[1]
+            );
+        }
+    }
+}

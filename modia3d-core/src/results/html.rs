@@ -181,9 +181,11 @@ impl SimulationResult {
     /// results (`SimOptions::contact_results`), with toggles. Colours are the built-in solid
     /// materials' (`palette.json`), others in turn from a fixed set.
     ///
-    /// URL parameters: `?t=<time [s]>` opens paused at that time, `&probe=<object>` writes that
-    /// object's drawn position (world frame of the scene, \[m\]) into `#modia3d-info`'s
-    /// `data-probe-position`, and `data-contacts-visible` counts the contact arrows drawn; with
+    /// URL parameters: `?t=<time [s]>` opens paused at that time (the last output time shows
+    /// the last pose; times outside the run show its first or last pose), `&probe=<object>`
+    /// writes that object's drawn position (world frame of the scene, \[m\]) into
+    /// `#modia3d-info`'s `data-probe-position`, `data-contacts-visible` counts the contact
+    /// arrows drawn and `data-contact-points` lists their points (`x,y,z;…`, world \[m\]); with
     /// `data-probe-view` (where it is drawn: right and up from the view's centre in half view
     /// heights), `data-probe-hover` (the name the hover tip shows there), `data-time`, `data-object-count`, `data-frames-drawn`, `data-joint-count` and
     /// `data-rod-count` these let tests read the page's

@@ -2,13 +2,19 @@
 //! the user gives), each y axis labelled with its unit, a title, legends, vertical markers at
 //! contact events, an optional logarithmic y axis; written as SVG (plotters' SVG backend) or
 //! PNG (plotters' bitmap backend, encoded by the `png` crate). Text is laid out and, for PNG,
-//! rasterised with the DejaVu Sans font bundled in `modia3d-core/assets/fonts/` (plotters'
-//! `ab_glyph` feature), so no system font stack is needed. Reads a `SimulationResult` only.
+//! rasterised with the DejaVu Sans font bundled in `modia3d-core/assets/fonts/` (through
+//! `ab_glyph`: `plot_text.rs`), so no system font stack is needed. Ticks and their labels come
+//! from `plot_axis.rs` (whole multiples of a 1-2-5 step, one format per axis), the legend's
+//! place from `plot_legend.rs` (where the fewest curve segments are). Reads a
+//! `SimulationResult` only.
 
+use super::plot_axis::{TickAxis, TickFormat, X_TICKS, Y_TICKS};
+use super::plot_legend::legend_spot;
+use super::plot_text::PngBackend;
 use super::{ResultError, SimulationResult};
-use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 
 /// Colours of successive curves (Matplotlib's "tab10" without its red, which marks events).
@@ -378,8 +384,10 @@ pub(crate) fn render_bytes(
             Ok(svg.into_bytes())
         }
         PlotFormat::Png => {
+            let font = ab_glyph::FontRef::try_from_slice(FONT)
+                .map_err(|_| "the bundled font cannot be read".to_string())?;
             let mut rgb = vec![0u8; w as usize * h as usize * 3];
-            drawing.draw(BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area())?;
+            drawing.draw(PngBackend::new(&mut rgb, (w, h), font).into_drawing_area())?;
             let mut out = vec![];
             let mut enc = png::Encoder::new(&mut out, w, h);
             enc.set_color(png::ColorType::Rgb);
@@ -439,7 +447,7 @@ impl Drawing for Figure<'_> {
             let last = i + 1 == self.panels.len();
             let colours: Vec<RGBColor> =
                 colours.by_ref().take(panel.curves.len()).copied().collect();
-            let x = RangedCoordf64::from(self.x.0..self.x.1);
+            let x = TickAxis::new(self.x.0, self.x.1, X_TICKS);
             if self.options.log_y {
                 let (lo, hi) =
                     value_range(panel, |v| v > 0.0).ok_or_else(|| no_values(panel, "positive "))?;
@@ -449,28 +457,53 @@ impl Drawing for Figure<'_> {
                     (lo / 2.0, hi * 2.0)
                 };
                 let y: plotters::coord::combinators::LogCoord<f64> = (lo..hi).log_scale().into();
-                self.panel(a, x, y, (lo, hi), panel, &colours, last, |v| v > 0.0)?;
+                let format = TickFormat::log(lo, hi);
+                let label = |v: f64| format.label(v);
+                let axes = Axes {
+                    x,
+                    y,
+                    label: &label,
+                };
+                self.panel(a, axes, (lo, hi), panel, &colours, last, |v| v > 0.0)?;
             } else {
                 let (lo, hi) = value_range(panel, |_| true).ok_or_else(|| no_values(panel, ""))?;
                 let pad = if hi > lo { 0.05 * (hi - lo) } else { 0.5 };
                 let (lo, hi) = (lo - pad, hi + pad);
-                let y = RangedCoordf64::from(lo..hi);
-                self.panel(a, x, y, (lo, hi), panel, &colours, last, |_| true)?;
+                let y = TickAxis::new(lo, hi, Y_TICKS);
+                let label = |v: f64| y.label(v);
+                let axes = Axes {
+                    x,
+                    y: y.clone(),
+                    label: &label,
+                };
+                self.panel(a, axes, (lo, hi), panel, &colours, last, |_| true)?;
             }
         }
         root.present().map_err(err)
     }
 }
 
+/// A subplot's axes: time, values (linear or logarithmic), and the y tick labels.
+struct Axes<'l, Y> {
+    x: TickAxis,
+    y: Y,
+    label: &'l dyn Fn(f64) -> String,
+}
+
+/// One legend line: its text and the style of its sample line.
+struct LegendEntry {
+    text: String,
+    style: ShapeStyle,
+}
+
 impl Figure<'_> {
-    /// Draws one subplot with y coordinate `y` (linear or logarithmic) spanning `lo..hi`;
-    /// values for which `keep` is false are left out.
+    /// Draws one subplot with y axis spanning `lo..hi`; values for which `keep` is false are
+    /// left out.
     #[allow(clippy::too_many_arguments)]
     fn panel<DB, Y>(
         &self,
         area: &DrawingArea<DB, Shift>,
-        x: RangedCoordf64,
-        y: Y,
+        Axes { x, y, label }: Axes<'_, Y>,
         (lo, hi): (f64, f64),
         panel: &Panel,
         colours: &[RGBColor],
@@ -482,17 +515,25 @@ impl Figure<'_> {
         Y: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
     {
         let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        let x_format = x.clone();
         let mut chart = ChartBuilder::on(area)
             .margin(12)
+            // Room for half the last time label, centred on the right edge.
+            .margin_right(28)
             .x_label_area_size(if x_label { 44 } else { 28 })
             .y_label_area_size(84)
             .build_cartesian_2d(x, y)
             .map_err(err)?;
+        let x_format = |v: &f64| x_format.label(*v);
+        let y_format = |v: &f64| label(*v);
         let mut mesh = chart.configure_mesh();
         mesh.y_desc(panel.y_desc.as_str())
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
-            .y_label_formatter(&|v| tick_label(*v))
+            .x_labels(X_TICKS)
+            .y_labels(Y_TICKS)
+            .x_label_formatter(&x_format)
+            .y_label_formatter(&y_format)
             .light_line_style(RGBColor(235, 235, 235));
         if x_label {
             mesh.x_desc("time [s]");
@@ -500,50 +541,100 @@ impl Figure<'_> {
         mesh.draw().map_err(err)?;
         let [r, g, b] = EVENT_MARKER_COLOR;
         let marker = RGBColor(r, g, b);
-        for (k, &t) in self.events.iter().enumerate() {
-            let series = chart
+        let mut legend = vec![];
+        for &t in self.events {
+            chart
                 .draw_series(LineSeries::new([(t, lo), (t, hi)], marker.stroke_width(1)))
                 .map_err(err)?;
-            if k == 0 {
-                series
-                    .label("contact event")
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], marker));
-            }
         }
+        if !self.events.is_empty() {
+            legend.push(LegendEntry {
+                text: "contact event".into(),
+                style: marker.stroke_width(1),
+            });
+        }
+        // The curves in pixels relative to the plotting area, for the legend's place.
+        let base = chart.plotting_area().get_base_pixel();
+        let mut drawn: Vec<Vec<(i32, i32)>> = vec![];
         for (c, &color) in panel.curves.iter().zip(colours) {
-            let label = format!("{} [{}]", c.label, unit_text(c.unit));
             let style = color.stroke_width(2);
-            for (k, run) in self
-                .runs(&c.values, &keep, |p| chart.backend_coord(p))
-                .iter()
-                .enumerate()
-            {
-                let series = if self.segments {
+            for run in self.runs(&c.values, &keep, |p| chart.backend_coord(p)) {
+                if self.segments {
                     // Thick polylines in the bitmap rasteriser put the inner corner of a sharp
                     // spike far off the chart: draw its segments one by one (no joins).
                     let segments = run.windows(2).map(|w| PathElement::new(w.to_vec(), style));
-                    chart.draw_series(segments).map_err(err)?
+                    chart.draw_series(segments).map_err(err)?;
                 } else {
                     chart
                         .draw_series(LineSeries::new(run.iter().copied(), style))
-                        .map_err(err)?
-                };
-                if k == 0 {
-                    series.label(label.clone()).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
+                        .map_err(err)?;
                 }
+                drawn.push(
+                    run.iter()
+                        .map(|p| {
+                            let (x, y) = chart.backend_coord(p);
+                            (x - base.0, y - base.1)
+                        })
+                        .collect(),
+                );
             }
+            legend.push(LegendEntry {
+                text: format!("{} [{}]", c.label, unit_text(c.unit)),
+                style,
+            });
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .label_font(("sans-serif", 13))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()
-            .map_err(err)
+        draw_legend(&chart.plotting_area().strip_coord_spec(), &legend, &drawn)
     }
+}
+
+/// Draws the legend `entries` (a sample line and a text each, in a framed box on a translucent
+/// white ground) on the plotting area `area` where the fewest segments of `curves` (pixels
+/// relative to the area) are.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[LegendEntry],
+    curves: &[Vec<(i32, i32)>],
+) -> Result<(), String> {
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let text_style =
+        TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    let (pad, sample, gap) = (8, 24, 8);
+    let mut text_w = 0;
+    let mut line_h = 13;
+    for e in entries {
+        let (w, h) = area.estimate_text_size(&e.text, &text_style).map_err(err)?;
+        text_w = text_w.max(w as i32);
+        line_h = line_h.max(h as i32);
+    }
+    let line_h = line_h + 4;
+    let size = (
+        pad + sample + gap + text_w + pad,
+        pad + line_h * entries.len() as i32 + pad - 4,
+    );
+    let (w, h) = area.dim_in_pixel();
+    let (x, y) = legend_spot((w as i32, h as i32), size, curves);
+    let corners = [(x, y), (x + size.0, y + size.1)];
+    area.draw(&Rectangle::new(corners, WHITE.mix(0.85).filled()))
+        .map_err(err)?;
+    area.draw(&Rectangle::new(corners, BLACK)).map_err(err)?;
+    for (k, e) in entries.iter().enumerate() {
+        let cy = y + pad + line_h * k as i32 + (line_h - 4) / 2;
+        area.draw(&PathElement::new(
+            vec![(x + pad, cy), (x + pad + sample, cy)],
+            e.style,
+        ))
+        .map_err(err)?;
+        area.draw(&Text::new(
+            e.text.clone(),
+            (x + pad + sample + gap, cy),
+            text_style.clone(),
+        ))
+        .map_err(err)?;
+    }
+    Ok(())
 }
 
 impl Figure<'_> {
@@ -577,37 +668,6 @@ impl Figure<'_> {
             runs.push(current);
         }
         runs
-    }
-}
-
-/// A tick label: plain decimals from 1e-3 to 1e5, otherwise `1.5e-7`; at most 4 significant
-/// digits, trailing zeros dropped.
-pub(crate) fn tick_label(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        // 1e-3 ≤ a < 1e5: the exponent is in -3..=4.
-        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
-        let s = format!("{v:.decimals$}");
-        let s = if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        };
-        if s == "-0" {
-            "0".into()
-        } else {
-            s
-        }
-    } else {
-        let s = format!("{v:.3e}");
-        match s.split_once('e') {
-            Some((m, e)) if m.contains('.') => {
-                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
-            }
-            _ => s,
-        }
     }
 }
 

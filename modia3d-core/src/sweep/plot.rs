@@ -4,7 +4,8 @@
 #![deny(clippy::indexing_slicing)]
 
 use super::{SweepError, SweepTable};
-use crate::results::plot::{render_bytes, tick_label, Drawing};
+use crate::results::plot::{render_bytes, Drawing};
+use crate::results::plot_axis::{TickAxis, X_TICKS, Y_TICKS};
 use crate::PlotFormat;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -204,12 +205,6 @@ fn range(v: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     })
 }
 
-/// A tick label; a tick within rounding of zero (an axis of width `span`) is `0`, not
-/// `-1.11e-16`.
-fn tick(v: f64, span: f64) -> String {
-    tick_label(if v.abs() < 1e-9 * span.abs() { 0.0 } else { v })
-}
-
 impl Drawing for SweepFigure {
     fn draw<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String> {
         let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
@@ -259,7 +254,10 @@ impl Drawing for SweepFigure {
             .margin(14)
             .x_label_area_size(48)
             .y_label_area_size(84)
-            .build_cartesian_2d(x0..x1, y0..y1)
+            .build_cartesian_2d(
+                TickAxis::new(x0, x1, X_TICKS),
+                TickAxis::new(y0, y1, Y_TICKS),
+            )
             .map_err(err)?;
         chart
             .configure_mesh()
@@ -267,8 +265,8 @@ impl Drawing for SweepFigure {
             .y_desc(self.y.label.as_str())
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
-            .x_label_formatter(&|v| tick(*v, x1 - x0))
-            .y_label_formatter(&|v| tick(*v, y1 - y0))
+            .x_labels(X_TICKS)
+            .y_labels(Y_TICKS)
             .disable_mesh()
             .draw()
             .map_err(err)?;
@@ -327,7 +325,7 @@ impl Drawing for SweepFigure {
                 .margin_bottom(62)
                 .margin_right(8)
                 .y_label_area_size(80)
-                .build_cartesian_2d(0.0..1.0, lo..hi)
+                .build_cartesian_2d(0.0..1.0, TickAxis::new(lo, hi, Y_TICKS))
                 .map_err(err)?;
             bar_chart
                 .configure_mesh()
@@ -336,7 +334,7 @@ impl Drawing for SweepFigure {
                 .y_desc(zs.label.as_str())
                 .label_style(("sans-serif", 13))
                 .axis_desc_style(("sans-serif", 15))
-                .y_label_formatter(&|v| tick(*v, hi - lo))
+                .y_labels(Y_TICKS)
                 .draw()
                 .map_err(err)?;
             let steps = 100;
@@ -363,5 +361,46 @@ mod tests {
         assert_eq!(edges(&[2.0]), [1.5, 2.5]);
         assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
         assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+    }
+
+    /// A heat map over a grid whose parameter runs from -0.2 to 0.2 (cell edges ±0.25, where
+    /// plotters' accumulated ticks missed 0) and a scatter plot render as SVG with the shared
+    /// axis ticks: a `0` label, no rounding residue such as `e-17`, both colour bar ends.
+    #[test]
+    fn sweep_plots_label_their_axes_in_one_format() {
+        let series = |label: &str, values: &[f64]| Series {
+            label: label.into(),
+            values: values.to_vec(),
+        };
+        let xs = [-0.2, -0.1, 0.0, 0.1, 0.2];
+        let x: Vec<f64> = xs.iter().flat_map(|&v| [v, v]).collect();
+        let y: Vec<f64> = xs.iter().flat_map(|_| [1.0e5, 2.0e5]).collect();
+        let z: Vec<f64> = (0..10).map(|k| 0.1 * k as f64).collect();
+        let heatmap = SweepFigure {
+            title: Some("grid".into()),
+            kind: Kind::Heatmap {
+                x_edges: edges(&xs),
+                y_edges: edges(&[1.0e5, 2.0e5]),
+                xs: xs.to_vec(),
+                ys: vec![1.0e5, 2.0e5],
+            },
+            x: series("cor", &x),
+            y: series("h0 [m]", &y),
+            z: Some(series("e", &z)),
+        };
+        let scatter = SweepFigure {
+            title: None,
+            kind: Kind::Scatter,
+            x: series("cor", &x),
+            y: series("h0 [m]", &y),
+            z: None,
+        };
+        for figure in [heatmap, scatter] {
+            let svg = render_bytes(&figure, PlotFormat::Svg, (860, 640)).expect("svg");
+            let svg = String::from_utf8(svg).expect("utf-8");
+            assert!(svg.contains(">\n0\n<"), "a 0 tick");
+            assert!(!svg.contains("e-1"), "no rounding residue");
+            assert!(svg.contains(">\n-0.2\n<") || svg.contains(">\n-0.20\n<"));
+        }
     }
 }
