@@ -14,7 +14,6 @@ const LAYERS: &[(&str, u32)] = &[
     ("solver/", 0),
     ("spatial.rs", 0),
     ("joints/rows.rs", 0),
-    ("build_profile.rs", 0),
     // The description (builder data, materials, force laws) and validation's errors.
     ("scene/", 1),
     // The joint kinds: each checks its own parameters with validation's `Checker`.
@@ -32,6 +31,8 @@ const LAYERS: &[(&str, u32)] = &[
     ("results/", 8),
     ("simulation.rs", 9),
     ("simulation/", 9),
+    // The notice of an unoptimised build, printed by the driver's first run.
+    ("build_profile.rs", 9),
     ("sweep/", 10),
     ("bench.rs", 10),
     ("lib.rs", 11),
