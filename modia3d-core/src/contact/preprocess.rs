@@ -555,8 +555,22 @@ impl ContactPlan {
 }
 
 /// `(μ_geo, c_geo, n_geo)` of a pair (docs/contact-model.md §3 table; later profile: Hertz for
-/// every pair; the volume profile: the paper's for every point-law pair).
+/// every pair; the volume profile: the paper's for pairs with a sphere and, for the pairs
+/// without a sphere that keep a point law (capsules, ellipsoids, two cylinders or cones), the
+/// later profile's Hertz: the paper's linear law has its full stiffness from the first
+/// nanometre, and such a pair collapsed the steps at its touch).
 fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) -> (f64, f64, f64) {
+    let hertz_by_curvature = || {
+        let (ra, fa) = (a.radius, a.flat);
+        let (rb, fb) = (b.radius, b.flat);
+        let curvature = if fa { 0.0 } else { 1.0 / ra } + if fb { 0.0 } else { 1.0 / rb };
+        let mu = if curvature > 0.0 {
+            1.0 / curvature
+        } else {
+            1.0 / (1.0 / ra + 1.0 / rb)
+        };
+        (mu, 4.0 / 3.0 * mu.sqrt(), 1.5)
+    };
     match profile {
         ContactProfile::Paper2019 | ContactProfile::Volume => {
             match (a.sphere_diameter, b.sphere_diameter) {
@@ -568,20 +582,11 @@ fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) ->
                     let r = 0.5 * diameter;
                     (r, 4.0 / 3.0 * r.sqrt(), 1.5)
                 }
+                (None, None) if profile == ContactProfile::Volume => hertz_by_curvature(),
                 (None, None) => (1.0, 1.0, 1.0),
             }
         }
-        ContactProfile::Modia3DLater => {
-            let (ra, fa) = (a.radius, a.flat);
-            let (rb, fb) = (b.radius, b.flat);
-            let curvature = if fa { 0.0 } else { 1.0 / ra } + if fb { 0.0 } else { 1.0 / rb };
-            let mu = if curvature > 0.0 {
-                1.0 / curvature
-            } else {
-                1.0 / (1.0 / ra + 1.0 / rb)
-            };
-            (mu, 4.0 / 3.0 * mu.sqrt(), 1.5)
-        }
+        ContactProfile::Modia3DLater => hertz_by_curvature(),
     }
 }
 
