@@ -79,13 +79,14 @@ fn take_notice(opt_level: &str, given: &AtomicBool) -> Option<String> {
     Some(unoptimised_notice())
 }
 
-/// Gives the notice of an unoptimised build, once per process (see the module docs).
+/// Gives the notice of an unoptimised build, once per process (see the module docs): through
+/// `tracing` when the caller found a `subscriber` installed, else on standard error.
 #[cfg(feature = "solver")]
-pub(crate) fn notice_once() {
+pub(crate) fn notice_once(subscriber: bool) {
     let Some(text) = take_notice(OPT_LEVEL, &NOTICE_GIVEN) else {
         return;
     };
-    if crate::simulation::subscriber_installed() {
+    if subscriber {
         tracing::warn!("{text}");
     } else {
         eprint!("{text}");

@@ -457,7 +457,7 @@ impl Simulation {
         }
         if !opts.quiet {
             // An unoptimised build says so once per process, naming the Cargo.toml fix.
-            crate::build_profile::notice_once();
+            crate::build_profile::notice_once(subscriber_installed());
         }
         if opts.contact_results {
             result.enable_contact_record();

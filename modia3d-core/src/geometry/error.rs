@@ -1,6 +1,6 @@
 //! Errors of the geometry stage (shape checks, narrow-phase failures). Touches nothing else.
 
-use super::shapes::ShapeKind;
+use super::shape_kind::ShapeKind;
 use thiserror::Error;
 
 /// Why a geometric computation could not be done.
@@ -67,7 +67,7 @@ pub enum GeometryError {
          Select > Select All by Trait > Non Manifold, then Face > Fill), or give the solid \
          explicit mass properties (`MassSpec::Explicit`) and collide it as its convex hull",
         100.0 * hole_area / area,
-        100.0 * super::mesh_file::MAX_HOLE_AREA_RATIO
+        100.0 * closable
     )]
     MeshHoles {
         /// The mesh's source (file path).
@@ -85,6 +85,9 @@ pub enum GeometryError {
         /// Centroid of the largest hole's boundary vertices, in the shape frame \[m\] (boxed:
         /// every error that can hold a `GeometryError` stays small).
         largest_centre: Box<[f64; 3]>,
+        /// The largest share of the surface that is closed automatically (`closable` ×
+        /// `area`; `mesh_file::MAX_HOLE_AREA_RATIO`) [-].
+        closable: f64,
     },
     /// A triangle of a mesh refers to a vertex that does not exist.
     #[error("mesh `{path}`: triangle {triangle} refers to vertex {index}, but there are only {vertices} vertices; build the `TriangleMesh` with indices into its `vertices`")]

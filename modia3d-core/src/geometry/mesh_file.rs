@@ -572,6 +572,7 @@ pub fn repair_mesh(mesh: &TriangleMesh) -> Result<(TriangleMesh, MeshRepair), Ge
             largest_area: largest.0,
             largest_edges: u32::try_from(largest.1).unwrap_or(u32::MAX),
             largest_centre: Box::new([largest.2.x, largest.2.y, largest.2.z]),
+            closable: MAX_HOLE_AREA_RATIO,
         });
     }
     let repaired = TriangleMesh {

@@ -24,6 +24,7 @@ pub mod mesh_file;
 pub mod narrow_phase;
 pub mod overlap;
 mod pose;
+mod shape_kind;
 pub mod shapes;
 pub mod smoothing;
 pub mod support;

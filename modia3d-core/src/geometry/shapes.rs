@@ -16,6 +16,7 @@
 
 use super::error::GeometryError;
 use super::mesh_file::{load_mesh, mesh_mass_properties, TriangleMesh};
+pub use super::shape_kind::ShapeKind;
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -176,29 +177,6 @@ pub struct UnitMassProperties {
     pub com: Vector3<f64>,
     /// Inertia tensor about the centre of mass, for density 1, resolved in the shape frame \[m⁵\].
     pub inertia: Matrix3<f64>,
-}
-
-/// The kind of a shape, for messages and dispatch tables.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ShapeKind {
-    /// [`Shape::Sphere`]
-    Sphere,
-    /// [`Shape::Box`]
-    Box,
-    /// [`Shape::Cylinder`]
-    Cylinder,
-    /// [`Shape::Capsule`]
-    Capsule,
-    /// [`Shape::Cone`]
-    Cone,
-    /// [`Shape::Beam`]
-    Beam,
-    /// [`Shape::Ellipsoid`]
-    Ellipsoid,
-    /// [`Shape::ConvexHull`]
-    ConvexHull,
-    /// [`Shape::FileMesh`], [`Shape::Mesh`]
-    Mesh,
 }
 
 impl Shape {

@@ -397,7 +397,7 @@ impl Sweep {
         let points = self.require_points()?;
         let mut outputs = self.output_columns(points)?;
         // The runs are quiet; the notice of an unoptimised build is the sweep's (once per process).
-        crate::build_profile::notice_once();
+        crate::build_profile::notice_once(crate::simulation::subscriber_installed());
         let bar = self.progress_bar(indices.len());
         let work = || {
             // Every run its own stealable job: rayon otherwise hands a thread a block of points
