@@ -310,9 +310,6 @@ const KNOWN_CIRCLES: &[&[&str]] = &[
     // Shapes load meshes; the mesh code takes `Shape`, `MeshCollision` and
     // `UnitMassProperties`: those types into leaves of their own.
     &["geometry/mesh_file.rs", "geometry/shapes.rs"],
-    // Force laws take `ObjectMotion` from the description, which holds the laws: the
-    // force-element vocabulary into `scene/forces.rs`.
-    &["scene/desc.rs", "scene/force_laws.rs"],
     // The FFI callbacks use the wrapper's types (`use super::*`): its shared types into a leaf.
     &["solver/ida.rs", "solver/ida/callbacks.rs"],
 ];

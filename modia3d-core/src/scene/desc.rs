@@ -1,12 +1,10 @@
 //! Scene description: the plain-data builder API that `model!` expands into and that programs
 //! use to build scenes from data. Nothing here is checked; [`SceneDesc::validate`] does that.
 
-use super::force_laws::{Bushing, GravityField, Law, VectorLaw};
+use super::force_laws::{Bushing, ForceFn, GravityField, Law, VectorLaw};
 use super::materials::{ContactPairMaterial, MaterialFileError, MaterialPalette, SolidMaterial};
 use crate::geometry::Shape;
 use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
-use std::fmt;
-use std::sync::Arc;
 
 /// Orientation of a frame relative to its parent.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -626,48 +624,6 @@ impl Joint {
             _ => {}
         }
         self
-    }
-}
-
-/// Position and velocity of an object, handed to user force closures.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ObjectMotion {
-    /// Position of the object's origin, resolved in world \[m\].
-    pub r_abs: Vector3<f64>,
-    /// Rotation matrix: columns are the object's axes resolved in world.
-    pub rot_abs: Matrix3<f64>,
-    /// Velocity of the object's origin, resolved in world [m/s].
-    pub v_abs: Vector3<f64>,
-    /// Angular velocity, resolved in world [rad/s].
-    pub w_abs: Vector3<f64>,
-}
-
-/// A force \[N\] and a torque [N·m], both resolved in world, acting at an object's origin.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct Wrench {
-    /// Force, resolved in world \[N\].
-    pub force: Vector3<f64>,
-    /// Torque, resolved in world [N·m].
-    pub torque: Vector3<f64>,
-}
-
-/// A user force law: time \[s\] and the object's motion → wrench at the object's origin.
-#[derive(Clone)]
-pub struct ForceFn(pub Arc<ForceLaw>);
-
-/// The closure type behind [`ForceFn`].
-pub type ForceLaw = dyn Fn(f64, &ObjectMotion) -> Wrench + Send + Sync;
-
-impl ForceFn {
-    /// Wraps a closure.
-    pub fn new(f: impl Fn(f64, &ObjectMotion) -> Wrench + Send + Sync + 'static) -> Self {
-        ForceFn(Arc::new(f))
-    }
-}
-
-impl fmt::Debug for ForceFn {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("ForceFn(..)")
     }
 }
 

@@ -1,9 +1,10 @@
 //! Builder types of the force elements after Modia3D (`Bushing`, `SpringDamperPtP`,
 //! `WorldForce`, `WorldTorque`) and of the gravity field: scalar and vector force laws as
-//! constants or closures. Plain data like the rest of `desc.rs`; validation checks it.
+//! constants or closures, and the user force closures' vocabulary (`ObjectMotion` in, `Wrench`
+//! out, `ForceFn`). Plain data like the rest of `desc.rs`, which uses them; validation checks
+//! it.
 
-use super::desc::ObjectMotion;
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 use std::fmt;
 use std::sync::Arc;
 
@@ -214,4 +215,46 @@ pub enum GravityField {
         /// Position of the attracting centre, resolved in world \[m\].
         centre: Vector3<f64>,
     },
+}
+
+/// Position and velocity of an object, handed to user force closures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ObjectMotion {
+    /// Position of the object's origin, resolved in world \[m\].
+    pub r_abs: Vector3<f64>,
+    /// Rotation matrix: columns are the object's axes resolved in world.
+    pub rot_abs: Matrix3<f64>,
+    /// Velocity of the object's origin, resolved in world [m/s].
+    pub v_abs: Vector3<f64>,
+    /// Angular velocity, resolved in world [rad/s].
+    pub w_abs: Vector3<f64>,
+}
+
+/// A force \[N\] and a torque [N·m], both resolved in world, acting at an object's origin.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Wrench {
+    /// Force, resolved in world \[N\].
+    pub force: Vector3<f64>,
+    /// Torque, resolved in world [N·m].
+    pub torque: Vector3<f64>,
+}
+
+/// A user force law: time \[s\] and the object's motion → wrench at the object's origin.
+#[derive(Clone)]
+pub struct ForceFn(pub Arc<ForceLaw>);
+
+/// The closure type behind [`ForceFn`].
+pub type ForceLaw = dyn Fn(f64, &ObjectMotion) -> Wrench + Send + Sync;
+
+impl ForceFn {
+    /// Wraps a closure.
+    pub fn new(f: impl Fn(f64, &ObjectMotion) -> Wrench + Send + Sync + 'static) -> Self {
+        ForceFn(Arc::new(f))
+    }
+}
+
+impl fmt::Debug for ForceFn {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("ForceFn(..)")
+    }
 }

@@ -13,7 +13,10 @@ pub use actions::{Action, ActionKind};
 #[cfg(feature = "solver")]
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
 pub use desc::*;
-pub use force_laws::{Bushing, GravityField, Law, ScalarLaw, VectorLaw, VectorLawFn};
+pub use force_laws::{
+    Bushing, ForceFn, ForceLaw, GravityField, Law, ObjectMotion, ScalarLaw, VectorLaw, VectorLawFn,
+    Wrench,
+};
 pub use materials::{
     average_pair, builtin_contact_pair, builtin_material_color, builtin_palette,
     builtin_solid_material, builtin_solid_names, BuiltinPair, BuiltinPalette, BuiltinSolid,

@@ -134,7 +134,7 @@ pub enum ValidForce {
         /// Object index.
         object: usize,
         /// The law.
-        law: crate::scene::desc::ForceFn,
+        law: crate::scene::ForceFn,
     },
     /// A bushing: the builder's description with its ends resolved.
     Bushing {
