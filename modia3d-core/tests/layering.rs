@@ -307,9 +307,6 @@ fn circles(edges: &BTreeSet<(String, String)>) -> Vec<Vec<String>> {
 /// Circles of files still to break (issue 41), each with what breaks it: the test fails on a
 /// new circle and on a listed one that is gone (delete its line), so the list only shrinks.
 const KNOWN_CIRCLES: &[&[&str]] = &[
-    // Shapes load meshes; the mesh code takes `Shape`, `MeshCollision` and
-    // `UnitMassProperties`: those types into leaves of their own.
-    &["geometry/mesh_file.rs", "geometry/shapes.rs"],
     // The FFI callbacks use the wrapper's types (`use super::*`): its shared types into a leaf.
     &["solver/ida.rs", "solver/ida/callbacks.rs"],
 ];

@@ -20,10 +20,22 @@
 //! into several hulls ([`convex_parts`]).
 
 use super::error::GeometryError;
-use super::shapes::{MeshCollision, Shape, UnitMassProperties};
+use super::mass_properties::UnitMassProperties;
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::collections::HashMap;
 use std::path::Path;
+
+/// How a triangle mesh collides.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MeshCollision {
+    /// One collision shape: the convex hull of all vertices (exact for a convex mesh).
+    #[default]
+    ConvexHull,
+    /// Several collision shapes of the same body: the convex parts of a decomposition
+    /// (parry's V-HACD; see `geometry::mesh_file::convex_parts`), for non-convex meshes. The
+    /// parts never collide with each other; each forms its own pairs, named `<object>#<k>`.
+    ConvexDecomposition,
+}
 
 /// A triangle mesh in its shape frame: vertices \[m\] and triangles as vertex indices,
 /// counter-clockwise seen from outside for a mesh that bounds a solid.
@@ -207,14 +219,6 @@ pub fn obj_vertices(path: &Path, scale: Vector3<f64>) -> Result<Vec<Point3<f64>>
         });
     }
     Ok(points)
-}
-
-/// The convex hull of the vertices of the OBJ file at `path` (scaled by `scale`) as a
-/// [`Shape::ConvexHull`].
-pub fn convex_hull_from_obj(path: &Path, scale: Vector3<f64>) -> Result<Shape, GeometryError> {
-    Ok(Shape::ConvexHull {
-        points: obj_vertices(path, scale)?,
-    })
 }
 
 /// Volume \[m³\], centre of mass \[m\] and unit-density inertia about it \[m⁵\] of the solid
@@ -598,8 +602,8 @@ pub fn repair_mesh(mesh: &TriangleMesh) -> Result<(TriangleMesh, MeshRepair), Ge
 }
 
 /// The convex pieces of a mesh for collision, as point sets (each is a
-/// [`Shape::ConvexHull`]'s points): the hull of all vertices (`MeshCollision::ConvexHull`), or
-/// the exact hulls of the parts of parry's V-HACD decomposition (voxel resolution 64, its
+/// [`Shape::ConvexHull`](super::Shape::ConvexHull)'s points): the hull of all vertices
+/// (`MeshCollision::ConvexHull`), or the exact hulls of the parts of parry's V-HACD decomposition (voxel resolution 64, its
 /// default concavity 0.01 of the mesh size) clipped to the mesh's triangles, so the parts'
 /// outer faces lie on the mesh's faces. Parts without volume are dropped; if none is left the
 /// hull of all vertices is used.

@@ -20,6 +20,7 @@ pub mod aabb;
 pub mod broad_phase;
 pub mod collision_shape;
 pub mod error;
+mod mass_properties;
 pub mod mesh_file;
 pub mod narrow_phase;
 pub mod overlap;
@@ -34,13 +35,13 @@ pub use broad_phase::BroadPhase;
 pub use collision_shape::CollisionShape;
 pub use error::GeometryError;
 pub use mesh_file::{
-    convex_hull_from_obj, convex_parts, load_mesh, mesh_mass_properties, obj_vertices, repair_mesh,
-    MeshRepair, TriangleMesh,
+    convex_parts, load_mesh, mesh_mass_properties, obj_vertices, repair_mesh, MeshRepair,
+    TriangleMesh,
 };
 pub use narrow_phase::{
     contact_patch, contact_point, signed_distance, signed_distance_method, ContactPatch,
     NarrowPhaseOptions, SignedDistance,
 };
-pub use shapes::{Axis, MeshCollision, Shape, ShapeKind, UnitMassProperties};
+pub use shapes::{convex_hull_from_obj, Axis, MeshCollision, Shape, ShapeKind, UnitMassProperties};
 pub use smoothing::{effective_smoothing_radius, DEFAULT_SMOOTHING_RADIUS};
 pub use support::CoreShape;

@@ -15,24 +15,15 @@
 //!   the thickness direction, their centres at `±length/2` on `axis`.
 
 use super::error::GeometryError;
-use super::mesh_file::{load_mesh, mesh_mass_properties, TriangleMesh};
+pub use super::mass_properties::UnitMassProperties;
+pub use super::mesh_file::MeshCollision;
+use super::mesh_file::{load_mesh, mesh_mass_properties, obj_vertices, TriangleMesh};
 pub use super::shape_kind::ShapeKind;
 use nalgebra::{Matrix3, Point3, Vector3};
 use std::f64::consts::PI;
+use std::path::Path;
 use std::path::PathBuf;
 use std::sync::Arc;
-
-/// How a triangle mesh collides.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum MeshCollision {
-    /// One collision shape: the convex hull of all vertices (exact for a convex mesh).
-    #[default]
-    ConvexHull,
-    /// Several collision shapes of the same body: the convex parts of a decomposition
-    /// (parry's V-HACD; see `geometry::mesh_file::convex_parts`), for non-convex meshes. The
-    /// parts never collide with each other; each forms its own pairs, named `<object>#<k>`.
-    ConvexDecomposition,
-}
 
 /// A frame axis: 1 = x, 2 = y, 3 = z (Modia's numbering).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -165,18 +156,6 @@ pub enum Shape {
         /// Convex hull or convex decomposition for collision.
         collision: MeshCollision,
     },
-}
-
-/// Volume \[m³\], centre of mass \[m\] and inertia about the centre of mass \[m⁵\] (multiply by a
-/// density in [kg/m³] to get [kg·m²]) of a shape of unit density, in the shape frame.
-#[derive(Clone, Debug, PartialEq)]
-pub struct UnitMassProperties {
-    /// Volume \[m³\].
-    pub volume: f64,
-    /// Centre of mass in the shape frame \[m\].
-    pub com: Vector3<f64>,
-    /// Inertia tensor about the centre of mass, for density 1, resolved in the shape frame \[m⁵\].
-    pub inertia: Matrix3<f64>,
 }
 
 impl Shape {
@@ -434,6 +413,14 @@ fn poly_moment(a: f64, b: f64, h: f64, m: i32, n: i32) -> f64 {
         binom = binom * f64::from(n - k) / f64::from(k + 1);
     }
     sum
+}
+
+/// The convex hull of the vertices of the OBJ file at `path` (scaled by `scale`) as a
+/// [`Shape::ConvexHull`].
+pub fn convex_hull_from_obj(path: &Path, scale: Vector3<f64>) -> Result<Shape, GeometryError> {
+    Ok(Shape::ConvexHull {
+        points: obj_vertices(path, scale)?,
+    })
 }
 
 #[cfg(test)]
