@@ -53,7 +53,7 @@ fn hundred_build_simulate_cycles_keep_rss_flat() {
 
 /// The acceptance run: 1,000 cycles (about a minute in a dev build).
 #[test]
-#[ignore]
+#[ignore = "long: 1,000 cycles; cargo test --test soak -- --ignored"]
 fn thousand_build_simulate_cycles_keep_rss_flat() {
     soak(1000);
 }
