@@ -198,23 +198,10 @@ fn never_colliding() -> Model {
 /// Env var that makes [`warning_worker`] run its scenario: `default`, `quiet` or `subscriber`.
 const WORKER: &str = "MODIA3D_FIRST_HOUR_WORKER";
 
-/// A `tracing` subscriber that counts nothing and prints nothing: installed, it takes the
-/// warnings through `tracing::warn!`.
-struct Silent;
-
-impl tracing::Subscriber for Silent {
-    fn enabled(&self, _: &tracing::Metadata<'_>) -> bool {
-        true
-    }
-    fn new_span(&self, _: &tracing::span::Attributes<'_>) -> tracing::span::Id {
-        tracing::span::Id::from_u64(1)
-    }
-    fn record(&self, _: &tracing::span::Id, _: &tracing::span::Record<'_>) {}
-    fn record_follows_from(&self, _: &tracing::span::Id, _: &tracing::span::Id) {}
-    fn event(&self, _: &tracing::Event<'_>) {}
-    fn enter(&self, _: &tracing::span::Id) {}
-    fn exit(&self, _: &tracing::span::Id) {}
-}
+// A `tracing` subscriber that prints nothing (it keeps the messages): installed, it takes the
+// warnings through `tracing::warn!`.
+mod recorder;
+use recorder::Recorder;
 
 /// Helper of [`warnings_reach_standard_error_once`], run in a child process (this test binary
 /// re-invoked with [`WORKER`] set): one run of the never-colliding scene. Does nothing in a
@@ -228,7 +215,7 @@ fn warning_worker() {
     let opts = SimOptions::new(0.01).quiet(mode == "quiet");
     let run = || model.simulate(&opts).unwrap();
     let res = if mode == "subscriber" {
-        tracing::subscriber::with_default(Silent, run)
+        tracing::subscriber::with_default(Recorder(std::sync::Mutex::new(vec![])), run)
     } else {
         run()
     };

@@ -233,9 +233,10 @@ fn overlap_geometry(ov: &Overlap) -> (SignedDistance, ContactPatch) {
     } else {
         (0.0, Vector3::new(0.0, 0.0, 1.0))
     };
+    // tr([n]× Σ [n]×ᵀ) = tr Σ − nᵀ Σ n for a unit n: the trace without the 3 × 3 products the
+    // force law forms itself (`volume_response`).
     let spread = if ov.volume > 0.0 {
-        let nx = normal.cross_matrix();
-        ((nx * ov.second_moment * nx.transpose()).trace() / ov.volume).max(0.0)
+        ((ov.second_moment.trace() - normal.dot(&(ov.second_moment * normal))) / ov.volume).max(0.0)
     } else {
         0.0
     };
