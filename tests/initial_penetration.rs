@@ -9,6 +9,10 @@
 //! `r + h` deep; coincident spheres `r_1 + r_2`; coincident boxes the smaller edge), checked to
 //! 1e-12 m (the closed forms are exact; for the boxes the deepest face's normal is among the
 //! directions the check samples, so its value is exact too).
+//!
+//! The same limit holds during a run: a contact that becomes deeper than half the thinner
+//! shape's extent ends the run with `SimErrorKind::TooDeep` at the step that crosses it
+//! (`a_ball_falling_through_a_soft_table_ends_with_too_deep`).
 
 use modia3d::demo::{add_free_sphere, fixed_box, world};
 use modia3d::prelude::*;
@@ -18,8 +22,13 @@ const WHAT_TO_DO: &str = "the contact force would throw them apart or stall the 
 /// A steel ball (Ø 0.1 m) whose lowest point lies `depth` below the top of a 1 × 1 × 0.1 m
 /// steel table (top face at z = 0).
 fn ball_in_table(depth: f64) -> SceneDesc {
+    ball_in_table_with(depth, SceneOptions::default())
+}
+
+/// [`ball_in_table`] with the scene options `options`.
+fn ball_in_table_with(depth: f64, options: SceneOptions) -> SceneDesc {
     let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default())).add(fixed_box(
+    s.add(world(options)).add(fixed_box(
         "table",
         [1.0, 1.0, 0.1],
         [0.0, 0.0, -0.05],
@@ -167,5 +176,59 @@ fn two_coincident_boxes_are_a_build_error_with_the_exact_depth() {
     assert_eq!(
         msg,
         format!("invalid scene: objects `p` and `q` start 1.000e-1 m inside each other (their centres coincide), deeper than 5.000e-2 m (half the extent of the thinner one): {WHAT_TO_DO}")
+    );
+}
+
+/// A state that may not start a run may not be reached either: a steel ball (Ø 0.1 m, 4.1 kg)
+/// released 5 cm above a table whose contact is made 1e9 times softer (`k_red = 1e-9`) falls
+/// into it; the run ends with `SimErrorKind::TooDeep` when the ball is half its diameter deep.
+///
+/// Reference: free fall. The Hertz force at the limit is `k_red·(4/3)·E*·√R·δ^1.5` ≈ 0.4 N
+/// (steel, E* ≈ 1.1e11 N/m², R = 0.05 m, δ = 0.05 m) against a weight of 40 N, so the ball falls
+/// freely to within 1e-4 m: its lowest point reaches 5 cm below the face after falling 0.1 m,
+/// at `t = √(2·0.1/g)` = 0.1428 s. The check runs after every accepted step, so the error comes
+/// at the first step past the limit: the depth in the error lies above 0.05 m by at most one
+/// step's travel (v·h ≈ 1.4 m/s × a few ms), and the time within one step of the reference.
+/// Tolerances: depth in (0.05, 0.055], time within 3 % (a step of 4 ms).
+#[test]
+fn a_ball_falling_through_a_soft_table_ends_with_too_deep() {
+    let options = SceneOptions {
+        k_red: 1e-9,
+        ..SceneOptions::default()
+    };
+    let e = ball_in_table_with(-0.05, options)
+        .build()
+        .expect("the ball starts 5 cm above the table")
+        .simulate(&SimOptions::new(0.5).progress(false))
+        .expect_err("the ball must not pass through the table silently");
+    let SimErrorKind::TooDeep {
+        pair,
+        depth,
+        extent,
+        t,
+    } = &e.kind
+    else {
+        panic!("expected TooDeep, got {e:?}");
+    };
+    assert!(pair == "table|ball" || pair == "ball|table", "{pair}");
+    assert!((extent - 0.1).abs() < 1e-12, "extent {extent}");
+    assert!(*depth > 0.05 && *depth <= 0.055, "depth {depth}");
+    let t_ref = (2.0 * 0.1 / 9.81_f64).sqrt();
+    assert!((t - t_ref).abs() < 0.03 * t_ref, "t {t} against {t_ref}");
+    // The results up to the failure: the ball fell freely until then.
+    let z = e.partial.signal("ball.r_abs").unwrap().component(2);
+    let time = e.partial.time();
+    let (t_last, z_last) = (*time.last().unwrap(), *z.last().unwrap());
+    assert!(t_last <= *t && t_last > 0.0, "last output {t_last}");
+    let z_free = 0.1 - 0.5 * 9.81 * t_last * t_last;
+    assert!(
+        (z_last - z_free).abs() < 1e-4,
+        "z {z_last} against free fall {z_free}"
+    );
+    println!("TooDeep at t = {t} s (free fall {t_ref} s), depth {depth} m");
+    let text = e.to_string();
+    assert!(
+        text.contains("more than half the extent of its thinner shape"),
+        "{text}"
     );
 }

@@ -130,6 +130,21 @@ pub enum SimErrorKind {
         /// Time \[s\].
         t: f64,
     },
+    /// A contact became deeper than half the extent of its thinner shape (the limit an
+    /// initial overlap has at build time, `SceneError::InitialPenetration`): one solid has passed into the other, the signed
+    /// distance's normal is about to jump, and the compliant law no longer describes the two
+    /// solids. Checked after every accepted step, on the pairs of the contact set.
+    #[error("contact `{pair}` is {depth:.3e} m deep at t = {t} s, more than half the extent of its thinner shape ({extent:.3e} m): one solid has passed into the other, where the compliant contact law no longer holds (the limit an initial overlap has too); what drives them together is more than the contact can carry — check masses, applied forces and initial speeds, or stiffen the contact (k_red, the materials' E, a solid's layer depth)")]
+    TooDeep {
+        /// The pair `"a|b"`.
+        pair: String,
+        /// Penetration depth `−z_AB` at the accepted step \[m\].
+        depth: f64,
+        /// The thinner shape's extent (smallest edge of its own bounding box) \[m\].
+        extent: f64,
+        /// Time of the accepted step \[s\].
+        t: f64,
+    },
     /// Events follow each other without progress in time (a chattering contact).
     #[error("{count} events at t = {t} s without the contact set changing or time advancing: a contact chatters; raise the hysteresis or loosen the tolerance")]
     EventLoop {
@@ -297,6 +312,7 @@ impl SimErrorKind {
             SimErrorKind::WorkBudget(_) => "WorkBudget",
             SimErrorKind::Chattering { .. } => "Chattering",
             SimErrorKind::EventLoop { .. } => "EventLoop",
+            SimErrorKind::TooDeep { .. } => "TooDeep",
         }
     }
 }
@@ -653,6 +669,7 @@ impl Simulation {
             self.guard_due = false;
             if solved.is_ok() {
                 self.guard_step()?;
+                self.check_depth()?;
             }
             if let Some(f) = self.ida.system_mut().take_user_fault() {
                 return Err(f.into());
@@ -740,6 +757,46 @@ impl Simulation {
         if stale {
             self.ida.set_max_step(Some(h))?;
             self.h_max = Some(h);
+        }
+        Ok(())
+    }
+
+    /// Ends the run with [`SimErrorKind::TooDeep`] when a pair of the contact set is deeper
+    /// than half its thinner shape's extent (`contact::initial::MAX_INITIAL_DEPTH_RATIO`) at
+    /// the step IDA just accepted (its root functions, evaluated there, left `z_AB` in the
+    /// set). Why: past that depth the centre of a ball or the mid-plane of a plate lies inside
+    /// the other solid; the signed distance's normal jumps soon after and IDA's steps collapse
+    /// to 1e-10 s and below until a work budget ends the run (the largest group of random
+    /// scenes that did not finish, BENCHMARKS.md "Random scenes"). The limit is the one a scene
+    /// may not start with (`contact/initial.rs`, with the same correction of MPR's centre-ray
+    /// depth by sampled support directions), so a state that would be an invalid start is an
+    /// error when the run reaches it. One comparison per pair of the set; the sampled depth
+    /// (800 support points) only for a pair already past the limit.
+    fn check_depth(&self) -> Result<(), SimErrorKind> {
+        use crate::contact::initial::{extent, sampled_depth, MAX_INITIAL_DEPTH_RATIO};
+        let dae = self.ida.system();
+        let (Some(cp), Some(cs)) = (dae.contact_plan(), dae.contact()) else {
+            return Ok(());
+        };
+        for (_, pp, ps) in cs.active_pairs() {
+            let (Some(a), Some(b)) = (cp.shapes.get(pp.a), cp.shapes.get(pp.b)) else {
+                continue;
+            };
+            let (a, b) = (&a.shape, &b.shape);
+            let thinner = extent(a).min(extent(b));
+            let limit = MAX_INITIAL_DEPTH_RATIO * thinner;
+            if -ps.z <= limit {
+                continue;
+            }
+            let depth = (-ps.z).min(sampled_depth(a, cs.pose(pp.a), b, cs.pose(pp.b)));
+            if depth > limit {
+                return Err(SimErrorKind::TooDeep {
+                    pair: cp.pair_name(&self.model.plan.scene, pp),
+                    depth,
+                    extent: thinner,
+                    t: self.time(),
+                });
+            }
         }
         Ok(())
     }
