@@ -4,8 +4,10 @@
 mod common;
 
 use common::*;
+use modia3d_core::geometry::narrow_phase::Method;
 use modia3d_core::geometry::{
-    signed_distance, Axis, CollisionShape, NarrowPhaseOptions, Shape, ShapeKind,
+    signed_distance, signed_distance_method, Axis, CollisionShape, NarrowPhaseOptions, Shape,
+    ShapeKind,
 };
 use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 use parry3d_f64::query;
@@ -22,7 +24,8 @@ fn oracle_core(
     c.dist - a.margin() - b.margin()
 }
 
-/// Closed forms (exact) vs forced MPR vs parry. Tolerances: where the cores are separated all
+/// Closed forms (exact) vs forced MPR vs parry (box–ellipsoid: its face closed form where it
+/// applies, MPR elsewhere). Tolerances: where the cores are separated all
 /// three compute the same exact core distance: closed form ↔ MPR+GJK within 2e-8 · size (the
 /// GJK certificate bound measured in geometry_mpr_vs_parry), closed form ↔ parry within
 /// 2e-5 · size (parry's own GJK accuracy on curved cores). Where the cores overlap (deep), MPR
@@ -39,6 +42,8 @@ fn closed_forms_agree_with_mpr_and_parry() {
         (ShapeKind::Sphere, ShapeKind::Capsule),
         (ShapeKind::Capsule, ShapeKind::Sphere),
         (ShapeKind::Capsule, ShapeKind::Capsule),
+        (ShapeKind::Box, ShapeKind::Ellipsoid),
+        (ShapeKind::Ellipsoid, ShapeKind::Box),
     ];
     let exact = NarrowPhaseOptions::default();
     let forced = NarrowPhaseOptions {
@@ -58,11 +63,14 @@ fn closed_forms_agree_with_mpr_and_parry() {
                 Translation3::from(pa.translation.vector + dir * rng.range(0.0, 1.1) * size),
                 rng.rotation(),
             );
-            let cf = signed_distance(&a, &pa, &b, &pb, &exact).unwrap();
+            let (cf, method) = signed_distance_method(&a, &pa, &b, &pb, &exact).unwrap();
             let mp = signed_distance(&a, &pa, &b, &pb, &forced).unwrap();
             let pr = oracle_core(&a, &pa, &b, &pb);
-            let wit = (cf.point_b - cf.point_a - cf.normal * cf.distance).norm();
-            e_wit = e_wit.max(wit / size);
+            // (Box–ellipsoid has a closed form on the box's faces only; elsewhere MPR answers.)
+            if method == Method::ClosedForm {
+                let wit = (cf.point_b - cf.point_a - cf.normal * cf.distance).norm();
+                e_wit = e_wit.max(wit / size);
+            }
             if cf.distance > -(a.margin() + b.margin()) + 1e-9 {
                 e_mpr = e_mpr.max((cf.distance - mp.distance).abs() / size);
                 e_parry = e_parry.max((cf.distance - pr).abs() / size);
@@ -85,6 +93,69 @@ fn closed_forms_agree_with_mpr_and_parry() {
         );
         assert!(e_wit < 1e-12, "{ka:?}-{kb:?}: witness {e_wit}");
     }
+}
+
+/// An ellipsoid over the top face of a table (a 2 × 2 × 0.1 m box, smoothed by 5 mm) at random
+/// orientations, positions over the face and heights from 5 cm apart to 5 mm deep, either
+/// order. Reference, analytic: the lowest point of an ellipsoid with semi-axes `s` turned by
+/// `R` lies `√(Σ_j (R_zj s_j)²)` below its centre, at `c − A² e_z / √(e_zᵀ A² e_z)` with
+/// `A = R diag(s) Rᵀ`; the table's top is at z = 0 and its normal is +z. Tolerances: 1e-12 of
+/// the size for the distance and the points, 1e-14 rad for the normal (rounding: the closed
+/// form takes the box's face normal and one support point).
+#[test]
+fn ellipsoid_on_a_table_face_matches_the_analytic_lowest_point() {
+    let table = CollisionShape::with_smoothing(
+        &Shape::Box {
+            lengths: Vector3::new(2.0, 2.0, 0.1),
+        },
+        0.05,
+    )
+    .unwrap();
+    let pt = Isometry3::translation(0.0, 0.0, -0.05);
+    let opts = NarrowPhaseOptions::default();
+    let mut rng = Rng(31);
+    let (mut e_d, mut e_n, mut e_p) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..500 {
+        let s = Vector3::new(
+            rng.range(0.02, 0.2),
+            rng.range(0.02, 0.2),
+            rng.range(0.02, 0.2),
+        );
+        let e = CollisionShape::new(&Shape::Ellipsoid { lengths: 2.0 * s }).unwrap();
+        let rot = rng.rotation();
+        let r = rot.to_rotation_matrix();
+        let a2 = r.matrix()
+            * nalgebra::Matrix3::from_diagonal(&s.component_mul(&s))
+            * r.matrix().transpose();
+        let below = a2[(2, 2)].sqrt();
+        let gap = if k % 2 == 0 {
+            rng.range(0.0, 0.05)
+        } else {
+            -rng.range(0.0, 0.005)
+        };
+        let c = Vector3::new(rng.range(-0.7, 0.7), rng.range(-0.7, 0.7), below + gap);
+        let pe = Isometry3::from_parts(Translation3::from(c), rot);
+        let lowest = c - a2.column(2) / below;
+        let size = table.bounding_radius() + e.bounding_radius();
+        for flip in [false, true] {
+            let sd = if flip {
+                signed_distance(&e, &pe, &table, &pt, &opts)
+                    .unwrap()
+                    .flipped()
+            } else {
+                signed_distance(&table, &pt, &e, &pe, &opts).unwrap()
+            };
+            e_d = e_d.max((sd.distance - gap).abs() / size);
+            e_n = e_n.max((sd.normal - Vector3::z()).norm());
+            e_p = e_p.max((sd.point_b.coords - lowest).norm() / size);
+            let on_table = lowest - Vector3::z() * gap;
+            e_p = e_p.max((sd.point_a.coords - on_table).norm() / size);
+        }
+    }
+    println!("ellipsoid on a table face: distance {e_d:.1e}, normal {e_n:.1e} rad, points {e_p:.1e} of the size");
+    assert!(e_d < 1e-12, "distance off by {e_d:e} of the size");
+    assert!(e_n < 1e-14, "normal off by {e_n:e} rad");
+    assert!(e_p < 1e-12, "points off by {e_p:e} of the size");
 }
 
 /// A 0.4 m box slides and tips over the rounded top edge of a 1 m box (smoothing 1 cm each),

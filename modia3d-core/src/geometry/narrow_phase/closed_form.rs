@@ -1,5 +1,5 @@
 //! Exact closed forms of the narrow phase (geometry stage): sphere–sphere, sphere–box,
-//! sphere–cylinder, sphere–capsule, capsule–capsule. All work on the cores (a point for a
+//! sphere–cylinder, sphere–capsule, capsule–capsule, and an ellipsoid on a face of a box. All work on the cores (a point for a
 //! sphere, a segment for a capsule, the shrunk box or cylinder) and subtract the margins, so they
 //! are exact for the smoothed shapes and smooth in the pose wherever the closest core points are
 //! unique.
@@ -224,4 +224,76 @@ pub fn capsule_capsule(
             .unwrap_or_else(|| any_perpendicular(&(d1 + d2 + Vector3::new(0.0, 0.0, 1e-300))))
     };
     assemble(ca, cb, dist, n, a.margin(), b.margin())
+}
+
+/// Box `a` against a shape `b` whose core has a unique support point in every direction (an
+/// ellipsoid), where the closest (or deepest) points lie on a face of the box: `None` when they
+/// do not (an edge or corner of the box is nearest, or the overlap is deeper than half the box
+/// along the face normal), and the caller uses MPR.
+///
+/// For every face normal `m` of the box (outwards, world) the gap of the two support planes
+/// `ψ(m) = m·s_B(−m) − (m·c_A + h_m) − r_A − r_B` (`s_B` b's core support point, `h_m` the core
+/// box's half extent along `m`, `r` the margins) is a lower bound of the signed distance
+/// `δ = max_n ψ(n)`. The face with the largest `ψ` is the answer when `s_B(−m)` projects inside
+/// that face of the core box: then `b`'s point and its projection on the face are a pair of
+/// points whose difference is normal to both surfaces, the optimality condition of the distance
+/// of two convex sets: for separated shapes the global one. For an overlap of depth `D` it is a
+/// local minimum of the Minkowski difference's support function `h_M`; it is the global one
+/// when `D ≤ ρ`, `ρ` the smallest radius of curvature of b: b then contains the ball of radius
+/// `ρ` touching its surface from inside at its deepest point (Blaschke's rolling theorem), whose
+/// centre `q` lies `ρ − D` outside the face, so `h_M(n) ≥ h_A(n) − n·q + ρ ≥ −(ρ − D) + ρ = D`
+/// for every direction `n`. Deeper overlaps go to MPR. Why: on a table an ellipsoid's MPR/GJK normal jitters by 1e-6–5e-5
+/// rad between poses 1e-9 m apart, and IDA's steps collapsed under it (random scenes,
+/// BENCHMARKS.md "Random scenes"); here the normal is the face's and the depth is as smooth in
+/// the pose as b's support map.
+pub fn box_face(
+    a: &CollisionShape,
+    pose_a: &Isometry3<f64>,
+    b: &CollisionShape,
+    pose_b: &Isometry3<f64>,
+) -> Option<SignedDistance> {
+    let CoreShape::Box { half_extents } = a.core() else {
+        return None;
+    };
+    let (ra, rb) = (a.margin(), b.margin());
+    // The smallest radius of curvature of b's surface: `s_min²/s_max` of the core ellipsoid,
+    // plus the margin.
+    let CoreShape::Ellipsoid { semi_axes } = b.core() else {
+        return None;
+    };
+    let rho = semi_axes.min().powi(2) / semi_axes.max() + rb;
+    let c_a = pose_a.translation.vector;
+    let mut best: Option<(f64, Vector3<f64>, Point3<f64>, usize)> = None;
+    for i in 0..3 {
+        for sign in [1.0, -1.0] {
+            let m = rotate(pose_a, &(Vector3::ith(i, sign)));
+            let p = b.core_support_world(pose_b, &-m);
+            let psi = m.dot(&(p.coords - c_a)) - half_extents[i] - ra - rb;
+            if best.as_ref().is_none_or(|(x, ..)| psi > *x) {
+                best = Some((psi, m, p, i));
+            }
+        }
+    }
+    let (psi, m, p, i) = best?;
+    // An overlap deeper than `rho` may have a shorter way out than along the face normal (a
+    // large ellipsoid over a small box): no certificate, MPR.
+    if !psi.is_finite() || -psi > rho {
+        return None;
+    }
+    let local = to_local(pose_a, &p);
+    let inside = (0..3)
+        .filter(|&j| j != i)
+        .all(|j| local[j].abs() <= half_extents[j]);
+    if !inside {
+        return None;
+    }
+    // The witness on a's surface: b's point projected on the (rounded box's) face plane.
+    let point_b = p - m * rb;
+    let point_a = point_b - m * psi;
+    Some(SignedDistance {
+        distance: psi,
+        normal: m,
+        point_a,
+        point_b,
+    })
 }

@@ -1,7 +1,7 @@
 //! The one dispatch `match` of the narrow phase (geometry stage): closed forms where they exist,
 //! the improved MPR for every other pair of kinds.
 
-use super::closed_form::{capsule_capsule, sphere_core, sphere_sphere};
+use super::closed_form::{box_face, capsule_capsule, sphere_core, sphere_sphere};
 use super::mpr::mpr_signed_distance;
 use super::{Method, NarrowPhaseOptions, SignedDistance};
 use crate::geometry::collision_shape::CollisionShape;
@@ -12,8 +12,9 @@ use nalgebra::Isometry3;
 /// Signed distance, unit normal (a → b, resolved in world) and surface witness points (world,
 /// \[m\]) of shape `a` at `pose_a` and shape `b` at `pose_b` (poses: shape frame → world).
 ///
-/// Exact closed forms for sphere–sphere, sphere–box, sphere–cylinder, sphere–capsule and
-/// capsule–capsule (either order); the improved MPR otherwise, or always with
+/// Exact closed forms for sphere–sphere, sphere–box, sphere–cylinder, sphere–capsule,
+/// capsule–capsule and an ellipsoid on a face of a box (either order); the improved MPR
+/// otherwise, or always with
 /// `opts.force_mpr`. Allocation-free except in MPR's degenerate-case fallback (parry's EPA).
 pub fn signed_distance(
     a: &CollisionShape,
@@ -42,6 +43,15 @@ pub fn signed_distance_method(
             sphere_core(b, pose_b, a, pose_a).flipped()
         }
         (K::Capsule, K::Capsule) => capsule_capsule(a, pose_a, b, pose_b),
+        // On a face of the box exactly; near its edges and corners MPR.
+        (K::Box, K::Ellipsoid) => match box_face(a, pose_a, b, pose_b) {
+            Some(r) => r,
+            None => return mpr_signed_distance(a, pose_a, b, pose_b, opts),
+        },
+        (K::Ellipsoid, K::Box) => match box_face(b, pose_b, a, pose_a) {
+            Some(r) => r.flipped(),
+            None => return mpr_signed_distance(a, pose_a, b, pose_b, opts),
+        },
         _ => return mpr_signed_distance(a, pose_a, b, pose_b, opts),
     };
     if r.distance.is_finite() {
