@@ -95,7 +95,7 @@ pub use scene::{Bushing, GravityField, Law, VectorLaw};
 pub use simulation::{
     ActionError, Budget, InputError, SimError, SimErrorKind, SimOptions, Simulation, SlowCause,
     WorkDiagnosis, CHATTER_EVENTS, CHATTER_SPAN, DEFAULT_CONTACT_TIGHTENING, DEFAULT_MAX_STEPS,
-    LOOSEST_CONTACT_RTOL, MAX_OUTPUT_POINTS,
+    LOOSEST_CONTACT_RTOL, MAX_OUTPUT_POINTS, TOO_DEEP_STEP, TOO_DEEP_STEPS,
 };
 #[cfg(feature = "solver")]
 pub use solver::IdaError;

@@ -242,7 +242,10 @@ pub fn capsule_capsule(
 /// when `D ≤ ρ`, `ρ` the smallest radius of curvature of b: b then contains the ball of radius
 /// `ρ` touching its surface from inside at its deepest point (Blaschke's rolling theorem), whose
 /// centre `q` lies `ρ − D` outside the face, so `h_M(n) ≥ h_A(n) − n·q + ρ ≥ −(ρ − D) + ρ = D`
-/// for every direction `n`. Deeper overlaps go to MPR. Why: on a table an ellipsoid's MPR/GJK normal jitters by 1e-6–5e-5
+/// for every direction `n`. Or when b's deepest point `p` lies at least `D` inside every other
+/// face of the box (the opposite one and the sides): the Minkowski difference contains `A − p`,
+/// whose support function is at least the distance of `p` to the box's boundary, `D`. Other
+/// overlaps go to MPR. Why: on a table an ellipsoid's MPR/GJK normal jitters by 1e-6–5e-5
 /// rad between poses 1e-9 m apart, and IDA's steps collapsed under it (random scenes,
 /// BENCHMARKS.md "Random scenes"); here the normal is the face's and the depth is as smooth in
 /// the pose as b's support map.
@@ -275,9 +278,7 @@ pub fn box_face(
         }
     }
     let (psi, m, p, i) = best?;
-    // An overlap deeper than `rho` may have a shorter way out than along the face normal (a
-    // large ellipsoid over a small box): no certificate, MPR.
-    if !psi.is_finite() || -psi > rho {
+    if !psi.is_finite() {
         return None;
     }
     let local = to_local(pose_a, &p);
@@ -286,6 +287,19 @@ pub fn box_face(
         .all(|j| local[j].abs() <= half_extents[j]);
     if !inside {
         return None;
+    }
+    // An overlap needs a certificate that no other way out is shorter (a large ellipsoid over
+    // a small box has one): b's curvature, or b's deepest point lying deeper below the face
+    // than towards any other face of the box.
+    let depth = -psi;
+    if depth > 0.0 && depth > rho {
+        let sides = (0..3)
+            .filter(|&j| j != i)
+            .map(|j| half_extents[j] + ra - local[j].abs())
+            .fold(half_extents[i] + ra, f64::min);
+        if depth > sides {
+            return None;
+        }
     }
     // The witness on a's surface: b's point projected on the (rounded box's) face plane.
     let point_b = p - m * rb;
