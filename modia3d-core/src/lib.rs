@@ -98,7 +98,7 @@ pub use simulation::{
     LOOSEST_CONTACT_RTOL, MAX_OUTPUT_POINTS, TOO_DEEP_STEP, TOO_DEEP_STEPS,
 };
 #[cfg(feature = "solver")]
-pub use solver::IdaError;
+pub use solver::{IdaError, IdaStats};
 #[cfg(feature = "solver")]
 pub use sweep::{
     linspace, sweep_main, BoxError, ColumnInfo, Distribution, MetricFn, ModelFn, ParamPoints,

@@ -100,7 +100,7 @@ pub struct LoopInfo {
 impl SceneDesc {
     /// Validates and compiles the scene into a runnable model.
     pub fn build(&self) -> Result<Model, SceneErrors> {
-        let mut model = Model::compile(self.validate()?)?;
+        let mut model = Model::compile(self.validated()?)?;
         model.desc = Arc::new(self.clone());
         Ok(model)
     }

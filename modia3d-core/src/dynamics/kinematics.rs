@@ -257,7 +257,7 @@ mod tests {
         ))
         .add_joint(Joint::new("jc", "b", "c", free([0.0, 0.3, -0.1])))
         .add_joint(Joint::new("jd", "world", "d", free([1.0, 0.0, 0.5])));
-        let plan = Plan::compile(s.validate().expect("valid scene"));
+        let plan = Plan::compile(s.validated().expect("valid scene"));
         let mut rnd = crate::test_rng::uniform(0x5851f42d4c957f2d);
         let bits = |m: &[f64]| m.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         for _ in 0..5 {

@@ -142,7 +142,7 @@ impl SceneDesc {
     /// the check the `model!` macro runs on the literal part of a block at compile time;
     /// `build()` runs the same validation plus the plan's own checks.
     pub fn scene_errors(&self) -> Vec<SceneError> {
-        match self.validate() {
+        match self.validated() {
             Err(e) => e.0,
             Ok(_) => vec![],
         }

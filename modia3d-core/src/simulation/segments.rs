@@ -219,7 +219,7 @@ impl Simulation {
             action: action.describe(),
             errors,
         };
-        let mut plan = Plan::compile(change.desc.validate().map_err(rebuild)?);
+        let mut plan = Plan::compile(change.desc.validated().map_err(rebuild)?);
         plan.q0 = map_positions(&old, q_old, &plan);
         plan.v0 = project_velocities(&now, v_old, &plan);
         let mut model = Model::finish(plan, false).map_err(rebuild)?;

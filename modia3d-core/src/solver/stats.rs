@@ -6,7 +6,7 @@
 use std::ops::{Add, AddAssign};
 
 /// Counters of an IDA integration, accumulated over the whole run (IDA itself resets its
-/// counters at every re-initialisation; [`super::Ida::stats`] does not).
+/// counters at every re-initialisation; these do not): `SimStats::solver` of a result.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct IdaStats {
     /// Internal steps taken.
@@ -16,8 +16,8 @@ pub struct IdaStats {
     /// Jacobian evaluations (matrix set-ups).
     pub jacobian_evals: u64,
     /// Of `jacobian_evals`, those formed from the last difference-quotient Jacobian's parts
-    /// `∂F/∂y` and `∂F/∂y'` for a new `c_j` (no residual evaluations; see
-    /// [`super::DaeSystem::yp_jacobian`]).
+    /// `∂F/∂y` and `∂F/∂y'` for a new `c_j` (no residual evaluations: the system's
+    /// `yp_jacobian`).
     pub jacobian_reuses: u64,
     /// Residual evaluations spent on difference-quotient Jacobians.
     pub residual_evals_for_jacobian: u64,

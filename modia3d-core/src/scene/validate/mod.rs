@@ -346,8 +346,15 @@ impl<'a> Names<'a> {
 }
 
 impl SceneDesc {
-    /// Checks the scene and resolves names; returns every error found, in one round.
-    pub fn validate(&self) -> Result<ValidScene, SceneErrors> {
+    /// Checks the scene: every error found, in one round (what [`SceneDesc::build`] reports
+    /// before it compiles anything).
+    pub fn validate(&self) -> Result<(), SceneErrors> {
+        self.validated().map(|_| ())
+    }
+
+    /// [`Self::validate`], keeping the checked scene with its names resolved (the input of
+    /// the plans).
+    pub(crate) fn validated(&self) -> Result<ValidScene, SceneErrors> {
         let c = &mut Checker { errors: vec![] };
         let names = Names::new(c, self);
         let materials = objects::solid_materials(c, self);
