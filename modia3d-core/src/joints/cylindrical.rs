@@ -2,7 +2,7 @@
 //! fixed in both objects; velocities `w` [rad/s], `v` [m/s] (`phi̇ = w`, `ṡ = v`).
 //! `S = [(axis, 0), (0, axis)]` is constant (the axis is invariant under the rotation).
 
-use super::{AxisParam, Checker, Coordinate, Facts, InitialParam, JointKindSpec, SignalSpec};
+use super::{AxisParam, Checker, Facts, InitialParam, JointCoordinate, JointKindSpec, SignalSpec};
 #[cfg(feature = "solver")]
 use super::{KindDynamics, Row};
 use super::{ParamValue, Source};
@@ -91,6 +91,20 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "m/s",
             },
         ],
+        coordinates: &[
+            JointCoordinate {
+                name: "phi",
+                unit: "rad",
+                q: 0,
+                v: 0,
+            },
+            JointCoordinate {
+                name: "s",
+                unit: "m",
+                q: 1,
+                v: 1,
+            },
+        ],
         at_rest: |axis| crate::JointKind::Cylindrical {
             axis: axis("axis").unwrap_or_else(Vector3::z),
             phi: 0.0,
@@ -102,20 +116,6 @@ pub(crate) const FACTS: Facts = Facts {
     nq: 2,
     nv: 2,
     signals: SIGNALS,
-    coordinates: &[
-        Coordinate {
-            name: "phi",
-            unit: "rad",
-            q: 0,
-            v: 0,
-        },
-        Coordinate {
-            name: "s",
-            unit: "m",
-            q: 1,
-            v: 1,
-        },
-    ],
     turning: &[(0, 1.0)],
     shifting: &[1],
     reversed: None,

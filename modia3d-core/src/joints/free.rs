@@ -112,7 +112,7 @@ pub(crate) const FACTS: Facts = Facts {
             },
             InitialParam {
                 key: "rot",
-                value: ParamValue::Rotation,
+                value: ParamValue::Orientation,
                 unit: "1",
             },
             InitialParam {
@@ -126,12 +126,12 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "rad/s",
             },
         ],
+        coordinates: &[],
         at_rest: |_| crate::JointKind::free(),
     },
     nq: 7,
     nv: 6,
     signals: SIGNALS,
-    coordinates: &[],
     turning: &[(3, 2.0), (4, 2.0), (5, 2.0), (6, 2.0)],
     shifting: &[0, 1, 2],
     reversed: Some(|joint, obj1, obj2| SceneError::ReversedFreeMotion { joint, obj1, obj2 }),

@@ -1,5 +1,5 @@
 //! Joint kinds, each in one file that states every fact of its kind (`FACTS`: name, parameters,
-//! `nq`, `nv`, signals, scalar coordinates, reversal, capabilities; its validated data `Valid`
+//! `nq`, `nv`, signals, reversal, capabilities; its validated data `Valid`
 //! and its tree data `Coord`; `validate`; and — with the `solver` feature — [`KindDynamics`]:
 //! initial state, locked rows, the joint transform `X_J(q)`, the joint velocity `S(q) v` and
 //! the bias `c_J = Ṡ q̇` (both resolved in the child frame), the projection `Sᵀ f` and the
@@ -34,7 +34,7 @@ pub(crate) mod spec;
 pub(crate) mod spherical;
 pub(crate) mod universal;
 
-pub use spec::{AxisOf, AxisParam, InitialParam, JointKindSpec, ParamValue};
+pub use spec::{AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue};
 
 #[cfg(feature = "solver")]
 use crate::joints::rows::Row;
@@ -58,8 +58,6 @@ pub(crate) struct Facts {
     pub nv: usize,
     /// Signals (`"<joint>.<name>"`), in state order.
     pub signals: &'static [SignalSpec],
-    /// Scalar coordinates (empty for kinds whose rotation is a quaternion).
-    pub coordinates: &'static [Coordinate],
     /// Positions that turn the child body, with the turn per unit \[rad\] (a quaternion's
     /// component turns it by up to 2 rad per unit, an angle by 1).
     pub turning: &'static [(usize, f64)],
@@ -156,20 +154,6 @@ pub(crate) struct SignalSpec {
     pub dim: usize,
     /// Where the values come from.
     pub source: Source,
-}
-
-/// A scalar coordinate of a joint: a position `q[q]` whose rate is the velocity `v[v]`
-/// (`q̇ = v`), which spring-dampers and joint inputs act on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) struct Coordinate {
-    /// Name of the position, e.g. `"phi1"`.
-    pub name: &'static str,
-    /// Unit of the position (`"rad"` or `"m"`); the velocity's is this per second.
-    pub unit: &'static str,
-    /// Offset of the position in the joint's `q`.
-    pub q: usize,
-    /// Offset of the velocity in the joint's `v`.
-    pub v: usize,
 }
 
 /// Largest admissible `|‖q‖ − 1|` of an initial quaternion (round-off of a normalised
@@ -494,8 +478,8 @@ impl JointCoord {
         self.facts().signals
     }
     /// Its scalar coordinates.
-    pub(crate) fn coordinates(&self) -> &'static [Coordinate] {
-        self.facts().coordinates
+    pub(crate) fn coordinates(&self) -> &'static [JointCoordinate] {
+        self.facts().spec.coordinates
     }
     /// Whether it is a hinge of `dae/hinge_jacobian.rs` (`Facts::hinge`).
     pub(crate) fn is_hinge(&self) -> bool {
@@ -554,7 +538,7 @@ mod tests {
             }
             assert_eq!(nq, f.nq, "{name}: positions of the signals");
             assert!(nv <= f.nv, "{name}: velocities of the signals");
-            for c in f.coordinates {
+            for c in f.spec.coordinates {
                 assert!(c.q < f.nq && c.v < f.nv, "{name}: coordinate {}", c.name);
                 let turns = f.turning.iter().any(|&(i, r)| i == c.q && r == 1.0);
                 let shifts = f.shifting.contains(&c.q);

@@ -5,7 +5,7 @@
 //! [rad/s]. Resolved in obj2 the translation columns of `S` turn with `phi`:
 //! `S v = (normal w, Rᵀ (e1 vx + e2 vy))`, `c_J = (0, −w · normal × Rᵀ (e1 vx + e2 vy))`.
 
-use super::{AxisParam, Checker, Coordinate, Facts, InitialParam, JointKindSpec, SignalSpec};
+use super::{AxisParam, Checker, Facts, InitialParam, JointCoordinate, JointKindSpec, SignalSpec};
 #[cfg(feature = "solver")]
 use super::{KindDynamics, Row};
 use super::{ParamValue, Source};
@@ -126,6 +126,26 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "rad/s",
             },
         ],
+        coordinates: &[
+            JointCoordinate {
+                name: "x",
+                unit: "m",
+                q: 0,
+                v: 0,
+            },
+            JointCoordinate {
+                name: "y",
+                unit: "m",
+                q: 1,
+                v: 1,
+            },
+            JointCoordinate {
+                name: "phi",
+                unit: "rad",
+                q: 2,
+                v: 2,
+            },
+        ],
         at_rest: |axis| crate::JointKind::Planar {
             normal: axis("normal").unwrap_or_else(Vector3::z),
             x: 0.0,
@@ -139,26 +159,6 @@ pub(crate) const FACTS: Facts = Facts {
     nq: 3,
     nv: 3,
     signals: SIGNALS,
-    coordinates: &[
-        Coordinate {
-            name: "x",
-            unit: "m",
-            q: 0,
-            v: 0,
-        },
-        Coordinate {
-            name: "y",
-            unit: "m",
-            q: 1,
-            v: 1,
-        },
-        Coordinate {
-            name: "phi",
-            unit: "rad",
-            q: 2,
-            v: 2,
-        },
-    ],
     turning: &[(2, 1.0)],
     shifting: &[0, 1],
     reversed: Some(|joint, obj1, obj2| SceneError::ReversedJoint {

@@ -1,7 +1,7 @@
 //! Prismatic joint: translation of obj2 relative to obj1 along a unit axis fixed in both;
 //! position `s` \[m\], velocity `v` [m/s] (`ṡ = v`). `S = (0, axis)` is constant.
 
-use super::{AxisParam, Checker, Coordinate, Facts, InitialParam, JointKindSpec, SignalSpec};
+use super::{AxisParam, Checker, Facts, InitialParam, JointCoordinate, JointKindSpec, SignalSpec};
 #[cfg(feature = "solver")]
 use super::{KindDynamics, Row};
 use super::{ParamValue, Source};
@@ -65,6 +65,12 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "m/s",
             },
         ],
+        coordinates: &[JointCoordinate {
+            name: "s",
+            unit: "m",
+            q: 0,
+            v: 0,
+        }],
         at_rest: |axis| crate::JointKind::Prismatic {
             axis: axis("axis").unwrap_or_else(Vector3::z),
             s: 0.0,
@@ -74,12 +80,6 @@ pub(crate) const FACTS: Facts = Facts {
     nq: 1,
     nv: 1,
     signals: SIGNALS,
-    coordinates: &[Coordinate {
-        name: "s",
-        unit: "m",
-        q: 0,
-        v: 0,
-    }],
     turning: &[],
     shifting: &[0],
     reversed: None,

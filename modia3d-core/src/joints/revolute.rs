@@ -1,7 +1,7 @@
 //! Revolute joint: rotation of obj2 relative to obj1 about a unit axis fixed in both;
 //! position `phi` \[rad\], velocity `w` [rad/s] (`phi̇ = w`). `S = (axis, 0)` is constant.
 
-use super::{AxisParam, Checker, Coordinate, Facts, InitialParam, JointKindSpec, SignalSpec};
+use super::{AxisParam, Checker, Facts, InitialParam, JointCoordinate, JointKindSpec, SignalSpec};
 #[cfg(feature = "solver")]
 use super::{KindDynamics, Row};
 use super::{ParamValue, Source};
@@ -63,6 +63,12 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "rad/s",
             },
         ],
+        coordinates: &[JointCoordinate {
+            name: "phi",
+            unit: "rad",
+            q: 0,
+            v: 0,
+        }],
         at_rest: |axis| crate::JointKind::Revolute {
             axis: axis("axis").unwrap_or_else(Vector3::z),
             phi: 0.0,
@@ -72,12 +78,6 @@ pub(crate) const FACTS: Facts = Facts {
     nq: 1,
     nv: 1,
     signals: SIGNALS,
-    coordinates: &[Coordinate {
-        name: "phi",
-        unit: "rad",
-        q: 0,
-        v: 0,
-    }],
     turning: &[(0, 1.0)],
     shifting: &[],
     reversed: None,

@@ -1,6 +1,6 @@
 //! The joint kinds as the builder and `model!` see them (solver-free vocabulary, exported as
 //! [`crate::JOINT_KINDS`]): each kind's name, the parameters of its [`JointKind`] variant with
-//! their defaults and units, and the kind at rest. Each kind's file states its row
+//! their defaults and units, its scalar coordinates, and the kind at rest. Each kind's file states its row
 //! (`joints/<kind>.rs`, the `spec` of its `FACTS`); `joints/mod.rs` gathers the rows in the
 //! order of its table. The `model!` macro reads these rows instead of keeping a vocabulary of
 //! joints of its own.
@@ -19,15 +19,18 @@ pub struct JointKindSpec {
     pub axes: &'static [AxisParam],
     /// The initial values, in the variant's field order.
     pub initial: &'static [InitialParam],
+    /// The scalar coordinates (what `JointSpringDamper`, `JointForce` and
+    /// `JointAcceleration` act on; empty for kinds whose rotation is a quaternion).
+    pub coordinates: &'static [JointCoordinate],
     /// The kind at rest (every initial value its default) with the axes that `axis(key)`
     /// gives; an axis it does not give (known only at run time) is replaced by one that the
     /// scene's rules accept (`model!` checks the literal part of a block with it).
-    pub at_rest: fn(axis: &AxisOf) -> JointKind,
+    pub at_rest: fn(axis: &AxisOf<'_>) -> JointKind,
 }
 
 /// The axes `model!` knows of a joint, by key (`None`: known only at run time); see
 /// [`JointKindSpec::at_rest`].
-pub type AxisOf = dyn Fn(&str) -> Option<Vector3<f64>>;
+pub type AxisOf<'a> = dyn Fn(&str) -> Option<Vector3<f64>> + 'a;
 
 impl std::fmt::Debug for JointKindSpec {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -35,6 +38,7 @@ impl std::fmt::Debug for JointKindSpec {
             .field("name", &self.name)
             .field("axes", &self.axes)
             .field("initial", &self.initial)
+            .field("coordinates", &self.coordinates)
             .finish_non_exhaustive()
     }
 }
@@ -76,6 +80,22 @@ pub enum ParamValue {
     Number,
     /// A 3-vector (`Vector3<f64>`); default zero.
     Vector,
-    /// An orientation ([`crate::FreeRotation`]); default the identity.
-    Rotation,
+    /// An orientation ([`crate::FreeRotation`]); default the identity. (Not named
+    /// `Rotation`: a second public item of that name makes rustc print the crate's
+    /// `Rotation` with its full path in `model!`'s type errors.)
+    Orientation,
+}
+
+/// A scalar coordinate of a joint: a position `q[q]` whose rate is the velocity `v[v]`
+/// (`q̇ = v`), which spring-dampers and joint inputs act on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct JointCoordinate {
+    /// Name of the position, e.g. `"phi1"`.
+    pub name: &'static str,
+    /// Unit of the position (`"rad"` or `"m"`); the velocity's is this per second.
+    pub unit: &'static str,
+    /// Offset of the position in the joint's `q`.
+    pub q: usize,
+    /// Offset of the velocity in the joint's `v`.
+    pub v: usize,
 }

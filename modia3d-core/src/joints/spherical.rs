@@ -49,7 +49,7 @@ pub(crate) const FACTS: Facts = Facts {
         initial: &[
             InitialParam {
                 key: "rot",
-                value: ParamValue::Rotation,
+                value: ParamValue::Orientation,
                 unit: "1",
             },
             InitialParam {
@@ -58,12 +58,12 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "rad/s",
             },
         ],
+        coordinates: &[],
         at_rest: |_| crate::JointKind::spherical(),
     },
     nq: 4,
     nv: 3,
     signals: SIGNALS,
-    coordinates: &[],
     turning: &[(0, 2.0), (1, 2.0), (2, 2.0), (3, 2.0)],
     shifting: &[],
     reversed: Some(|joint, obj1, obj2| SceneError::ReversedJoint {

@@ -4,7 +4,7 @@
 //! velocities `w1`, `w2` [rad/s]. Resolved in obj2, `ω = Rot(axis2, phi2)ᵀ axis1 · w1 +
 //! axis2 · w2`: `S` depends on `phi2`, so `c_J = w1 w2 (Rot(axis2, phi2)ᵀ axis1) × axis2`.
 
-use super::{AxisParam, Checker, Coordinate, Facts, InitialParam, JointKindSpec, SignalSpec};
+use super::{AxisParam, Checker, Facts, InitialParam, JointCoordinate, JointKindSpec, SignalSpec};
 #[cfg(feature = "solver")]
 use super::{KindDynamics, Row};
 use super::{ParamValue, Source};
@@ -104,25 +104,25 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "rad/s",
             },
         ],
+        coordinates: &[
+            JointCoordinate {
+                name: "phi1",
+                unit: "rad",
+                q: 0,
+                v: 0,
+            },
+            JointCoordinate {
+                name: "phi2",
+                unit: "rad",
+                q: 1,
+                v: 1,
+            },
+        ],
         at_rest,
     },
     nq: 2,
     nv: 2,
     signals: SIGNALS,
-    coordinates: &[
-        Coordinate {
-            name: "phi1",
-            unit: "rad",
-            q: 0,
-            v: 0,
-        },
-        Coordinate {
-            name: "phi2",
-            unit: "rad",
-            q: 1,
-            v: 1,
-        },
-    ],
     turning: &[(0, 1.0), (1, 1.0)],
     shifting: &[],
     reversed: Some(|joint, obj1, obj2| SceneError::ReversedJoint {
@@ -139,7 +139,7 @@ pub(crate) const FACTS: Facts = Facts {
 
 /// At rest with the axes given; an axis not given is a stand-in perpendicular to the other
 /// (both not given: z and x).
-fn at_rest(axis: &super::spec::AxisOf) -> crate::JointKind {
+fn at_rest(axis: &super::spec::AxisOf<'_>) -> crate::JointKind {
     let across = |a: Vector3<f64>| {
         a.cross(&Vector3::x())
             .try_normalize(0.0)

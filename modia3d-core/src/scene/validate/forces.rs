@@ -261,7 +261,7 @@ fn joint_coordinate(
         return None;
     };
     let facts = desc.joints[ji].kind.facts();
-    let (kind, coords) = (facts.spec.name, facts.coordinates);
+    let (kind, coords) = (facts.spec.name, facts.spec.coordinates);
     if coords.is_empty() {
         c.errors.push(SceneError::NoScalarCoordinate {
             joint: joint.to_string(),
