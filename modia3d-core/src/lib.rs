@@ -77,6 +77,9 @@ mod counting_alloc;
 #[cfg(feature = "solver")]
 pub use contact::ContactError;
 pub use geometry::{Axis, MeshCollision, Shape};
+pub use joints::{
+    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue, JOINT_KINDS,
+};
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]

@@ -8,18 +8,18 @@
 //! unchanged.
 
 use crate::ast::ModelDef;
-use crate::vocab::{general_joint, COMPONENTS, NESTED};
+use crate::vocab::{is_component, joint_kind, NESTED};
 use syn::{Expr, Lit, LitFloat};
 
 /// Keys whose scalar value is an integer (an array value of such a key is still a float
 /// vector: `axis = [0, 1, 0]`); the axis keys of the other joint kinds (`axis1`, `normal`, …)
-/// come from the vocabulary ([`general_joint`]), so a new joint kind needs no entry here.
+/// come from the core's table ([`joint_kind`]), so a new joint kind needs no entry here.
 const INTEGER_KEYS: &[&str] = &["axis", "mpr_max_iterations"];
 
 /// Whether `key` of constructor `ctor` takes an integer scalar (a Modia axis index or a count).
 fn integer_key(ctor: &str, key: &str) -> bool {
     INTEGER_KEYS.contains(&key)
-        || general_joint(ctor).is_some_and(|(axes, _)| axes.iter().any(|(k, _)| *k == key))
+        || joint_kind(ctor).is_some_and(|k| k.axes.iter().any(|a| a.key == key))
 }
 
 /// Rewrites the integer literals of `def` that stand for floats (see the module header).
@@ -32,7 +32,7 @@ pub fn floatify(def: &mut ModelDef) {
     // Built-in constructors only: a sub-assembly's parameters may be integers.
     for c in &mut def.components {
         let name = c.ctor.name().to_string();
-        if !(c.ctor.is_single() && COMPONENTS.contains(&name.as_str())) {
+        if !(c.ctor.is_single() && is_component(&name)) {
             continue;
         }
         for a in &mut c.ctor.args {

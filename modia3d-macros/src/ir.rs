@@ -8,6 +8,7 @@
 #![allow(clippy::large_enum_variant)]
 
 use crate::vocab::Kind;
+use modia3d_core::JointKindSpec;
 use proc_macro2::{Ident, Span};
 use syn::Expr;
 
@@ -214,44 +215,16 @@ pub enum FeatureIr {
     Solid(SolidIr),
 }
 
-/// A joint's kind.
+/// A joint's kind: its row of the core's table (`modia3d_core::JOINT_KINDS`), the axes and the
+/// `Var(init)` of the initial values that were given, by key.
 #[derive(Clone, Debug)]
-pub enum JointKindIr {
-    /// `Fix`.
-    Fix,
-    /// `Revolute` or `Prismatic`.
-    Scalar {
-        /// Which.
-        revolute: bool,
-        /// The axis.
-        axis: JointAxis,
-        /// `Var(init)` of the position.
-        position: Option<Expr>,
-        /// `Var(init)` of the velocity.
-        velocity: Option<Expr>,
-    },
-    /// `Spherical`, `Universal`, `Cylindrical`, `Planar` (`vocab::general_joint`): the axes
-    /// and the `Var(init)` of the initial values that were given, by key.
-    General {
-        /// The constructor.
-        ctor: String,
-        /// Axis keys with their axes.
-        axes: Vec<(&'static str, JointAxis)>,
-        /// Initial-value keys with their `Var(init)`, and whether the key takes a 3-vector or a
-        /// rotation.
-        inits: Vec<(&'static str, bool, Expr)>,
-    },
-    /// `FreeMotion` with the `Var(init)` of `r`, `rot`, `v`, `w`.
-    Free {
-        /// Initial position.
-        r: Option<Expr>,
-        /// Initial rotation.
-        rot: Option<Expr>,
-        /// Initial velocity.
-        v: Option<Expr>,
-        /// Initial angular velocity.
-        w: Option<Expr>,
-    },
+pub struct JointKindIr {
+    /// The kind's row.
+    pub spec: &'static JointKindSpec,
+    /// Axis keys with their axes (absent keys with a default have it).
+    pub axes: Vec<(&'static str, JointAxis)>,
+    /// Initial-value keys with their `Var(init)`.
+    pub inits: Vec<(&'static str, Expr)>,
 }
 
 /// A joint's axis.

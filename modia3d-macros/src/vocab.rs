@@ -1,18 +1,25 @@
 //! Vocabulary of `model!`: the constructors, the keys each accepts, synonyms users guess, and
 //! what kind of component a constructor makes. Plain data; the rules a *value* must satisfy
-//! are the core's (`modia3d_core::scene`), not listed here.
+//! are the core's (`modia3d_core::scene`), not listed here, and so are the joint kinds: their
+//! names, keys, defaults and units are the core's table (`modia3d_core::JOINT_KINDS`).
 
-/// Constructors of components.
-pub const COMPONENTS: &[&str] = &[
-    "Object3D",
-    "Fix",
-    "Revolute",
-    "Prismatic",
-    "FreeMotion",
-    "Spherical",
-    "Universal",
-    "Cylindrical",
-    "Planar",
+use modia3d_core::{JointKindSpec, JOINT_KINDS};
+
+/// Constructors of components: `Object3D`, the joint kinds (the core's table), then
+/// [`OTHER_COMPONENTS`].
+pub fn components() -> impl Iterator<Item = &'static str> {
+    std::iter::once("Object3D")
+        .chain(JOINT_KINDS.iter().map(|k| k.name))
+        .chain(OTHER_COMPONENTS.iter().copied())
+}
+
+/// Whether `name` is a constructor of a component ([`components`]).
+pub fn is_component(name: &str) -> bool {
+    components().any(|c| c == name)
+}
+
+/// Constructors of components other than objects and joints.
+pub const OTHER_COMPONENTS: &[&str] = &[
     "SpringDamper",
     "JointSpringDamper",
     "ObjectForce",
@@ -162,92 +169,19 @@ pub const PAIR_KEYS: &[&str] = &[
     "w_min",
 ];
 
-/// Keys of a joint constructor.
-pub fn joint_keys(ctor: &str) -> &'static [&'static str] {
-    match ctor {
-        "Fix" => &["obj1", "obj2", "can_collide", "cut"],
-        "Revolute" => &["obj1", "obj2", "axis", "phi", "w", "can_collide", "cut"],
-        "Prismatic" => &["obj1", "obj2", "axis", "s", "v", "can_collide", "cut"],
-        "Spherical" => &["obj1", "obj2", "rot", "w", "can_collide", "cut"],
-        "Universal" => &[
-            "obj1",
-            "obj2",
-            "axis1",
-            "axis2",
-            "phi1",
-            "phi2",
-            "w1",
-            "w2",
-            "can_collide",
-            "cut",
-        ],
-        "Cylindrical" => &[
-            "obj1",
-            "obj2",
-            "axis",
-            "phi",
-            "s",
-            "w",
-            "v",
-            "can_collide",
-            "cut",
-        ],
-        "Planar" => &[
-            "obj1",
-            "obj2",
-            "normal",
-            "x",
-            "y",
-            "phi",
-            "vx",
-            "vy",
-            "w",
-            "can_collide",
-            "cut",
-        ],
-        _ => &["obj1", "obj2", "r", "rot", "v", "w", "can_collide", "cut"],
-    }
+/// The row of the joint kind `ctor` in the core's table; `None` for other names.
+pub fn joint_kind(ctor: &str) -> Option<&'static JointKindSpec> {
+    JOINT_KINDS.iter().find(|k| k.name == ctor)
 }
 
-/// Axis keys with their default Modia axis, and initial-value keys with whether they take a
-/// vector (see [`general_joint`]).
-pub type GeneralJoint = (
-    &'static [(&'static str, Option<i64>)],
-    &'static [(&'static str, bool)],
-);
-
-/// A joint kind beyond Fix/Revolute/Prismatic/FreeMotion: its axis keys with their default Modia
-/// axis (`None`: required), and its initial-value keys with the type they take (`true`: a
-/// 3-vector or rotation, `false`: a number). The keys are the `JointKind` variant's fields.
-pub fn general_joint(ctor: &str) -> Option<GeneralJoint> {
-    Some(match ctor {
-        "Spherical" => (&[], &[("rot", true), ("w", true)]),
-        "Universal" => (
-            &[("axis1", None), ("axis2", None)],
-            &[
-                ("phi1", false),
-                ("phi2", false),
-                ("w1", false),
-                ("w2", false),
-            ],
-        ),
-        "Cylindrical" => (
-            &[("axis", Some(3))],
-            &[("phi", false), ("s", false), ("w", false), ("v", false)],
-        ),
-        "Planar" => (
-            &[("normal", Some(3))],
-            &[
-                ("x", false),
-                ("y", false),
-                ("phi", false),
-                ("vx", false),
-                ("vy", false),
-                ("w", false),
-            ],
-        ),
-        _ => return None,
-    })
+/// Keys of a joint constructor: the objects, the kind's parameters (the core's table), then
+/// `can_collide` and `cut`.
+pub fn joint_keys(kind: &JointKindSpec) -> Vec<&'static str> {
+    ["obj1", "obj2"]
+        .into_iter()
+        .chain(kind.keys())
+        .chain(["can_collide", "cut"])
+        .collect()
 }
 
 /// Keys that are easy to guess wrong, with the key meant.
@@ -307,8 +241,7 @@ impl Kind {
     pub fn of_builtin(ctor: &str) -> Option<Kind> {
         Some(match ctor {
             "Object3D" => Kind::Object,
-            "Fix" | "Revolute" | "Prismatic" | "FreeMotion" | "Spherical" | "Universal"
-            | "Cylindrical" | "Planar" => Kind::Joint,
+            k if joint_kind(k).is_some() => Kind::Joint,
             "SpringDamper" | "JointSpringDamper" | "ObjectForce" | "Bushing" | "WorldForce"
             | "WorldTorque" => Kind::Force,
             "SolidMaterial" => Kind::Material,

@@ -50,7 +50,6 @@ use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::plan::JointPlan;
 use crate::dynamics::BodyId;
 use crate::dynamics::{forces, kinematics, rnea, InputTarget, Plan, Workspace};
-use crate::joints::JointCoord;
 use crate::scene::ValidForce;
 use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
 use crate::spatial::{axis_angle, Force, Motion, Transform};
@@ -147,13 +146,7 @@ impl HingeTrees {
             let prescribed = plan.prescribed[j.v_offset..j.v_offset + j.coord.nv()]
                 .iter()
                 .any(Option::is_some);
-            let hinge = matches!(
-                j.coord,
-                JointCoord::Revolute { .. }
-                    | JointCoord::Prismatic { .. }
-                    | JointCoord::Cylindrical { .. }
-            );
-            if prescribed || !hinge {
+            if prescribed || !j.coord.is_hinge() {
                 ok[of_body[i]] = false;
             }
         }

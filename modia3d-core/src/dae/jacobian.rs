@@ -43,7 +43,6 @@ use super::increment_caps::{rotation_cap, with_step_floor};
 use super::MultibodyDae;
 use crate::contact::{pair_wrench_jacobian, ContactPlan, ContactState, PER_BODY};
 use crate::dynamics::{kinematics, BodyId, InputTarget, Plan, Workspace};
-use crate::joints::JointCoord;
 use crate::scene::ValidForce;
 use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
 use crate::spatial::{quat_to_matrix, Force, Inertia, Motion};
@@ -157,7 +156,7 @@ pub(super) fn free_bodies(
             .any(Option::is_some);
         if count[of_body[i]] == 1
             && body.parent.is_none()
-            && matches!(j.coord, JointCoord::Free { .. })
+            && j.coord.free_velocities().is_some()
             && !touched[i]
             && !prescribed
         {
@@ -167,7 +166,7 @@ pub(super) fn free_bodies(
                 body: BodyId(i),
                 q: j.q_offset,
                 v: plan.nq + j.v_offset,
-                in_obj1: matches!(j.coord, JointCoord::Free { in_obj1: true }),
+                in_obj1: j.coord.free_velocities() == Some(true),
                 forces: (first, own_forces.len()),
             });
         }
@@ -822,7 +821,6 @@ impl MultibodyDae {
 #[cfg(test)]
 pub(super) mod tests {
     use super::super::MultibodyDae;
-    use crate::joints::JointCoord;
     use crate::solver::{BlockStructure, DaeSystem, JacobianArgs};
     use crate::{FreeRotation, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Shape, Solid};
     use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -998,7 +996,7 @@ pub(super) mod tests {
                 vel = w.cross(&Vector3::new(0.0, 0.0, r));
             }
             // Resolved in the body's own frame where its joint resolves them there.
-            let (w, vel) = if matches!(j.coord, crate::joints::JointCoord::Free { in_obj1: true }) {
+            let (w, vel) = if j.coord.free_velocities() == Some(true) {
                 (w, vel)
             } else {
                 let inv = UnitQuaternion::from_quaternion(quat.into_inner()).inverse();
@@ -1664,7 +1662,7 @@ pub(super) mod tests {
         let mut free: Vec<&str> = plan
             .joints
             .iter()
-            .filter(|j| matches!(j.coord, JointCoord::Free { .. }) && j.name != "tip.free")
+            .filter(|j| j.coord.free_velocities().is_some() && j.name != "tip.free")
             .map(|j| j.name.as_str())
             .collect();
         direct.sort_unstable();
@@ -1673,7 +1671,7 @@ pub(super) mod tests {
         let frames: Vec<bool> = direct
             .iter()
             .filter_map(|n| plan.joints.iter().find(|j| j.name == *n))
-            .map(|j| matches!(j.coord, JointCoord::Free { in_obj1: true }))
+            .map(|j| j.coord.free_velocities() == Some(true))
             .collect();
         assert!(
             frames.contains(&true) && frames.contains(&false),

@@ -8,7 +8,6 @@ use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, BodyId, Plan, Workspace};
-use crate::joints::JointCoord;
 use crate::solver::{BlockStructure, DaeSystem, ResidualError};
 use std::sync::Arc;
 
@@ -781,7 +780,7 @@ fn lone_free_joints(plan: &Plan, groups: &[Vec<usize>]) -> Vec<Option<usize>> {
         .map(|g| {
             let k = joint_at[*g.first()?]?;
             let j = &plan.joints[k];
-            let lone = matches!(j.coord, JointCoord::Free { .. })
+            let lone = j.coord.free_velocities().is_some()
                 && plan.bodies[j.body].parent.is_none()
                 && !carries[j.body.index()]
                 && g.len() == 6

@@ -159,7 +159,7 @@ impl LoopPlan {
 
 /// The rows a joint kind locks when it is cut (each kind says which, in `joints/`).
 pub fn rows_of(kind: &ValidJointKind) -> Vec<Row> {
-    crate::joints::locked_rows(kind)
+    kind.locked_rows()
 }
 
 /// The cut joints of a validated scene, placed in their bodies: `in_ref` is each object's

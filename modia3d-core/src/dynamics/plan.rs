@@ -6,9 +6,7 @@
 
 use super::ids::{BodyId, IdVec, JointId, ObjectId};
 pub use crate::joints::JointCoord;
-use crate::scene::{
-    GravityField, SceneError, SceneErrors, ValidInputKind, ValidJointKind, ValidScene,
-};
+use crate::scene::{GravityField, SceneError, SceneErrors, ValidInputKind, ValidScene};
 use crate::spatial::{Inertia, Transform};
 use nalgebra::{Isometry3, Vector3};
 
@@ -178,7 +176,7 @@ fn placements(scene: &ValidScene) -> Vec<Transform> {
         }
     }
     for j in &scene.joints {
-        if j.kind == ValidJointKind::Fix {
+        if j.kind.is_rigid() {
             rigid[j.obj1].push((j.obj2, Transform::default()));
             rigid[j.obj2].push((j.obj1, Transform::default()));
         }
@@ -276,11 +274,11 @@ fn resolve_free_velocities(
         let centred =
             i.mass > 0.0 && i.com.norm_squared() <= 1e-12 * i.inertia_com.trace() / i.mass;
         let alone = b.parent.is_none() && !carries[j.body.index()] && round[j.body.index()];
-        if let (JointCoord::Free { in_obj1 }, true, true) = (&mut j.coord, alone, centred) {
-            *in_obj1 = true;
-            crate::joints::free::velocities_to_obj1(
-                &q0[j.q_offset..j.q_offset + 7],
-                &mut v0[j.v_offset..j.v_offset + 6],
+        if alone && centred {
+            let (nq, nv) = (j.coord.nq(), j.coord.nv());
+            j.coord.resolve_in_obj1(
+                &q0[j.q_offset..j.q_offset + nq],
+                &mut v0[j.v_offset..j.v_offset + nv],
             );
         }
     }

@@ -1,13 +1,31 @@
 //! Revolute joint: rotation of obj2 relative to obj1 about a unit axis fixed in both;
 //! position `phi` \[rad\], velocity `w` [rad/s] (`phi̇ = w`). `S = (axis, 0)` is constant.
 
-use super::{Checker, Coordinate, KindInfo, SignalSpec, Source, ValidJointKind};
+use super::{AxisParam, Checker, Facts, InitialParam, JointCoordinate, JointKindSpec, SignalSpec};
 #[cfg(feature = "solver")]
-use crate::joints::rows::Row;
+use super::{KindDynamics, Row};
+use super::{ParamValue, Source};
 #[cfg(feature = "solver")]
 use crate::spatial::{axis_angle, Force, Motion, Transform};
-#[cfg(feature = "solver")]
 use nalgebra::Vector3;
+
+/// A validated Revolute joint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Valid {
+    /// Unit axis, resolved in obj1.
+    pub axis: Vector3<f64>,
+    /// Initial angle \[rad\].
+    pub phi: f64,
+    /// Initial angular velocity [rad/s].
+    pub w: f64,
+}
+
+/// A Revolute joint in the tree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coord {
+    /// Unit axis (already negated when the joint is traversed from obj2 to obj1).
+    pub axis: Vector3<f64>,
+}
 
 /// Signals: `phi` \[rad\], `w` [rad/s].
 pub(crate) const SIGNALS: &[SignalSpec] = &[
@@ -25,71 +43,140 @@ pub(crate) const SIGNALS: &[SignalSpec] = &[
     },
 ];
 
-/// One scalar coordinate; reversible (the axis is negated).
-pub(crate) const INFO: KindInfo = KindInfo {
-    coordinates: &[Coordinate {
-        name: "phi",
-        unit: "rad",
-        q: 0,
-        v: 0,
-    }],
-    reversible: true,
+/// One scalar coordinate, `phi`; reversible (the axis is negated); a hinge.
+pub(crate) const FACTS: Facts = Facts {
+    spec: JointKindSpec {
+        name: "Revolute",
+        axes: &[AxisParam {
+            key: "axis",
+            default: Some(3),
+        }],
+        initial: &[
+            InitialParam {
+                key: "phi",
+                value: ParamValue::Number,
+                unit: "rad",
+            },
+            InitialParam {
+                key: "w",
+                value: ParamValue::Number,
+                unit: "rad/s",
+            },
+        ],
+        coordinates: &[JointCoordinate {
+            name: "phi",
+            unit: "rad",
+            q: 0,
+            v: 0,
+        }],
+        at_rest: |axis| crate::JointKind::Revolute {
+            axis: axis("axis").unwrap_or_else(Vector3::z),
+            phi: 0.0,
+            w: 0.0,
+        },
+    },
+    nq: 1,
+    nv: 1,
+    signals: SIGNALS,
+    turning: &[(0, 1.0)],
+    shifting: &[],
+    reversed: None,
+    rigid: false,
+    connects: true,
+    modia3d_can_collide: true,
+    hinge: true,
 };
-
-/// `X_J`: rotation by `q[0]` about `axis`.
-#[cfg(feature = "solver")]
-#[inline]
-pub(crate) fn transform(axis: &Vector3<f64>, q: &[f64]) -> Transform {
-    Transform {
-        rot: axis_angle(axis, q[0]),
-        pos: Vector3::zeros(),
-    }
-}
-
-/// `S v`.
-#[cfg(feature = "solver")]
-#[inline]
-pub(crate) fn motion(axis: &Vector3<f64>, v: &[f64]) -> Motion {
-    Motion {
-        w: axis * v[0],
-        v: Vector3::zeros(),
-    }
-}
-
-/// `Sᵀ f`: the torque about the axis.
-#[cfg(feature = "solver")]
-#[inline]
-pub(crate) fn project(axis: &Vector3<f64>, f: &Force, tau: &mut [f64]) {
-    tau[0] = axis.dot(&f.n);
-}
 
 /// Validation of the builder's parameters (solver-free): unit axis, finite initial values.
 pub(crate) fn validate(
     c: &mut Checker,
     joint: &str,
-    axis: &nalgebra::Vector3<f64>,
-    phi: f64,
-    w: f64,
-) -> ValidJointKind {
+    axis: &Vector3<f64>,
+    phi: &f64,
+    w: &f64,
+) -> Valid {
+    let (phi, w) = (*phi, *w);
     c.finite(
         || format!("joint `{joint}`: initial phi [rad], w [rad/s]"),
         &[phi, w],
     );
-    ValidJointKind::Revolute {
+    Valid {
         axis: super::unit_axis(c, joint, axis),
         phi,
         w,
     }
 }
 
-/// The rows a cut Revolute locks: the three translations and the two alignments of its axis.
 #[cfg(feature = "solver")]
-pub(crate) fn locked_rows(axis: &nalgebra::Vector3<f64>) -> Vec<Row> {
-    let mut r = Row::translations(&[
-        nalgebra::Vector3::x(),
-        nalgebra::Vector3::y(),
-        nalgebra::Vector3::z(),
-    ]);
-    r.extend(Row::alignments(axis));
-    r
+impl KindDynamics for Coord {
+    type Valid = Valid;
+    fn new(k: &Valid, flipped: bool, q0: &mut Vec<f64>, v0: &mut Vec<f64>) -> Coord {
+        q0.push(k.phi);
+        v0.push(k.w);
+        Coord {
+            axis: if flipped { -k.axis } else { k.axis },
+        }
+    }
+    /// The three translations and the two alignments of its axis.
+    fn locked_rows(k: &Valid) -> Vec<Row> {
+        let mut r = Row::translations(&[Vector3::x(), Vector3::y(), Vector3::z()]);
+        r.extend(Row::alignments(&k.axis));
+        r
+    }
+    fn drawn_axis(k: &Valid) -> Option<(&'static str, Vector3<f64>)> {
+        Some(("revolute", k.axis))
+    }
+    #[inline]
+    fn has_bias(&self) -> bool {
+        false
+    }
+    #[inline]
+    fn free_velocities(&self) -> Option<bool> {
+        None
+    }
+    fn resolve_in_obj1(&mut self, _: &[f64], _: &mut [f64]) -> bool {
+        false
+    }
+    /// `X_J`: rotation by `q[0]` about `axis`.
+    #[inline(always)]
+    fn transform(&self, q: &[f64]) -> Transform {
+        Transform {
+            rot: axis_angle(&self.axis, q[0]),
+            pos: Vector3::zeros(),
+        }
+    }
+    /// `S v`.
+    #[inline(always)]
+    fn motion(&self, _: &[f64], v: &[f64]) -> Motion {
+        Motion {
+            w: self.axis * v[0],
+            v: Vector3::zeros(),
+        }
+    }
+    #[inline(always)]
+    fn motion_at(&self, _: &Transform, q: &[f64], v: &[f64]) -> Motion {
+        self.motion(q, v)
+    }
+    /// Zero: `S` is constant.
+    #[inline]
+    fn bias(&self, _: &[f64], _: &[f64], _: &Motion) -> Motion {
+        Motion::zero()
+    }
+    /// `Sᵀ f`: the torque about the axis.
+    #[inline]
+    fn project(&self, _: &[f64], f: &Force, tau: &mut [f64]) {
+        tau[0] = self.axis.dot(&f.n);
+    }
+    #[inline(always)]
+    fn project_at(&self, _: &Transform, q: &[f64], f: &Force, tau: &mut [f64]) {
+        self.project(q, f, tau);
+    }
+    /// `phi̇ − w`.
+    #[inline]
+    fn position_residual(&self, _: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
+        super::scalar_position_residual(v, qd, res);
+    }
+    fn derived_signal(&self, _: &str, _: &[f64], _: &[f64], _: &mut Vec<f64>) -> Option<()> {
+        None
+    }
 }

@@ -9,7 +9,6 @@
 use super::threejs::write_text;
 use super::{ResultError, SimulationResult};
 use crate::dynamics::{BodyId, ObjectId};
-use crate::scene::ValidJointKind;
 use nalgebra::{Matrix3, Vector3};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -96,10 +95,8 @@ impl SimulationResult {
         };
         let mut joints = vec![];
         for j in &scene.joints {
-            let (kind, axis) = match &j.kind {
-                ValidJointKind::Revolute { axis, .. } => ("revolute", axis),
-                ValidJointKind::Prismatic { axis, .. } => ("prismatic", axis),
-                _ => continue,
+            let Some((kind, axis)) = j.kind.drawn_axis() else {
+                continue;
             };
             // The axis is resolved in obj1; obj1's orientation carries it into world.
             let r1 = self.signal(&format!("{}.R_abs", name(j.obj1)))?;

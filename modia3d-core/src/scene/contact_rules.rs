@@ -5,7 +5,7 @@
 //! Touches only the validated scene.
 
 use super::desc::SceneDesc;
-use super::validate::{SceneError, ValidJointKind, ValidScene};
+use super::validate::{SceneError, ValidScene};
 
 /// Which objects can collide with which (docs/contact-model.md §2.1, as in Modia3D): two solids meet unless they
 /// are on one rigid body (parent links and `Fix` joints merge objects; everything attached to
@@ -30,10 +30,8 @@ impl CollisionFilter {
             .iter()
             .enumerate()
             .filter(|(_, j)| {
-                !matches!(
-                    j.kind,
-                    ValidJointKind::Fix | ValidJointKind::FreeMotion { .. }
-                ) && !j.can_collide
+                // A rigid joint's objects are one body already.
+                j.kind.connects() && !j.kind.is_rigid() && !j.can_collide
             })
             .map(|(k, j)| (body[j.obj1], body[j.obj2], k))
             .collect();

@@ -546,19 +546,6 @@ impl JointKind {
             w: 0.0,
         }
     }
-    /// A short name for messages.
-    pub fn name(&self) -> &'static str {
-        match self {
-            JointKind::Fix => "Fix",
-            JointKind::Revolute { .. } => "Revolute",
-            JointKind::Prismatic { .. } => "Prismatic",
-            JointKind::FreeMotion { .. } => "FreeMotion",
-            JointKind::Spherical { .. } => "Spherical",
-            JointKind::Universal { .. } => "Universal",
-            JointKind::Cylindrical { .. } => "Cylindrical",
-            JointKind::Planar { .. } => "Planar",
-        }
-    }
 }
 
 /// A joint between two objects.

@@ -16,7 +16,7 @@
 //! loop of parent links and Fix joints only, and an object that is obj2 of two joints of which
 //! more than one is no part of any loop (a body moved by two joints without a loop).
 
-use super::validate::{SceneError, ValidJoint, ValidJointKind, ValidObject};
+use super::validate::{SceneError, ValidJoint, ValidObject};
 use std::collections::{HashMap, VecDeque};
 
 /// A joint of the spanning tree, in breadth-first order from the world (parents first).
@@ -102,7 +102,7 @@ pub(crate) fn check_topology(
         }
     }
     for j in joints {
-        if j.kind == ValidJointKind::Fix && !uf.union(j.obj1, j.obj2) {
+        if j.kind.is_rigid() && !uf.union(j.obj1, j.obj2) {
             errors.push(SceneError::KinematicLoop {
                 objects: names(&[j.obj1, j.obj2]),
             });
@@ -121,7 +121,7 @@ pub(crate) fn check_topology(
     };
     let world_cluster = cluster[world];
     let candidates: Vec<usize> = (0..joints.len())
-        .filter(|&j| joints[j].kind != ValidJointKind::Fix)
+        .filter(|&j| !joints[j].kind.is_rigid())
         .collect();
     let (tree, closing, reached_by) =
         spanning_tree(joints, &cluster, world_cluster, &candidates, n);
@@ -148,22 +148,12 @@ pub(crate) fn check_topology(
     two_parents(objects, joints, &on_loop, errors);
     for e in &tree {
         let sj = &joints[e.joint];
-        let reversible = crate::joints::info(sj.kind.name()).is_none_or(|i| i.reversible);
-        if e.flipped && !reversible {
-            let (joint, obj1, obj2) = (
+        if let (true, Some(reversed)) = (e.flipped, sj.kind.facts().reversed) {
+            errors.push(reversed(
                 sj.name.clone(),
                 objects[sj.obj1].name.clone(),
                 objects[sj.obj2].name.clone(),
-            );
-            errors.push(match sj.kind.name() {
-                "FreeMotion" => SceneError::ReversedFreeMotion { joint, obj1, obj2 },
-                kind => SceneError::ReversedJoint {
-                    joint,
-                    kind,
-                    obj1,
-                    obj2,
-                },
-            });
+            ));
         }
     }
     let mut reached = vec![false; n];

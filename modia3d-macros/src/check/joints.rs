@@ -5,7 +5,7 @@ use crate::ast::Ctor;
 use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
 use crate::names::{did_you_mean, hint};
 use crate::vocab::{
-    general_joint, joint_keys, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, PAIR_KEYS,
+    joint_keys, joint_kind, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, PAIR_KEYS,
     SPRING_DAMPER_KEYS,
 };
 use proc_macro2::Ident;
@@ -63,67 +63,44 @@ impl Checker {
         }
     }
 
+    /// A joint of any kind of the core's table: its objects, its axes (a required one missing
+    /// is an error), the `Var(init)` of its initial values, `can_collide`, `cut`.
     pub(super) fn joint(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
-        let kind_name = ctor.name().to_string();
-        let a = self.args(ctor, joint_keys(&kind_name));
+        // `Kind::Joint` comes from the table, so the row exists.
+        let spec = joint_kind(&ctor.name().to_string())?;
+        let a = self.args(ctor, &joint_keys(spec));
         let (o1, o2) = (
             self.required_object(&a, "obj1"),
             self.required_object(&a, "obj2"),
         );
         let can_collide = a.get("can_collide").map(|c| (c.clone(), lit_bool(c)));
         let cut = a.get("cut").map(|c| (c.clone(), lit_bool(c)));
-        let kind = match kind_name.as_str() {
-            "Fix" => Some(JointKindIr::Fix),
-            "Revolute" | "Prismatic" => {
-                let revolute = kind_name == "Revolute";
-                let (pos, vel) = if revolute { ("phi", "w") } else { ("s", "v") };
-                let axis = self.joint_axis("axis", a.get("axis"), Some(3));
-                let position = a.get(pos).and_then(|p| self.var(pos, p));
-                let velocity = a.get(vel).and_then(|v| self.var(vel, v));
-                axis.map(|axis| JointKindIr::Scalar {
-                    revolute,
-                    axis,
-                    position,
-                    velocity,
-                })
+        let mut axes = vec![];
+        let mut ok = true;
+        for axis in spec.axes {
+            let (key, default) = (axis.key, axis.default);
+            let e = match default {
+                None => self.required(&a, key),
+                Some(_) => a.get(key),
+            };
+            if default.is_none() && e.is_none() {
+                ok = false;
+                continue;
             }
-            k if general_joint(k).is_some() => {
-                let (axis_keys, init_keys) = general_joint(k)?;
-                let mut axes = vec![];
-                let mut ok = true;
-                for &(key, default) in axis_keys {
-                    let e = match default {
-                        None => self.required(&a, key),
-                        Some(_) => a.get(key),
-                    };
-                    if default.is_none() && e.is_none() {
-                        ok = false;
-                        continue;
-                    }
-                    match self.joint_axis(key, e, default) {
-                        Some(ax) => axes.push((key, ax)),
-                        None => ok = false,
-                    }
-                }
-                let inits = init_keys
-                    .iter()
-                    .filter_map(|&(key, vector)| {
-                        let e = a.get(key)?;
-                        Some((key, vector, self.var(key, e)?))
-                    })
-                    .collect();
-                ok.then(|| JointKindIr::General {
-                    ctor: k.to_string(),
-                    axes,
-                    inits,
-                })
+            match self.joint_axis(key, e, default) {
+                Some(ax) => axes.push((key, ax)),
+                None => ok = false,
             }
-            _ => {
-                let mut field = |k: &str| a.get(k).and_then(|e| self.var(k, e));
-                let (r, rot, v, w) = (field("r"), field("rot"), field("v"), field("w"));
-                Some(JointKindIr::Free { r, rot, v, w })
-            }
-        };
+        }
+        let inits = spec
+            .initial
+            .iter()
+            .filter_map(|p| {
+                let e = a.get(p.key)?;
+                Some((p.key, self.var(p.key, e)?))
+            })
+            .collect();
+        let kind = ok.then_some(JointKindIr { spec, axes, inits });
         Some(Item::Joint {
             name: name.clone(),
             obj1: o1?,

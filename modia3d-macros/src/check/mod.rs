@@ -15,7 +15,7 @@ mod values;
 use crate::ast::{push, Arg, Ctor, ModelDef};
 use crate::ir::{Ir, Item, LitNum, Num, Parent, PathCheck};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
-use crate::vocab::{nested_hint, Kind, COMPONENTS, NESTED, SYNONYMS};
+use crate::vocab::{components, nested_hint, Kind, NESTED, SYNONYMS};
 use proc_macro2::{Ident, Span};
 use quote::ToTokens;
 use std::collections::{HashMap, HashSet};
@@ -281,7 +281,7 @@ impl Checker {
             );
             return None;
         }
-        match did_you_mean(&n, COMPONENTS.iter().copied()) {
+        match did_you_mean(&n, components()) {
             Some(h) => {
                 self.err(
                     ctor.span(),

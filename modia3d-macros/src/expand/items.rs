@@ -7,6 +7,7 @@ use crate::ir::{
     ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr,
     MaterialName, Num, Parent, PathCheck, Profile, SceneIr, ShapeIr, SolidIr,
 };
+use modia3d_core::ParamValue;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
 use syn::Expr;
@@ -155,10 +156,10 @@ pub fn item(it: &Item) -> TokenStream {
                 scoped(&obj1.path),
                 scoped(&obj2.path),
             );
-            let (kind, init) = joint_kind(kind);
+            let kind = joint_kind(kind);
             let c = can_collide.as_ref().map(|(c, _)| quote!(.can_collide(#c)));
             let cut = cut.as_ref().map(|(c, _)| quote!(.cut(#c)));
-            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #cut #init);)
+            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #cut);)
         }
         Item::Force { name, force, .. } => {
             let v = self::force(&name.to_string(), force);
@@ -467,90 +468,52 @@ fn scene_options(s: &SceneIr) -> TokenStream {
     }
 }
 
-/// A joint's `JointKind` expression and the builder calls that set its initial values.
-fn joint_kind(k: &JointKindIr) -> (TokenStream, TokenStream) {
+/// A joint's `JointKind` expression: the row's variant with every field, each axis as given
+/// (or its default) and each initial value as given (or at rest: zero, the identity rotation).
+fn joint_kind(k: &JointKindIr) -> TokenStream {
     let jk = quote!(::modia3d::core::JointKind);
     let v3 = quote!(::modia3d::__private::vector3);
-    match k {
-        JointKindIr::Fix => (quote!(#jk::Fix), quote!()),
-        JointKindIr::Scalar {
-            revolute,
-            axis,
-            position,
-            velocity,
-        } => {
-            let pos = position.as_ref().map(|i| quote!(.init_position(#i)));
-            let vel = velocity.as_ref().map(|i| quote!(.init_velocity(#i)));
-            let ctor_fn = format_ident!("{}", if *revolute { "revolute" } else { "prismatic" });
-            let kind = match axis {
-                JointAxis::Index(None, _) => quote!(#jk::#ctor_fn(3)),
-                JointAxis::Index(Some(e), _) | JointAxis::Expr(e) => quote!(#jk::#ctor_fn(#e)),
-                // A vector axis: the variant itself, at rest at 0 like the constructors.
-                JointAxis::Vector(arr, _) if *revolute => {
-                    quote!(#jk::Revolute { axis: #v3(#arr), phi: 0.0, w: 0.0 })
-                }
-                JointAxis::Vector(arr, _) => {
-                    quote!(#jk::Prismatic { axis: #v3(#arr), s: 0.0, v: 0.0 })
-                }
-            };
-            (kind, quote!(#pos #vel))
-        }
-        JointKindIr::General { ctor, axes, inits } => {
-            let (axis_keys, init_keys) = crate::vocab::general_joint(ctor).unwrap_or((&[], &[]));
-            let ctor = format_ident!("{}", ctor);
-            let mut fields = vec![];
-            for (key, _) in axis_keys {
-                let field = format_ident!("{}", key);
-                let value = match axes.iter().find(|(k, _)| k == key).map(|(_, a)| a) {
-                    Some(JointAxis::Vector(arr, _)) => quote!(#v3(#arr)),
-                    Some(JointAxis::Index(Some(e), _) | JointAxis::Expr(e)) => {
-                        quote!(#jk::axis_from_index(#e).unwrap_or_default())
-                    }
-                    Some(JointAxis::Index(None, d)) => {
-                        quote!(#jk::axis_from_index(#d).unwrap_or_default())
-                    }
-                    None => quote!(::core::default::Default::default()),
-                };
-                fields.push(quote!(#field: #value));
+    let mut fields = vec![];
+    for axis in k.spec.axes {
+        let field = format_ident!("{}", axis.key);
+        let value = match k
+            .axes
+            .iter()
+            .find(|(key, _)| *key == axis.key)
+            .map(|(_, a)| a)
+        {
+            Some(JointAxis::Vector(arr, _)) => quote!(#v3(#arr)),
+            Some(JointAxis::Index(Some(e), _) | JointAxis::Expr(e)) => {
+                quote!(#jk::axis_from_index(#e).unwrap_or_default())
             }
-            for (key, vector) in init_keys {
-                let field = format_ident!("{}", key);
-                let init = inits.iter().find(|(k, ..)| k == key).map(|(_, _, e)| e);
-                let value = match (init, *key, vector) {
-                    (Some(e), "rot", _) => quote!(::modia3d::__private::free_rotation(#e)),
-                    (None, "rot", _) => {
-                        quote!(::modia3d::__private::free_rotation([0.0, 0.0, 0.0]))
-                    }
-                    (Some(e), _, true) => quote!(#v3(#e)),
-                    (None, _, true) => quote!(#v3([0.0, 0.0, 0.0])),
-                    (Some(e), _, false) => quote!(#e),
-                    (None, _, false) => quote!(0.0),
-                };
-                fields.push(quote!(#field: #value));
+            Some(JointAxis::Index(None, d)) => {
+                quote!(#jk::axis_from_index(#d).unwrap_or_default())
             }
-            (quote!(#jk::#ctor { #(#fields),* }), quote!())
-        }
-        JointKindIr::Free { r, rot, v, w } => {
-            let zero = quote!([0.0, 0.0, 0.0]);
-            let or0 = |e: &Option<syn::Expr>| {
-                e.as_ref()
-                    .map(|e| quote!(#e))
-                    .unwrap_or_else(|| zero.clone())
-            };
-            let (r, rot, v, w) = (or0(r), or0(rot), or0(v), or0(w));
-            (
-                quote! {
-                    #jk::FreeMotion {
-                        r: #v3(#r),
-                        rot: ::modia3d::__private::free_rotation(#rot),
-                        v: #v3(#v),
-                        w: #v3(#w),
-                    }
-                },
-                quote!(),
-            )
-        }
+            None => quote!(::core::default::Default::default()),
+        };
+        fields.push(quote!(#field: #value));
     }
+    for p in k.spec.initial {
+        let field = format_ident!("{}", p.key);
+        let init = k
+            .inits
+            .iter()
+            .find(|(key, _)| *key == p.key)
+            .map(|(_, e)| e);
+        let value = match (init, p.value) {
+            (Some(e), ParamValue::Orientation) => quote!(::modia3d::__private::free_rotation(#e)),
+            (None, ParamValue::Orientation) => {
+                quote!(::modia3d::__private::free_rotation([0.0, 0.0, 0.0]))
+            }
+            (Some(e), ParamValue::Vector) => quote!(#v3(#e)),
+            (None, ParamValue::Vector) => quote!(#v3([0.0, 0.0, 0.0])),
+            (Some(e), ParamValue::Number) => quote!(#e),
+            (None, ParamValue::Number) => quote!(0.0),
+        };
+        fields.push(quote!(#field: #value));
+    }
+    let ctor = format_ident!("{}", k.spec.name);
+    quote!(#jk::#ctor { #(#fields),* })
 }
 
 fn force(name: &str, f: &ForceIr) -> TokenStream {

@@ -7,6 +7,7 @@ use crate::check::{compact, Errors};
 use crate::ir::{ActionIr, FeatureIr, ForceIr, InputIr, Ir, Item, MaterialName, Parent, SolidIr};
 use crate::names::NameRef;
 use modia3d_core::scene::{builtin_solid_names, SceneError};
+use modia3d_core::JOINT_KINDS;
 use proc_macro2::{Ident, Span};
 use std::collections::HashMap;
 
@@ -368,11 +369,18 @@ impl<'a> Mapper<'a> {
                     } => Some(("JointAcceleration", j, *slot)),
                     _ => None,
                 })?;
+                // The kinds with scalar coordinates, from the core's table.
+                let kinds = JOINT_KINDS
+                    .iter()
+                    .filter(|k| !k.coordinates.is_empty())
+                    .map(|k| k.name)
+                    .collect::<Vec<_>>()
+                    .join(", ");
                 Some((
                     slot,
                     new(
                         r.span,
-                        format!("`{ctor}` needs a joint with a scalar coordinate (Revolute, Prismatic, Cylindrical, Universal, Planar), but `{joint}` is a {kind} (hint: its rotation is a quaternion, with no single coordinate to drive)"),
+                        format!("`{ctor}` needs a joint with a scalar coordinate ({kinds}), but `{joint}` is a {kind} (hint: its rotation is a quaternion, with no single coordinate to drive)"),
                     ),
                 ))
             }

@@ -54,56 +54,17 @@ fn literal_axis(a: &JointAxis) -> Option<Vector3<f64>> {
     }
 }
 
-/// The kind of a `Spherical`, `Universal`, `Cylindrical` or `Planar` with its literal axes;
-/// an axis known only at run time is a stand-in the rules accept (for a Universal joint one
-/// perpendicular to the other axis). Initial values do not take part in the scene rules
-/// beyond being finite: zeros.
-fn general_joint(ctor: &str, axes: &[(&'static str, JointAxis)]) -> JointKind {
+/// The kind at rest with its literal axes (the row's `at_rest`: an axis known only at run time
+/// is a stand-in the rules accept). Initial values do not take part in the scene rules beyond
+/// being finite: zeros.
+fn joint_at_rest(k: &JointKindIr) -> JointKind {
     let axis = |key: &str| {
-        axes.iter()
-            .find(|(k, _)| *k == key)
+        k.axes
+            .iter()
+            .find(|(a, _)| *a == key)
             .and_then(|(_, a)| literal_axis(a))
     };
-    match ctor {
-        "Spherical" => JointKind::spherical(),
-        "Universal" => {
-            let (a1, a2) = match (axis("axis1"), axis("axis2")) {
-                (Some(a1), Some(a2)) => (a1, a2),
-                (Some(a1), None) => (
-                    a1,
-                    a1.cross(&Vector3::x())
-                        .try_normalize(0.0)
-                        .unwrap_or_else(|| a1.cross(&Vector3::y())),
-                ),
-                (None, Some(a2)) => (
-                    a2.cross(&Vector3::x())
-                        .try_normalize(0.0)
-                        .unwrap_or_else(|| a2.cross(&Vector3::y())),
-                    a2,
-                ),
-                (None, None) => (Vector3::z(), Vector3::x()),
-            };
-            let mut k = JointKind::universal(3, 1);
-            if let JointKind::Universal { axis1, axis2, .. } = &mut k {
-                (*axis1, *axis2) = (a1, a2);
-            }
-            k
-        }
-        "Cylindrical" => {
-            let mut k = JointKind::cylindrical(3);
-            if let (JointKind::Cylindrical { axis: a, .. }, Some(v)) = (&mut k, axis("axis")) {
-                *a = v;
-            }
-            k
-        }
-        _ => {
-            let mut k = JointKind::planar(3);
-            if let (JointKind::Planar { normal, .. }, Some(v)) = (&mut k, axis("normal")) {
-                *normal = v;
-            }
-            k
-        }
-    }
+    (k.spec.at_rest)(&axis)
 }
 
 pub(crate) fn is_stand_in(name: &str) -> bool {
@@ -253,30 +214,7 @@ impl<'a> Probe<'a> {
                 can_collide,
                 cut,
             } => {
-                let kind = match kind {
-                    JointKindIr::Fix => JointKind::Fix,
-                    JointKindIr::Free { .. } => JointKind::free(),
-                    JointKindIr::General { ctor, axes, .. } => general_joint(ctor, axes),
-                    JointKindIr::Scalar { revolute, axis, .. } => {
-                        let k = match axis {
-                            JointAxis::Index(_, i) => *i,
-                            _ => 3,
-                        };
-                        let mut kind = if *revolute {
-                            JointKind::revolute(k)
-                        } else {
-                            JointKind::prismatic(k)
-                        };
-                        if let JointAxis::Vector(_, Some(v)) = axis {
-                            match &mut kind {
-                                JointKind::Revolute { axis, .. }
-                                | JointKind::Prismatic { axis, .. } => *axis = Vector3::from(*v),
-                                _ => {}
-                            }
-                        }
-                        kind
-                    }
-                };
+                let kind = joint_at_rest(kind);
                 let (o1, o2) = (obj(obj1), obj(obj2));
                 let cut = cut.as_ref().and_then(|c| c.1).unwrap_or(false);
                 let mut joint = Joint::new(&name.to_string(), o1, o2, kind).cut(cut);

@@ -260,8 +260,8 @@ fn joint_coordinate(
         });
         return None;
     };
-    let kind = desc.joints[ji].kind.name();
-    let coords = crate::joints::info(kind).map_or(&[][..], |i| i.coordinates);
+    let facts = desc.joints[ji].kind.facts();
+    let (kind, coords) = (facts.spec.name, facts.spec.coordinates);
     if coords.is_empty() {
         c.errors.push(SceneError::NoScalarCoordinate {
             joint: joint.to_string(),

@@ -3,7 +3,7 @@
 //! (`joints::validate_kind`), with the scene's `Checker`, in the same round as every other check. Topology (loops, two parents, connectivity) is `topology.rs`.
 
 use super::{Checker, Names, SceneError, ValidJoint};
-use crate::scene::desc::{JointKind, SceneDesc, SceneOptions};
+use crate::scene::desc::{SceneDesc, SceneOptions};
 
 /// Every joint resolved and checked, in declaration order; a joint with an error is left out
 /// and its resolved ends marked in `suspect` (they may now look unconnected).
@@ -39,13 +39,9 @@ pub(super) fn joints(
             obj1: o1,
             obj2: o2,
             kind,
-            can_collide: j.can_collide.unwrap_or(
-                options.modia3d_conventions
-                    && matches!(
-                        j.kind,
-                        JointKind::Revolute { .. } | JointKind::Prismatic { .. }
-                    ),
-            ),
+            can_collide: j
+                .can_collide
+                .unwrap_or(options.modia3d_conventions && j.kind.facts().modia3d_can_collide),
             cut: j.cut,
         });
     }

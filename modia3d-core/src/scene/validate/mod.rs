@@ -120,7 +120,7 @@ pub enum ValidForce {
         /// Joint index.
         joint: usize,
         /// Index of the coordinate among the kind's scalar coordinates
-        /// (`joints::KindInfo::coordinates`).
+        /// (`JointKindSpec::coordinates`).
         coordinate: usize,
         /// Stiffness.
         stiffness: f64,
