@@ -1,4 +1,4 @@
-//! The crate's imports point down its layering (ARCHITECTURE.md, "Layers"; issue 41): every
+//! The crate's imports point down its layering (ARCHITECTURE.md, "Invariants", layers; issue 41): every
 //! `use crate::…`/`use super::…` and every `crate::…` path in the code of `src/**/*.rs` (comments
 //! and `#[cfg(test)]` modules left out) names a file of the same or a lower layer; `crate::Item`
 //! paths are followed through the crate root's re-exports. The layer table is the one of
