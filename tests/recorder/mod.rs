@@ -1,5 +1,5 @@
 //! A minimal tracing subscriber for tests that check what the library traces (shared by
-//! `stepping.rs`, `mpr_limits.rs`, `materials.rs` and `first_hour.rs`).
+//! `stepping.rs`, `contact_mpr_options.rs`, `materials.rs` and `user_messages.rs`).
 
 /// A minimal tracing subscriber that counts the events it sees and keeps their messages.
 pub struct Recorder(pub std::sync::Mutex<Vec<String>>);

@@ -598,7 +598,7 @@ impl DaeSystem for MultibodyDae {
                 // A pair whose narrow phase stopped at its iteration limit is rough at the
                 // increment's scale: its bodies keep the quotients of the full residual (as
                 // before dae/jacobian.rs, where a run with a one-iteration MPR ends at its work
-                // budget; with pair-local quotients it failed to converge, tests/mpr_limits.rs).
+                // budget; with pair-local quotients it failed to converge, tests/contact_mpr_options.rs).
                 if cs.hit_iteration_limit(pp.a, pp.b) {
                     for t in [ta, tb_].into_iter().flatten() {
                         s.analytic[t] = false;

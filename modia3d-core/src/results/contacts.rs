@@ -75,7 +75,7 @@ impl ContactPhase {
     ///   edge left at 7.33 times the speed it touched down with, issue 44);
     /// - the largest penetration \[m\] is at least 0.005 times `impact_speed · duration`
     ///   ([m/s]·\[s\]): in an impact the contact force stops and reverses the approach within
-    ///   the phase (steel ball on a steel table, `tests/first_hour.rs`: δ_max = 0.30 · v·T at
+    ///   the phase (steel ball on a steel table, `tests/user_messages.rs`: δ_max = 0.30 · v·T at
     ///   cor 0.8, 0.15 at 0.3, 0.06 at 0.1, 0.012 at 0.02, where the heavy damping draws out
     ///   the rebound), whereas a phase that rests, rolls or slides for long before it ends has
     ///   a penetration far below its impact speed times its duration (a block sliding 0.2 s on

@@ -40,7 +40,7 @@ pub(super) fn check_options(c: &mut Checker, scene: &str, o: &SceneOptions) {
     c.positive(|| what("hysteresis [m]"), o.hysteresis);
     // Relative accuracy of the narrow phase: the distance error it admits (tolerance × the
     // pair's size) acts through the contact stiffness. A 0.1 m steel cube resting on a steel
-    // table (tests/mpr_limits.rs) takes 19,942 steps at 1e-11 and at 1e-9, 39,061 at 1e-8,
+    // table (tests/contact_mpr_options.rs) takes 19,942 steps at 1e-11 and at 1e-9, 39,061 at 1e-8,
     // 34,367 at 1e-7, and never finishes at 2e-7 or 1e-6 (the step collapses to 1e-13 s).
     c.value(
         || what("mpr_tolerance (relative MPR/GJK tolerance)"),
