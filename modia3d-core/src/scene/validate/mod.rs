@@ -1,12 +1,17 @@
 //! Validation stage: `SceneDesc` → `ValidScene`. Resolves names to indices, checks values,
-//! the topology (one scene at the root; in `topology.rs`: no parent cycles, no kinematic loops,
-//! every part connected to the world, the spanning joint tree) and the contact-pair materials
+//! the topology (one scene at the root; in `topology.rs`: no parent cycles, no rigid loops,
+//! every part connected to the world, the spanning joint tree and the cut joints that close
+//! kinematic loops) and the contact-pair materials
 //! (`contact_rules.rs`), and collects *all* errors in one round, each naming its culprit.
 //! Touches only the scene description; the dynamics plan is compiled from the result.
 //!
 //! One file per component: `objects.rs` (the world and its options, materials, objects,
 //! solids), `joints.rs`, `forces.rs` (force elements and inputs), `options.rs` (option and
 //! contact-pair material ranges), `error.rs`; the topology is `../topology.rs`.
+//!
+//! Built without the `solver` feature (the `model!` macro's build of the core) a scene is only
+//! checked, never compiled, so the validated data is not read there.
+#![cfg_attr(not(feature = "solver"), allow(dead_code))]
 
 mod actions;
 pub(crate) mod error;
