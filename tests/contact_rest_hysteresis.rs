@@ -113,8 +113,15 @@ fn stack_of_ten_steel_boxes_holds() {
 /// A steel cylinder on its side and a steel ellipsoid lying flat, at the default options for
 /// 1 s: no event after the start (both start touching), the support force averaged over the
 /// run equals the weight within 2 % (the first milliseconds oscillate: they start at zero
-/// penetration), and at the end it equals the weight within 1e-3 (at rest; IDA's force error
-/// at rtol 1e-6 is far below that).
+/// penetration), and at the end it equals the weight within 1e-3 for the cylinder and 1e-2 for
+/// the ellipsoid. Why the ellipsoid's is looser: under the paper's linear law its point
+/// contact carries the weight at a static penetration of 1.5e-9 m, whose heave mode (period
+/// 8e-5 s) the law does not damp at rest (the damping is `k·δ·d·δ̇`); the error test in
+/// contact (rtol/κ = 1e-8 of the height 0.02 m, 2e-10 m) lets the penetration, and with it the
+/// force, wander by up to 13 %. Measured: ±0.5 % over the run, a slow drift of the
+/// interpolated penetration by ~5e-12 m; the ellipsoid's normal is the table's exactly
+/// (`box_face`), so what drifts is the integration, not the geometry. The volume profile's
+/// Hertz law gives the weight to 1e-7 in the same scene.
 #[test]
 fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
     let cases = demo::lying_shapes();
@@ -136,8 +143,9 @@ fn cylinder_on_its_side_and_ellipsoid_rest_at_default_options() {
             "{what}: mean f_n {mean} vs {w}"
         );
         let last = f[f.len() - 1];
+        let tol = if what == "ellipsoid" { 1e-2 } else { 1e-3 };
         assert!(
-            (last - w).abs() < 1e-3 * w,
+            (last - w).abs() < tol * w,
             "{what}: f_n {last} N at 1 s vs {w} N"
         );
     }
