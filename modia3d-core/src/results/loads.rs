@@ -1,0 +1,220 @@
+//! Load signals: the wrench obj1 exerts on obj2 through every tree joint and every rigid link
+//! (`Fix` joint, parent link) between parts of a body, from the stored states on demand
+//! (`dynamics/loads.rs` computes them; a run that reads none pays nothing).
+//!
+//! Names and convention (the cut joints' `<cut>.f`, `<cut>.t` of closed loops are the same
+//! wrench, `results/mod.rs`):
+//!
+//! * per joint (tree joints of every kind, `Fix` joints): `<joint>.f` the force \[N\] on obj2
+//!   and `<joint>.t` the torque [N·m] on obj2 about obj2's origin, both resolved in obj1's
+//!   frame; `<joint>.f_abs`, `<joint>.t_abs` the same resolved in world;
+//! * per object with a parent (its parent link): `<object>.f_parent`, `<object>.t_parent`, the
+//!   wrench the parent exerts on the object's side of the link (the object and everything
+//!   rigidly attached to it but through the link), about the object's origin, resolved in the
+//!   parent's frame; `<object>.f_parent_abs`, `<object>.t_parent_abs` resolved in world.
+//!
+//! Contact forces enter from the run's contact record (`SimOptions::contact_results`), so a
+//! scene with collision pairs needs it; input values are not recorded, so a scene with inputs
+//! has no load signals ([`ResultError::LoadsUnavailable`]).
+
+use super::{ResultError, Signal, SimulationResult, PAIR_VALUES};
+use crate::dynamics::ids::JointId;
+use crate::dynamics::loads::{
+    link_ends, load_pass, rigid_link_wrench, tree_joint_wrench, LinkWrench, LoadError,
+    ObjectWrench, RigidLink,
+};
+use crate::dynamics::{ObjectId, Workspace};
+use crate::scene::ValidJointKind;
+use nalgebra::Vector3;
+
+/// The fields of a joint's load.
+const JOINT_FIELDS: [&str; 4] = ["f", "t", "f_abs", "t_abs"];
+/// The fields of a parent link's load, owned by the child object.
+const PARENT_FIELDS: [&str; 4] = ["f_parent", "t_parent", "f_parent_abs", "t_parent_abs"];
+
+/// Whose load a signal asks for.
+#[derive(Clone, Copy)]
+enum Owner {
+    Tree(JointId),
+    Link(RigidLink),
+}
+
+impl SimulationResult {
+    /// The owner and field index (into [`JOINT_FIELDS`] / [`PARENT_FIELDS`]) of a load signal.
+    fn load_owner(&self, owner: &str, field: &str) -> Option<(Owner, usize)> {
+        let plan = &*self.model.plan;
+        if let Some(i) = JOINT_FIELDS.iter().position(|f| *f == field) {
+            if let Some(j) = plan.joint_index(owner) {
+                return Some((Owner::Tree(j), i));
+            }
+            let sj = plan.scene.joints.iter().position(|j| {
+                j.name == owner
+                    && j.kind == ValidJointKind::Fix
+                    && !plan.loops.cuts.iter().any(|c| c.name == owner)
+            })?;
+            return Some((Owner::Link(RigidLink::Fix(sj)), i));
+        }
+        let i = PARENT_FIELDS.iter().position(|f| *f == field)?;
+        let o = plan.object_index(owner)?;
+        plan.scene.objects.get(o.index())?.parent?;
+        Some((Owner::Link(RigidLink::Parent(o.index())), i))
+    }
+
+    /// Why this result has no load signals, if it has none: `Some(Err)` for a scene with
+    /// collision pairs whose run did not record the contacts, `Some(Ok(reason))` for a scene
+    /// with inputs.
+    fn loads_unavailable(&self, name: &str) -> Option<Result<String, ResultError>> {
+        let plan = &*self.model.plan;
+        if !plan.inputs.is_empty() {
+            let inputs: Vec<&str> = plan.inputs.iter().map(|i| i.name.as_str()).collect();
+            return Some(Ok(format!(
+                "the scene has inputs ({}), whose values a result does not record; \
+                 without inputs the loads are computed from the stored states",
+                inputs.join(", ")
+            )));
+        }
+        if self.model.contact.is_some() && self.contacts.is_none() {
+            return Some(Err(ResultError::ContactResultsOff {
+                what: format!("signal `{name}` (a joint load includes the contact forces)"),
+            }));
+        }
+        None
+    }
+
+    /// The contact wrenches on objects recorded at time point `k` (with `contact_results`).
+    fn contact_wrenches_at(&self, k: usize) -> Vec<ObjectWrench> {
+        let (Some(rec), Some(cp)) = (self.contacts.as_ref(), self.model.contact.as_deref()) else {
+            return vec![];
+        };
+        let stride = cp.n_pairs * PAIR_VALUES;
+        let mut out = vec![];
+        for (p, pp) in cp.candidate_pairs().enumerate() {
+            let at = k * stride + p * PAIR_VALUES;
+            let Some(x) = rec.data.get(at..at + PAIR_VALUES) else {
+                break;
+            };
+            // in_contact, penetration, f_n, friction, rolling torque, point, normal: on shape b,
+            // the opposite on a.
+            let Ok([on, _, f_n, fx, fy, fz, tx, ty, tz, px, py, pz, nx, ny, nz]) =
+                <[f64; PAIR_VALUES]>::try_from(x)
+            else {
+                break;
+            };
+            if on != 1.0 {
+                continue;
+            }
+            let torque = Vector3::new(tx, ty, tz);
+            let point = Vector3::new(px, py, pz);
+            let force = Vector3::new(nx, ny, nz) * f_n + Vector3::new(fx, fy, fz);
+            let (Some(sa), Some(sb)) = (cp.shapes.get(pp.a), cp.shapes.get(pp.b)) else {
+                continue;
+            };
+            out.push(ObjectWrench {
+                object: ObjectId(sb.object),
+                point,
+                force,
+                torque,
+            });
+            out.push(ObjectWrench {
+                object: ObjectId(sa.object),
+                point,
+                force: -force,
+                torque: -torque,
+            });
+        }
+        out
+    }
+
+    /// A load signal (see the module docs); `None` if `owner.field` is none.
+    pub(super) fn load_signal(&self, owner: &str, field: &str) -> Option<Result<Signal, ResultError>> {
+        let (who, i) = self.load_owner(owner, field)?;
+        let name = format!("{owner}.{field}");
+        match self.loads_unavailable(&name) {
+            Some(Err(e)) => return Some(Err(e)),
+            Some(Ok(reason)) => {
+                return Some(Err(ResultError::LoadsUnavailable { signal: name, reason }))
+            }
+            None => {}
+        }
+        let plan = &*self.model.plan;
+        let (nq, m) = (plan.nq, plan.loops.m());
+        let mut ws = Workspace::new(plan);
+        let mut data = Vec::with_capacity(3 * self.time.len());
+        for (k, y) in self.states_iter().enumerate() {
+            let t = self.time.get(k).copied().unwrap_or(f64::NAN);
+            let (q, v) = y.split_at(nq);
+            let lambda = self.multipliers.get(k * m..(k + 1) * m).unwrap_or(&[]);
+            let contacts = self.contact_wrenches_at(k);
+            let wrench = load_pass(plan, &mut ws, (t, q, v), lambda, &contacts).and_then(|()| {
+                Ok(match who {
+                    Owner::Tree(j) => Some(tree_joint_wrench(plan, &ws, j)),
+                    Owner::Link(link) => {
+                        rigid_link_wrench(plan, &ws, link, (t, q, v), lambda, &contacts)?
+                    }
+                })
+            });
+            let w: LinkWrench = match wrench {
+                Ok(Some(w)) => w,
+                Ok(None) => return None,
+                Err(e) => {
+                    let reason = match e {
+                        LoadError::Singular => format!(
+                            "the mass matrix is singular at t = {t} s: no accelerations to \
+                             compute the loads from"
+                        ),
+                        LoadError::User(f) => format!(
+                            "{} failed at t = {t} s when the loads were computed: {:?}",
+                            f.element_name(),
+                            f.kind
+                        ),
+                    };
+                    return Some(Err(ResultError::LoadsUnavailable {
+                        signal: name,
+                        reason,
+                    }));
+                }
+            };
+            let value = match i {
+                0 => w.obj1_rot.tr_mul(&w.force),
+                1 => w.obj1_rot.tr_mul(&w.torque),
+                2 => w.force,
+                _ => w.torque,
+            };
+            data.extend_from_slice(value.as_slice());
+        }
+        Some(Ok(Signal {
+            name,
+            unit: if i % 2 == 0 { "N" } else { "N·m" },
+            dim: 3,
+            data,
+        }))
+    }
+
+    /// Names of the load signals this result can give (none when they are unavailable: see
+    /// the module docs): every tree joint's and `Fix` joint's, every parent link's.
+    pub(super) fn load_signal_names(&self) -> Vec<String> {
+        if self.loads_unavailable("").is_some() {
+            return vec![];
+        }
+        let plan = &*self.model.plan;
+        let mut names = vec![];
+        // Rigid links are listed where obj2 moves (as `signal_names` lists only what moves);
+        // those within the world's cluster stay readable by name.
+        let moves = |o: usize| plan.objects.get(ObjectId(o)).is_some_and(|x| x.body.is_some());
+        for j in &plan.joints {
+            names.extend(JOINT_FIELDS.iter().map(|f| format!("{}.{f}", j.name)));
+        }
+        for (sj, j) in plan.scene.joints.iter().enumerate() {
+            let cut = plan.loops.cuts.iter().any(|c| c.scene_joint == sj);
+            if j.kind == ValidJointKind::Fix && !cut && moves(j.obj2) {
+                names.extend(JOINT_FIELDS.iter().map(|f| format!("{}.{f}", j.name)));
+            }
+        }
+        for (o, obj) in plan.scene.objects.iter().enumerate() {
+            if link_ends(plan, RigidLink::Parent(o)).is_some() && moves(o) {
+                names.extend(PARENT_FIELDS.iter().map(|f| format!("{}.{f}", obj.name)));
+            }
+        }
+        names
+    }
+}
