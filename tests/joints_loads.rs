@@ -1,0 +1,233 @@
+//! Joint loads (`<joint>.f`, `<joint>.t`, their world-resolved `_abs` variants, and the parent
+//! links' `<object>.f_parent`, …) against independent references: closed forms of a pendulum,
+//! hand statics of an arm, the planar Newton–Euler equations of the slider-crank written from
+//! its minimal-coordinate reference, and momentum balances from the simulated motion alone.
+//! Every tolerance is argued at its test.
+
+use modia3d::prelude::*;
+
+/// Rotation about y by `a` [rad] applied to `x` (the orientation of a frame turned by a
+/// revolute joint about axis 2): `(cos a x + sin a z, y, −sin a x + cos a z)`.
+fn rot_y(a: f64, x: Vector3<f64>) -> Vector3<f64> {
+    Vector3::new(a.cos() * x.x + a.sin() * x.z, x.y, -a.sin() * x.x + a.cos() * x.z)
+}
+
+fn explicit(mass: f64, com: [f64; 3], inertia: [f64; 3]) -> Solid {
+    Solid {
+        mass_properties: MassSpec::Explicit {
+            mass,
+            com: Vector3::from(com),
+            inertia: Matrix3::from_diagonal(&Vector3::from(inertia)),
+        },
+        ..Default::default()
+    }
+}
+
+fn close(got: &[f64], want: &Vector3<f64>, tol: f64, what: &str) {
+    let err = (Vector3::new(got[0], got[1], got[2]) - want).amax();
+    eprintln!("{what}: {got:?} vs {want:?}: error {err:e} (tol {tol:e})");
+    assert!(err <= tol, "{what}: {got:?}, expected {want:?}, error {err:e} > {tol:e}");
+}
+
+/// A rod of mass `m_r` (centre of mass `L_r` below the hinge, inertia `I_r` about it) swinging
+/// on the revolute `hinge` (axis y) from `θ0` = 1 rad at rest, with a bob of mass `m_b` joined
+/// to the rod's end by the `Fix` joint `mount` (its centre of mass `L_b` below the hinge, its
+/// own inertia `I_b`). At the bottom of the swing the angular acceleration is zero (gravity has
+/// no moment there), so each part's centre of mass accelerates by `ω² L` towards the hinge and
+/// the hinge carries `Σ m (g + ω² L)` upwards, the mount `m_b (g + ω² L_b)`; neither transmits
+/// a torque about its axis (no spring) nor about the others (a planar motion). `ω²` from energy:
+/// `J ω² = 2 g (m_r L_r + m_b L_b)(1 − cos θ0)` with `J = Σ (I + m L²)`: the reference is
+/// closed-form, nothing of the run.
+///
+/// Tolerance from the run's rtol (1e-8, atol 1e-10): the state at the bottom has a global error
+/// of ~10 local errors over a quarter swing, i.e. a relative error of ω² of a few 1e-8 at most;
+/// the bottom's time is found by bisection on the interpolated `hinge.phi` (error ~1e-10 s),
+/// and the loads are stationary there (even in the time), so the time error enters squared;
+/// the loads between output points (1 ms) come from the result's cubic, whose error
+/// `h⁴ |f⁗| / 24 ≈ 1e-12 · 10³ N/s⁴`-scale is far below. So `10 · rtol` of the load bounds it
+/// (measured: 7e-11 N of 34.8 N, 2e-12 relative: the energy error of the run is far below its
+/// rtol).
+#[test]
+fn pendulum_hinge_carries_m_g_plus_v2_over_l_at_the_bottom() {
+    let (m_r, l_r, i_r) = (0.4, 0.5, 0.01);
+    let (m_b, l_b, i_b) = (1.5, 1.0, 0.002);
+    let theta0: f64 = 1.0;
+    let g = 9.81;
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("rod").solid(explicit(m_r, [0.0, 0.0, -l_r], [i_r, i_r, i_r])))
+        .add(
+            Object3D::new("rod_end")
+                .parent("rod")
+                .translation([0.0, 0.0, -l_b]),
+        )
+        .add(Object3D::new("bob").solid(explicit(m_b, [0.0, 0.0, 0.0], [i_b, i_b, i_b])))
+        .add_joint(Joint::new("hinge", "world", "rod", JointKind::revolute(2)).init_position(theta0))
+        .add_joint(Joint::new("mount", "rod_end", "bob", JointKind::Fix));
+    let rtol = 1e-8;
+    let res = s
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(1.0).tolerance(rtol).interval(1e-3).progress(false))
+        .unwrap();
+    // The bottom: the first zero of phi (it starts at θ0 > 0 and swings down).
+    let phi = res.signal("hinge.phi").unwrap();
+    let k = phi.values().iter().position(|&p| p <= 0.0).expect("reaches the bottom");
+    let time = res.time();
+    let (mut lo, mut hi) = (time[k - 1], time[k]);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if res.signal_at("hinge.phi", mid).unwrap()[0] > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let t = 0.5 * (lo + hi);
+    let j = i_r + m_r * l_r * l_r + i_b + m_b * l_b * l_b;
+    let w2 = 2.0 * g * (m_r * l_r + m_b * l_b) * (1.0 - theta0.cos()) / j;
+    let hinge = m_r * (g + w2 * l_r) + m_b * (g + w2 * l_b);
+    let mount = m_b * (g + w2 * l_b);
+    let tol = 10.0 * rtol * hinge;
+    let at = |n: &str| res.signal_at(n, t).unwrap();
+    close(&at("hinge.f_abs"), &Vector3::new(0.0, 0.0, hinge), tol, "hinge.f_abs");
+    // obj1 is the world: its frame is world's.
+    close(&at("hinge.f"), &Vector3::new(0.0, 0.0, hinge), tol, "hinge.f");
+    close(&at("hinge.t_abs"), &Vector3::zeros(), tol, "hinge.t_abs");
+    close(&at("mount.f_abs"), &Vector3::new(0.0, 0.0, mount), tol, "mount.f_abs");
+    close(&at("mount.t_abs"), &Vector3::zeros(), tol, "mount.t_abs");
+    // The parent link rod → rod_end carries nothing: rod_end has no mass and no joint of the
+    // tree on its side but the mount, whose load passes through it whole.
+    close(
+        &at("rod_end.f_parent_abs"),
+        &Vector3::new(0.0, 0.0, mount),
+        tol,
+        "rod_end.f_parent_abs",
+    );
+    let f = res.signal("hinge.f").unwrap();
+    assert_eq!(f.unit, "N");
+    assert_eq!(res.signal("hinge.t").unwrap().unit, "N·m");
+    assert!(res.signal_names().contains(&"mount.f".to_string()));
+}
+
+/// A three-link arm (revolute joints about y, links in the x–z plane at angles
+/// `φ = (0.3, −0.5, 0.8)` rad, each link's centre of mass half-way along it and off the plane by
+/// `d` in y, so the joints also carry a moment about the link's own axis) held at rest by
+/// joint springs whose offsets balance gravity exactly; a tool on link 2 by a parent link with
+/// its own mass, and a payload on the arm's tip by a `Fix` joint. At rest each joint carries the
+/// weight of everything outboard, `F = Σ m g` upwards, and the moment
+/// `T = −Σ (c − p) × m g⃗` about obj2's origin `p` (the joint's point), computed here from the
+/// geometry by hand (positions from the angles, nothing from the run); the spring torques are
+/// the y components of the same sums. The arm stays at rest (the accelerations are the
+/// rounding of the balance, ~1e-15 m/s²), and the loads are statics: only the rounding of the
+/// Newton–Euler sums and the 3 × 3 mass-matrix solve remain, ~1e-14 of `m g`; 1e-9 N (the
+/// brief's bound) leaves five orders.
+#[test]
+fn static_arm_loads_are_statics() {
+    let g = 9.81;
+    let gv = Vector3::new(0.0, 0.0, -g);
+    let phi = [0.3, -0.5, 0.8];
+    let len = [0.8, 0.6, 0.4];
+    let mass = [3.0, 2.0, 1.0];
+    let d = [0.05, -0.03, 0.02];
+    let (m_tool, tool_at, tool_com) = (0.5, [0.3, 0.0, 0.1], [0.02, 0.01, -0.04]);
+    let (m_pay, pay_com) = (0.7, [0.05, 0.02, -0.1]);
+    // Absolute angles, joint points, link axes.
+    let mut theta = [0.0; 3];
+    let mut p = [Vector3::zeros(); 4];
+    for k in 0..3 {
+        theta[k] = phi[k] + if k > 0 { theta[k - 1] } else { 0.0 };
+        p[k + 1] = p[k] + rot_y(theta[k], Vector3::new(len[k], 0.0, 0.0));
+    }
+    // Point masses (mass, centre of mass in world) by the link they ride on.
+    let mut parts: Vec<(usize, f64, Vector3<f64>)> = (0..3)
+        .map(|k| {
+            let c = p[k] + rot_y(theta[k], Vector3::new(len[k] / 2.0, d[k], 0.0));
+            (k, mass[k], c)
+        })
+        .collect();
+    let tool_origin = p[1] + rot_y(theta[1], Vector3::from(tool_at));
+    let tool_c = tool_origin + rot_y(theta[1], Vector3::from(tool_com));
+    parts.push((1, m_tool, tool_c));
+    let pay_c = p[3] + rot_y(theta[2], Vector3::from(pay_com));
+    parts.push((2, m_pay, pay_c));
+    // The load that carries `parts` (a filter) about `at`: upward weight and the moment.
+    let carried = |keep: &dyn Fn(usize) -> bool, at: Vector3<f64>| {
+        let (mut f, mut t) = (Vector3::zeros(), Vector3::zeros());
+        for (i, &(_, m, c)) in parts.iter().enumerate() {
+            if keep(i) {
+                f -= m * gv;
+                t -= (c - at).cross(&(m * gv));
+            }
+        }
+        (f, t)
+    };
+    let link_of: Vec<usize> = parts.iter().map(|x| x.0).collect();
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()));
+    for k in 0..3 {
+        let link = format!("link{k}");
+        s.add(Object3D::new(&link).solid(explicit(
+            mass[k],
+            [len[k] / 2.0, d[k], 0.0],
+            [0.01, 0.02, 0.03],
+        )))
+        .add(
+            Object3D::new(&format!("tip{k}"))
+                .parent(&link)
+                .translation([len[k], 0.0, 0.0]),
+        );
+        let obj1 = if k == 0 { "world".to_string() } else { format!("tip{}", k - 1) };
+        // The spring torque that balances gravity about this joint's axis (y).
+        let (_, t) = carried(&|i| link_of[i] >= k, p[k]);
+        let stiffness = 50.0;
+        s.add_joint(
+            Joint::new(&format!("j{k}"), &obj1, &link, JointKind::revolute(2)).init_position(phi[k]),
+        )
+        .add_force(ForceElement::JointSpringDamper {
+            joint: format!("j{k}"),
+            coordinate: None,
+            stiffness,
+            damping: 0.0,
+            offset: phi[k] + t.y / stiffness,
+        });
+    }
+    s.add(
+        Object3D::new("tool")
+            .parent("link1")
+            .translation(tool_at)
+            .solid(explicit(m_tool, tool_com, [1e-3, 1e-3, 1e-3])),
+    )
+    .add(Object3D::new("payload").solid(explicit(m_pay, pay_com, [2e-3, 2e-3, 2e-3])))
+    .add_joint(Joint::new("mount", "tip2", "payload", JointKind::Fix));
+    let res = s
+        .build()
+        .unwrap()
+        .simulate(&SimOptions::new(0.1).tolerance(1e-8).interval(0.02).progress(false))
+        .unwrap();
+    let tol = 1e-9;
+    let last = |n: &str| res.signal(n).unwrap().last().unwrap().to_vec();
+    let first = |n: &str| res.signal(n).unwrap().first().unwrap().to_vec();
+    for k in 0..3 {
+        let (f, t) = carried(&|i| link_of[i] >= k, p[k]);
+        for (got, what) in [(first(&format!("j{k}.f_abs")), "f_abs"), (last(&format!("j{k}.f_abs")), "f_abs (end)")] {
+            close(&got, &f, tol, &format!("j{k}.{what}"));
+        }
+        close(&last(&format!("j{k}.t_abs")), &t, tol, &format!("j{k}.t_abs"));
+        // Resolved in obj1's frame: turned back by obj1's absolute angle.
+        let a1 = if k == 0 { 0.0 } else { theta[k - 1] };
+        close(&last(&format!("j{k}.f")), &rot_y(-a1, f), tol, &format!("j{k}.f"));
+        close(&last(&format!("j{k}.t")), &rot_y(-a1, t), tol, &format!("j{k}.t"));
+    }
+    let (f, t) = carried(&|i| i == 4, p[3]);
+    close(&last("mount.f_abs"), &f, tol, "mount.f_abs");
+    close(&last("mount.t_abs"), &t, tol, "mount.t_abs");
+    let (f, t) = carried(&|i| i == 3, tool_origin);
+    close(&last("tool.f_parent_abs"), &f, tol, "tool.f_parent_abs");
+    close(&last("tool.t_parent_abs"), &t, tol, "tool.t_parent_abs");
+    close(&last("tool.f_parent"), &rot_y(-theta[1], f), tol, "tool.f_parent");
+    // The payload's weight on the tip: the Fix joint's frames coincide, so obj1's frame is
+    // the tip's, turned by θ3.
+    let (f, _) = carried(&|i| i == 4, p[3]);
+    close(&last("mount.f"), &rot_y(-theta[2], f), tol, "mount.f");
+}
