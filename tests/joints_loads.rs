@@ -9,7 +9,11 @@ use modia3d::prelude::*;
 /// Rotation about y by `a` [rad] applied to `x` (the orientation of a frame turned by a
 /// revolute joint about axis 2): `(cos a x + sin a z, y, −sin a x + cos a z)`.
 fn rot_y(a: f64, x: Vector3<f64>) -> Vector3<f64> {
-    Vector3::new(a.cos() * x.x + a.sin() * x.z, x.y, -a.sin() * x.x + a.cos() * x.z)
+    Vector3::new(
+        a.cos() * x.x + a.sin() * x.z,
+        x.y,
+        -a.sin() * x.x + a.cos() * x.z,
+    )
 }
 
 fn explicit(mass: f64, com: [f64; 3], inertia: [f64; 3]) -> Solid {
@@ -26,7 +30,10 @@ fn explicit(mass: f64, com: [f64; 3], inertia: [f64; 3]) -> Solid {
 fn close(got: &[f64], want: &Vector3<f64>, tol: f64, what: &str) {
     let err = (Vector3::new(got[0], got[1], got[2]) - want).amax();
     eprintln!("{what}: {got:?} vs {want:?}: error {err:e} (tol {tol:e})");
-    assert!(err <= tol, "{what}: {got:?}, expected {want:?}, error {err:e} > {tol:e}");
+    assert!(
+        err <= tol,
+        "{what}: {got:?}, expected {want:?}, error {err:e} > {tol:e}"
+    );
 }
 
 /// A rod of mass `m_r` (centre of mass `L_r` below the hinge, inertia `I_r` about it) swinging
@@ -62,17 +69,28 @@ fn pendulum_hinge_carries_m_g_plus_v2_over_l_at_the_bottom() {
                 .translation([0.0, 0.0, -l_b]),
         )
         .add(Object3D::new("bob").solid(explicit(m_b, [0.0, 0.0, 0.0], [i_b, i_b, i_b])))
-        .add_joint(Joint::new("hinge", "world", "rod", JointKind::revolute(2)).init_position(theta0))
+        .add_joint(
+            Joint::new("hinge", "world", "rod", JointKind::revolute(2)).init_position(theta0),
+        )
         .add_joint(Joint::new("mount", "rod_end", "bob", JointKind::Fix));
     let rtol = 1e-8;
     let res = s
         .build()
         .unwrap()
-        .simulate(&SimOptions::new(1.0).tolerance(rtol).interval(1e-3).progress(false))
+        .simulate(
+            &SimOptions::new(1.0)
+                .tolerance(rtol)
+                .interval(1e-3)
+                .progress(false),
+        )
         .unwrap();
     // The bottom: the first zero of phi (it starts at θ0 > 0 and swings down).
     let phi = res.signal("hinge.phi").unwrap();
-    let k = phi.values().iter().position(|&p| p <= 0.0).expect("reaches the bottom");
+    let k = phi
+        .values()
+        .iter()
+        .position(|&p| p <= 0.0)
+        .expect("reaches the bottom");
     let time = res.time();
     let (mut lo, mut hi) = (time[k - 1], time[k]);
     for _ in 0..60 {
@@ -90,11 +108,26 @@ fn pendulum_hinge_carries_m_g_plus_v2_over_l_at_the_bottom() {
     let mount = m_b * (g + w2 * l_b);
     let tol = 10.0 * rtol * hinge;
     let at = |n: &str| res.signal_at(n, t).unwrap();
-    close(&at("hinge.f_abs"), &Vector3::new(0.0, 0.0, hinge), tol, "hinge.f_abs");
+    close(
+        &at("hinge.f_abs"),
+        &Vector3::new(0.0, 0.0, hinge),
+        tol,
+        "hinge.f_abs",
+    );
     // obj1 is the world: its frame is world's.
-    close(&at("hinge.f"), &Vector3::new(0.0, 0.0, hinge), tol, "hinge.f");
+    close(
+        &at("hinge.f"),
+        &Vector3::new(0.0, 0.0, hinge),
+        tol,
+        "hinge.f",
+    );
     close(&at("hinge.t_abs"), &Vector3::zeros(), tol, "hinge.t_abs");
-    close(&at("mount.f_abs"), &Vector3::new(0.0, 0.0, mount), tol, "mount.f_abs");
+    close(
+        &at("mount.f_abs"),
+        &Vector3::new(0.0, 0.0, mount),
+        tol,
+        "mount.f_abs",
+    );
     close(&at("mount.t_abs"), &Vector3::zeros(), tol, "mount.t_abs");
     // The parent link rod → rod_end carries nothing: rod_end has no mass and no joint of the
     // tree on its side but the mount, whose load passes through it whole.
@@ -177,12 +210,17 @@ fn static_arm_loads_are_statics() {
                 .parent(&link)
                 .translation([len[k], 0.0, 0.0]),
         );
-        let obj1 = if k == 0 { "world".to_string() } else { format!("tip{}", k - 1) };
+        let obj1 = if k == 0 {
+            "world".to_string()
+        } else {
+            format!("tip{}", k - 1)
+        };
         // The spring torque that balances gravity about this joint's axis (y).
         let (_, t) = carried(&|i| link_of[i] >= k, p[k]);
         let stiffness = 50.0;
         s.add_joint(
-            Joint::new(&format!("j{k}"), &obj1, &link, JointKind::revolute(2)).init_position(phi[k]),
+            Joint::new(&format!("j{k}"), &obj1, &link, JointKind::revolute(2))
+                .init_position(phi[k]),
         )
         .add_force(ForceElement::JointSpringDamper {
             joint: format!("j{k}"),
@@ -203,21 +241,44 @@ fn static_arm_loads_are_statics() {
     let res = s
         .build()
         .unwrap()
-        .simulate(&SimOptions::new(0.1).tolerance(1e-8).interval(0.02).progress(false))
+        .simulate(
+            &SimOptions::new(0.1)
+                .tolerance(1e-8)
+                .interval(0.02)
+                .progress(false),
+        )
         .unwrap();
     let tol = 1e-9;
     let last = |n: &str| res.signal(n).unwrap().last().unwrap().to_vec();
     let first = |n: &str| res.signal(n).unwrap().first().unwrap().to_vec();
     for k in 0..3 {
         let (f, t) = carried(&|i| link_of[i] >= k, p[k]);
-        for (got, what) in [(first(&format!("j{k}.f_abs")), "f_abs"), (last(&format!("j{k}.f_abs")), "f_abs (end)")] {
+        for (got, what) in [
+            (first(&format!("j{k}.f_abs")), "f_abs"),
+            (last(&format!("j{k}.f_abs")), "f_abs (end)"),
+        ] {
             close(&got, &f, tol, &format!("j{k}.{what}"));
         }
-        close(&last(&format!("j{k}.t_abs")), &t, tol, &format!("j{k}.t_abs"));
+        close(
+            &last(&format!("j{k}.t_abs")),
+            &t,
+            tol,
+            &format!("j{k}.t_abs"),
+        );
         // Resolved in obj1's frame: turned back by obj1's absolute angle.
         let a1 = if k == 0 { 0.0 } else { theta[k - 1] };
-        close(&last(&format!("j{k}.f")), &rot_y(-a1, f), tol, &format!("j{k}.f"));
-        close(&last(&format!("j{k}.t")), &rot_y(-a1, t), tol, &format!("j{k}.t"));
+        close(
+            &last(&format!("j{k}.f")),
+            &rot_y(-a1, f),
+            tol,
+            &format!("j{k}.f"),
+        );
+        close(
+            &last(&format!("j{k}.t")),
+            &rot_y(-a1, t),
+            tol,
+            &format!("j{k}.t"),
+        );
     }
     let (f, t) = carried(&|i| i == 4, p[3]);
     close(&last("mount.f_abs"), &f, tol, "mount.f_abs");
@@ -225,7 +286,12 @@ fn static_arm_loads_are_statics() {
     let (f, t) = carried(&|i| i == 3, tool_origin);
     close(&last("tool.f_parent_abs"), &f, tol, "tool.f_parent_abs");
     close(&last("tool.t_parent_abs"), &t, tol, "tool.t_parent_abs");
-    close(&last("tool.f_parent"), &rot_y(-theta[1], f), tol, "tool.f_parent");
+    close(
+        &last("tool.f_parent"),
+        &rot_y(-theta[1], f),
+        tol,
+        "tool.f_parent",
+    );
     // The payload's weight on the tip: the Fix joint's frames coincide, so obj1's frame is
     // the tip's, turned by θ3.
     let (f, _) = carried(&|i| i == 4, p[3]);
@@ -289,7 +355,10 @@ fn slider_crank_reactions(q: f64, qd: f64) -> (Vector3<f64>, Vector3<f64>, Vecto
     let ly = (q_p + sp * lx - J2 * pdd) / cp;
     // The crank's row is the check of the reference itself (the rows are consistent).
     let crank_row = J1 * qdd - q_q - A * sq * lx + A * cq * ly;
-    assert!(crank_row.abs() < 1e-12, "reference inconsistent: {crank_row:e}");
+    assert!(
+        crank_row.abs() < 1e-12,
+        "reference inconsistent: {crank_row:e}"
+    );
     let lambda = Vector3::new(lx, ly, 0.0);
     let rod_joint = Vector3::new(0.0, -ly - f_sp.y, 0.0);
     let crank_joint = lambda + f_sp;
@@ -310,7 +379,12 @@ fn slider_crank_reactions_match_the_minimal_coordinate_reference() {
     let res = slider_crank::SliderCrank::default()
         .build()
         .unwrap()
-        .simulate(&SimOptions::new(1.0).tolerance(1e-10).progress(false).quiet(true))
+        .simulate(
+            &SimOptions::new(1.0)
+                .tolerance(1e-10)
+                .progress(false)
+                .quiet(true),
+        )
         .unwrap();
     let (q, qd) = (1.315420570881723e+00, -5.087929769098432e-01);
     let (lambda, rod_joint, crank_joint) = slider_crank_reactions(q, qd);
@@ -319,9 +393,19 @@ fn slider_crank_reactions_match_the_minimal_coordinate_reference() {
     close(&last("loop_joint.f_abs"), &lambda, tol, "loop_joint.f_abs");
     close(&last("rod_joint.f_abs"), &rod_joint, tol, "rod_joint.f_abs");
     close(&last("slide.f_abs"), &rod_joint, tol, "slide.f_abs");
-    close(&last("crank_joint.f_abs"), &crank_joint, tol, "crank_joint.f_abs");
+    close(
+        &last("crank_joint.f_abs"),
+        &crank_joint,
+        tol,
+        "crank_joint.f_abs",
+    );
     for j in ["loop_joint", "rod_joint", "slide", "crank_joint"] {
-        close(&last(&format!("{j}.t_abs")), &Vector3::zeros(), tol, &format!("{j}.t_abs"));
+        close(
+            &last(&format!("{j}.t_abs")),
+            &Vector3::zeros(),
+            tol,
+            &format!("{j}.t_abs"),
+        );
     }
     // The cut joint's `.f` is the same wrench in obj1's frame (the crank tip's, turned by q).
     let phi = last("crank_joint.phi")[0];
@@ -330,7 +414,12 @@ fn slider_crank_reactions_match_the_minimal_coordinate_reference() {
         Vector3::new(c * v.x + s * v.y, -s * v.x + c * v.y, v.z)
     };
     close(&last("loop_joint.f"), &turned(lambda), tol, "loop_joint.f");
-    close(&last("crank_joint.f"), &crank_joint, tol, "crank_joint.f (obj1 = world)");
+    close(
+        &last("crank_joint.f"),
+        &crank_joint,
+        tol,
+        "crank_joint.f (obj1 = world)",
+    );
 }
 
 /// Force and moment balance at the slider-crank's rod from the simulated motion alone: the
@@ -346,7 +435,13 @@ fn slider_crank_rod_balances_its_loads() {
     let res = slider_crank::SliderCrank::default()
         .build()
         .unwrap()
-        .simulate(&SimOptions::new(1.0).tolerance(1e-10).interval(h).progress(false).quiet(true))
+        .simulate(
+            &SimOptions::new(1.0)
+                .tolerance(1e-10)
+                .interval(h)
+                .progress(false)
+                .quiet(true),
+        )
         .unwrap();
     let sig = |n: &str| res.signal(n).unwrap();
     let v3 = |s: &Signal, k: usize| {
@@ -381,8 +476,153 @@ fn slider_crank_rod_balances_its_loads() {
         let ef = (force - M2 * a).amax();
         let em = (moment - J2 * wd).amax();
         worst = worst.max(ef).max(em);
-        assert!(ef <= 1e-5, "t = {}: Σ F = {force:?}, m a = {:?}", res.time()[k], M2 * a);
-        assert!(em <= 1e-5, "t = {}: Σ M = {moment:?}, J ω̇ = {:?}", res.time()[k], J2 * wd);
+        assert!(
+            ef <= 1e-5,
+            "t = {}: Σ F = {force:?}, m a = {:?}",
+            res.time()[k],
+            M2 * a
+        );
+        assert!(
+            em <= 1e-5,
+            "t = {}: Σ M = {moment:?}, J ω̇ = {:?}",
+            res.time()[k],
+            J2 * wd
+        );
     }
     eprintln!("rod balance: worst {worst:e}");
+}
+
+/// A beam (1 m, 2 kg, centre of mass half-way) on the revolute `hinge` 5 cm above a fixed steel
+/// slab, its far end a steel ball (Ø 10 cm, 1 kg) on the `Fix` joint `tip_mount`, set down with
+/// the ball touching the slab: it settles on the ball. With the contact forces of the run
+/// (`contact_results`), the loads balance at every body and part: at the ball, `tip_mount`'s
+/// wrench plus the contact's (normal, friction at the contact point, rolling torque) plus its
+/// weight equal `m a` of its centre (its origin) and the rate of its angular momentum; at the
+/// whole arm, the hinge's wrench plus the contact's plus the weights equal the momentum rates of
+/// beam and ball. `a` and `ω̇` by central differences of the recorded `v_abs`, `w_abs` at the
+/// last output points (1 ms apart, after 1 s: the arm rests, its accelerations are those of
+/// the settling contact's decay); the difference quotients' error there is below 1e-9 m/s²
+/// (measured accelerations are ~1e-7 m/s² and smooth), so 1e-6 of the weight (3e-5 N) bounds a
+/// right balance with room, while leaving out the contact (29 N) or the ball's weight fails it.
+#[test]
+fn loads_and_contact_forces_balance_at_a_resting_arm() {
+    let (m_b, m_s, g, r) = (2.0, 1.0, 9.81, 0.05);
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(
+            Object3D::new("slab")
+                .parent("world")
+                .translation([0.5, 0.0, -0.05])
+                .solid(
+                    Solid::new(Shape::Box {
+                        lengths: Vector3::new(2.0, 1.0, 0.1),
+                    })
+                    .material("Steel")
+                    .collision(true),
+                ),
+        )
+        .add(
+            Object3D::new("pivot")
+                .parent("world")
+                .translation([0.0, 0.0, r]),
+        )
+        .add(Object3D::new("beam").solid(explicit(m_b, [0.5, 0.0, 0.0], [0.01, 0.2, 0.2])))
+        .add(
+            Object3D::new("beam_end")
+                .parent("beam")
+                .translation([1.0, 0.0, 0.0]),
+        )
+        .add(
+            Object3D::new("tip").solid(
+                Solid::new(Shape::Sphere { diameter: 2.0 * r })
+                    .material("Steel")
+                    .mass(m_s)
+                    .collision(true),
+            ),
+        )
+        .add_joint(Joint::new("hinge", "pivot", "beam", JointKind::revolute(2)).can_collide(true))
+        .add_joint(Joint::new("tip_mount", "beam_end", "tip", JointKind::Fix));
+    let h = 1e-3;
+    let model = s.build().unwrap();
+    let res = model
+        .simulate(
+            &SimOptions::new(1.0)
+                .tolerance(1e-8)
+                .interval(h)
+                .contact_results(true)
+                .progress(false),
+        )
+        .unwrap();
+    assert_eq!(res.contact_pairs().len(), 1);
+    let sig = |n: &str| res.signal(n).unwrap();
+    let k = res.time().len() - 2;
+    let v3 = |n: &str, k: usize| {
+        let x = sig(n).at(k).unwrap().to_vec();
+        Vector3::new(x[0], x[1], x[2])
+    };
+    let rate = |n: &str| (v3(n, k + 1) - v3(n, k - 1)) / (2.0 * h);
+    // The contact's wrench on the ball: named with the ball second, the forces are on it
+    // (either order names the pair).
+    let name = "slab|tip";
+    let f_n = sig(&format!("{name}.f_n")).at(k).unwrap()[0];
+    let f_c = v3(&format!("{name}.normal"), k) * f_n + v3(&format!("{name}.friction_force"), k);
+    let t_c = v3(&format!("{name}.rolling_torque"), k);
+    let p_c = v3(&format!("{name}.point"), k);
+    eprintln!("contact force on the ball {f_c:?} at {p_c:?}");
+    assert!(f_c.z > 10.0, "the ball rests on the slab: {f_c:?}");
+    let gv = Vector3::new(0.0, 0.0, -g);
+    let tol = 1e-6 * (m_b + m_s) * g;
+    // The ball: centre = origin, inertia 2/5 m r² about it.
+    let o = v3("tip.r_abs", k);
+    let i_s = 0.4 * m_s * r * r;
+    let force = v3("tip_mount.f_abs", k) + f_c + m_s * gv;
+    let moment = v3("tip_mount.t_abs", k) + (p_c - o).cross(&f_c) + t_c;
+    close(
+        force.as_slice(),
+        &(m_s * rate("tip.v_abs")),
+        tol,
+        "ball: Σ F = m a",
+    );
+    close(
+        moment.as_slice(),
+        &(i_s * rate("tip.w_abs")),
+        tol,
+        "ball: Σ M = I ω̇",
+    );
+    // The arm (beam and ball) about the hinge's point.
+    let p = v3("pivot.r_abs", k);
+    let c_b = v3("beam.r_abs", k) + {
+        let rr = sig("beam.R_abs").at(k).unwrap().to_vec();
+        Vector3::new(rr[0], rr[3], rr[6]) * 0.5
+    };
+    let force = v3("hinge.f_abs", k) + f_c + (m_b + m_s) * gv;
+    let moment = v3("hinge.t_abs", k)
+        + (p_c - p).cross(&f_c)
+        + t_c
+        + (c_b - p).cross(&(m_b * gv))
+        + (o - p).cross(&(m_s * gv));
+    // Momentum rates: the beam's centre accelerates as the ball's, scaled by its radius about
+    // the hinge (a rotation about the fixed hinge axis), ω̇ shared.
+    let wd = rate("beam.w_abs");
+    let a_s = rate("tip.v_abs");
+    let a_b = wd.cross(&(c_b - p)) + {
+        let w = v3("beam.w_abs", k);
+        w.cross(&w.cross(&(c_b - p)))
+    };
+    close(
+        force.as_slice(),
+        &(m_b * a_b + m_s * a_s),
+        tol,
+        "arm: Σ F = Σ m a",
+    );
+    let i_b = 0.2 + m_b * 0.25; // about the hinge's axis (y)
+    let i_arm = i_b + i_s + m_s * (o - p).norm_squared();
+    close(
+        &[moment.x, moment.y, moment.z],
+        &Vector3::new(moment.x, i_arm * wd.y, moment.z),
+        tol,
+        "arm: Σ M_y = J ω̇",
+    );
+    // The hinge transmits no moment about its axis; the others are the reactions.
+    assert!(v3("hinge.t_abs", k).y.abs() <= tol);
 }

@@ -124,7 +124,12 @@ pub fn load_pass(
 
 /// The moment about `to` of a wrench with moment `n` about `from` and force `f` (all world).
 #[inline]
-fn moment_about(n: &Vector3<f64>, f: &Vector3<f64>, from: &Vector3<f64>, to: &Vector3<f64>) -> Vector3<f64> {
+fn moment_about(
+    n: &Vector3<f64>,
+    f: &Vector3<f64>,
+    from: &Vector3<f64>,
+    to: &Vector3<f64>,
+) -> Vector3<f64> {
     n + (from - to).cross(f)
 }
 

@@ -126,13 +126,20 @@ impl SimulationResult {
     }
 
     /// A load signal (see the module docs); `None` if `owner.field` is none.
-    pub(super) fn load_signal(&self, owner: &str, field: &str) -> Option<Result<Signal, ResultError>> {
+    pub(super) fn load_signal(
+        &self,
+        owner: &str,
+        field: &str,
+    ) -> Option<Result<Signal, ResultError>> {
         let (who, i) = self.load_owner(owner, field)?;
         let name = format!("{owner}.{field}");
         match self.loads_unavailable(&name) {
             Some(Err(e)) => return Some(Err(e)),
             Some(Ok(reason)) => {
-                return Some(Err(ResultError::LoadsUnavailable { signal: name, reason }))
+                return Some(Err(ResultError::LoadsUnavailable {
+                    signal: name,
+                    reason,
+                }))
             }
             None => {}
         }
@@ -200,7 +207,11 @@ impl SimulationResult {
         let mut names = vec![];
         // Rigid links are listed where obj2 moves (as `signal_names` lists only what moves);
         // those within the world's cluster stay readable by name.
-        let moves = |o: usize| plan.objects.get(ObjectId(o)).is_some_and(|x| x.body.is_some());
+        let moves = |o: usize| {
+            plan.objects
+                .get(ObjectId(o))
+                .is_some_and(|x| x.body.is_some())
+        };
         for j in &plan.joints {
             names.extend(JOINT_FIELDS.iter().map(|f| format!("{}.{f}", j.name)));
         }
