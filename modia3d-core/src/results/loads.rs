@@ -13,6 +13,9 @@
 //!   rigidly attached to it but through the link), about the object's origin, resolved in the
 //!   parent's frame; `<object>.f_parent_abs`, `<object>.t_parent_abs` resolved in world.
 //!
+//! `signal_at` takes them at the state of IDA's polynomial with `dense_output` (scenes without
+//! collision pairs), else by the cubic of the output points, as the other signals.
+//!
 //! Contact forces enter from the run's contact record (`SimOptions::contact_results`), so a
 //! scene with collision pairs needs it; input values are not recorded, so a scene with inputs
 //! has no load signals ([`ResultError::LoadsUnavailable`]).
@@ -133,15 +136,8 @@ impl SimulationResult {
     ) -> Option<Result<Signal, ResultError>> {
         let (who, i) = self.load_owner(owner, field)?;
         let name = format!("{owner}.{field}");
-        match self.loads_unavailable(&name) {
-            Some(Err(e)) => return Some(Err(e)),
-            Some(Ok(reason)) => {
-                return Some(Err(ResultError::LoadsUnavailable {
-                    signal: name,
-                    reason,
-                }))
-            }
-            None => {}
+        if let Some(e) = self.loads_error(&name) {
+            return Some(Err(e));
         }
         let plan = &*self.model.plan;
         let (nq, m) = (plan.nq, plan.loops.m());
@@ -149,51 +145,113 @@ impl SimulationResult {
         let mut data = Vec::with_capacity(3 * self.time.len());
         for (k, y) in self.states_iter().enumerate() {
             let t = self.time.get(k).copied().unwrap_or(f64::NAN);
-            let (q, v) = y.split_at(nq);
             let lambda = self.multipliers.get(k * m..(k + 1) * m).unwrap_or(&[]);
             let contacts = self.contact_wrenches_at(k);
-            let wrench = load_pass(plan, &mut ws, (t, q, v), lambda, &contacts).and_then(|()| {
-                Ok(match who {
-                    Owner::Tree(j) => Some(tree_joint_wrench(plan, &ws, j)),
-                    Owner::Link(link) => {
-                        rigid_link_wrench(plan, &ws, link, (t, q, v), lambda, &contacts)?
-                    }
-                })
-            });
-            let w: LinkWrench = match wrench {
-                Ok(Some(w)) => w,
-                Ok(None) => return None,
-                Err(e) => {
-                    let reason = match e {
-                        LoadError::Singular => format!(
-                            "the mass matrix is singular at t = {t} s: no accelerations to \
-                             compute the loads from"
-                        ),
-                        LoadError::User(f) => format!(
-                            "{} failed at t = {t} s when the loads were computed: {:?}",
-                            f.element_name(),
-                            f.kind
-                        ),
-                    };
-                    return Some(Err(ResultError::LoadsUnavailable {
-                        signal: name,
-                        reason,
-                    }));
-                }
-            };
-            let value = match i {
-                0 => w.obj1_rot.tr_mul(&w.force),
-                1 => w.obj1_rot.tr_mul(&w.torque),
-                2 => w.force,
-                _ => w.torque,
-            };
-            data.extend_from_slice(value.as_slice());
+            let (q, v) = y.split_at(nq);
+            match self.load_at(&mut ws, (who, i), (t, q, v), lambda, &contacts, &name)? {
+                Ok(value) => data.extend_from_slice(value.as_slice()),
+                Err(e) => return Some(Err(e)),
+            }
         }
         Some(Ok(Signal {
             name,
             unit: if i % 2 == 0 { "N" } else { "N·m" },
             dim: 3,
             data,
+        }))
+    }
+
+    /// The load signal `name` (optionally `[i]`) at `t` \[s\] from the state that IDA's
+    /// interpolating polynomial gives (`SimOptions::dense_output`), as joint and object signals
+    /// are; `None` without dense output, outside it, for a scene with collision pairs (whose
+    /// contact forces are recorded at the output points only: the cubic of the output points
+    /// answers) and for other signals.
+    pub(super) fn dense_load_at(
+        &self,
+        name: &str,
+        t: f64,
+    ) -> Option<Result<Vec<f64>, ResultError>> {
+        if self.model.contact.is_some() {
+            return None;
+        }
+        let (base, owner, field, index) = super::split_signal_name(name).ok()?;
+        let (who, i) = self.load_owner(owner, field)?;
+        if let Some(e) = self.loads_error(base) {
+            return Some(Err(e));
+        }
+        let plan = &*self.model.plan;
+        let (nq, nv, m) = (plan.nq, plan.nv, plan.loops.m());
+        let y = self.dense.state_at(t, nq + nv + m)?;
+        let (q, rest) = y.split_at(nq);
+        let (v, lambda) = rest.split_at(nv.min(rest.len()));
+        let mut ws = Workspace::new(plan);
+        let value = match self.load_at(&mut ws, (who, i), (t, q, v), lambda, &[], base)? {
+            Ok(value) => value,
+            Err(e) => return Some(Err(e)),
+        };
+        Some(Ok(match index {
+            None => value.as_slice().to_vec(),
+            Some(k) => vec![*value.get(k)?],
+        }))
+    }
+
+    /// [`Self::loads_unavailable`] as the error of signal `name`.
+    fn loads_error(&self, name: &str) -> Option<ResultError> {
+        match self.loads_unavailable(name)? {
+            Err(e) => Some(e),
+            Ok(reason) => Some(ResultError::LoadsUnavailable {
+                signal: name.to_string(),
+                reason,
+            }),
+        }
+    }
+
+    /// Field `i` of the load of `who` at one state; `None` if `who` is no load's owner, the
+    /// error of signal `name` if the state has no accelerations.
+    fn load_at(
+        &self,
+        ws: &mut Workspace,
+        (who, i): (Owner, usize),
+        (t, q, v): (f64, &[f64], &[f64]),
+        lambda: &[f64],
+        contacts: &[ObjectWrench],
+        name: &str,
+    ) -> Option<Result<Vector3<f64>, ResultError>> {
+        let plan = &*self.model.plan;
+        let wrench = load_pass(plan, ws, (t, q, v), lambda, contacts).and_then(|()| {
+            Ok(match who {
+                Owner::Tree(j) => Some(tree_joint_wrench(plan, ws, j)),
+                Owner::Link(link) => {
+                    rigid_link_wrench(plan, ws, link, (t, q, v), lambda, contacts)?
+                }
+            })
+        });
+        let w: LinkWrench = match wrench {
+            Ok(Some(w)) => w,
+            Ok(None) => return None,
+            Err(e) => {
+                let reason = match e {
+                    LoadError::Singular => format!(
+                        "the mass matrix is singular at t = {t} s: no accelerations to \
+                         compute the loads from"
+                    ),
+                    LoadError::User(f) => format!(
+                        "{} failed at t = {t} s when the loads were computed: {:?}",
+                        f.element_name(),
+                        f.kind
+                    ),
+                };
+                return Some(Err(ResultError::LoadsUnavailable {
+                    signal: name.to_string(),
+                    reason,
+                }));
+            }
+        };
+        Some(Ok(match i {
+            0 => w.obj1_rot.tr_mul(&w.force),
+            1 => w.obj1_rot.tr_mul(&w.torque),
+            2 => w.force,
+            _ => w.torque,
         }))
     }
 

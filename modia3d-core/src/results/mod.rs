@@ -826,7 +826,10 @@ impl SimulationResult {
     /// the model's accelerations at each state (`dynamics/loads.rs`); a scene with collision
     /// pairs needs `contact_results` ([`ResultError::ContactResultsOff`] otherwise), a scene
     /// with inputs has none ([`ResultError::LoadsUnavailable`]). Listed by `signal_names` where
-    /// obj2 moves; [`Self::signal_at`] interpolates them by the cubic of the output points.
+    /// obj2 moves; [`Self::signal_at`] takes them, as joint signals, at the state of IDA's
+    /// polynomial with [`crate::SimOptions::dense_output`] (scenes without collision pairs,
+    /// whose contact forces exist at output points only), else by the cubic of the output
+    /// points.
     /// Per named point-to-point spring-damper: `<name>.length` \[m\], `<name>.length_rate` [m/s], `<name>.tension` \[N\]
     /// (positive pulls the ends together); per bushing (all resolved in obj1): `<name>.r` \[m\]
     /// and `<name>.v` [m/s] (obj2's origin relative to obj1's and its rate), `<name>.angles`
@@ -936,6 +939,9 @@ impl SimulationResult {
         // they take the cubic below).
         if let Some(v) = self.dense_signal_at(name, t) {
             return Ok(v);
+        }
+        if let Some(v) = self.dense_load_at(name, t) {
+            return v;
         }
         // The event-free stretch around t: from the last event before t to the first after.
         let lo = self
