@@ -829,3 +829,26 @@ fn dense_output_loads_are_those_of_the_interpolated_state() {
     eprintln!("the coarse grid's cubic misses by {cubic_worst:e} N");
     assert!(cubic_worst > 1e-4);
 }
+
+/// Loads read between steps of the step-wise API cover the points recorded so far, and the
+/// points recorded later too (the result's table of loads is dropped at each new point), with
+/// the same values at the earlier points.
+#[test]
+fn loads_read_between_steps_follow_the_recorded_points() {
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("rod").solid(explicit(1.0, [0.0, 0.0, -0.5], [0.01; 3])))
+        .add_joint(Joint::new("hinge", "world", "rod", JointKind::revolute(2)).init_position(0.5));
+    let model = s.build().unwrap();
+    let mut sim = model
+        .simulation(&SimOptions::new(1.0).interval(0.01).progress(false))
+        .unwrap();
+    sim.advance_to(0.5).unwrap();
+    let early = sim.result().signal("hinge.f_abs").unwrap();
+    assert_eq!(early.len(), sim.result().time().len());
+    sim.advance_to(1.0).unwrap();
+    let late = sim.result().signal("hinge.f_abs").unwrap();
+    assert_eq!(late.len(), sim.result().time().len());
+    assert!(late.len() > early.len());
+    assert_eq!(&late.data[..early.data.len()], &early.data[..]);
+}

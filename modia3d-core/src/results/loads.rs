@@ -35,6 +35,15 @@ const JOINT_FIELDS: [&str; 4] = ["f", "t", "f_abs", "t_abs"];
 /// The fields of a parent link's load, owned by the child object.
 const PARENT_FIELDS: [&str; 4] = ["f_parent", "t_parent", "f_parent_abs", "t_parent_abs"];
 
+/// Values per tree joint and output point in [`TreeLoads`]: force and torque in obj1's frame,
+/// then in world.
+const PER_JOINT: usize = 12;
+
+/// Every tree joint's load at every output point (`PER_JOINT` values per joint, joints in
+/// plan order, point after point), or the first point whose loads could not be computed, with
+/// the reason.
+pub(super) type TreeLoads = Result<Vec<f64>, Box<(f64, LoadError)>>;
+
 /// Whose load a signal asks for.
 #[derive(Clone, Copy)]
 enum Owner {
@@ -141,11 +150,41 @@ impl SimulationResult {
         }
         let plan = &*self.model.plan;
         let (nq, m) = (plan.nq, plan.loops.m());
+        if let Owner::Tree(j) = who {
+            // From the table of every tree joint's loads: one pass per point for all of them.
+            let table = match self.tree_loads.get_or_init(|| self.tree_loads_table()) {
+                Ok(table) => table,
+                Err(failure) => {
+                    let (t, e) = &**failure;
+                    return Some(Err(load_error(e.clone(), *t, &name)));
+                }
+            };
+            let nj = plan.joints.len();
+            let off = j.index() * PER_JOINT + 3 * i;
+            let data = (0..self.time.len())
+                .flat_map(|k| {
+                    let at = (k * nj) * PER_JOINT + off;
+                    table
+                        .get(at..at + 3)
+                        .unwrap_or(&[f64::NAN; 3])
+                        .iter()
+                        .copied()
+                })
+                .collect();
+            return Some(Ok(Signal {
+                name,
+                unit: if i % 2 == 0 { "N" } else { "N·m" },
+                dim: 3,
+                data,
+            }));
+        }
         let mut ws = Workspace::new(plan);
         let mut data = Vec::with_capacity(3 * self.time.len());
         for (k, y) in self.states_iter().enumerate() {
             let t = self.time.get(k).copied().unwrap_or(f64::NAN);
-            let lambda = self.multipliers.get(k * m..(k + 1) * m).unwrap_or(&[]);
+            let Some(lambda) = self.multipliers.get(k * m..(k + 1) * m) else {
+                return Some(Err(load_error(LoadError::Singular, t, &name)));
+            };
             let contacts = self.contact_wrenches_at(k);
             let (q, v) = y.split_at(nq);
             match self.load_at(&mut ws, (who, i), (t, q, v), lambda, &contacts, &name)? {
@@ -184,6 +223,9 @@ impl SimulationResult {
         let y = self.dense.state_at(t, nq + nv + m)?;
         let (q, rest) = y.split_at(nq);
         let (v, lambda) = rest.split_at(nv.min(rest.len()));
+        if v.len() != nv || lambda.len() != m {
+            return None;
+        }
         let mut ws = Workspace::new(plan);
         let value = match self.load_at(&mut ws, (who, i), (t, q, v), lambda, &[], base)? {
             Ok(value) => value,
@@ -193,6 +235,35 @@ impl SimulationResult {
             None => value.as_slice().to_vec(),
             Some(k) => vec![*value.get(k)?],
         }))
+    }
+
+    /// Every tree joint's load at every output point ([`TreeLoads`]).
+    fn tree_loads_table(&self) -> TreeLoads {
+        let plan = &*self.model.plan;
+        let (nq, m, nj) = (plan.nq, plan.loops.m(), plan.joints.len());
+        let mut ws = Workspace::new(plan);
+        let mut table = Vec::with_capacity(PER_JOINT * nj * self.time.len());
+        for (k, y) in self.states_iter().enumerate() {
+            let t = self.time.get(k).copied().unwrap_or(f64::NAN);
+            let Some(lambda) = self.multipliers.get(k * m..(k + 1) * m) else {
+                return Err(Box::new((t, LoadError::Singular)));
+            };
+            let (q, v) = y.split_at(nq);
+            let contacts = self.contact_wrenches_at(k);
+            load_pass(plan, &mut ws, (t, q, v), lambda, &contacts).map_err(|e| Box::new((t, e)))?;
+            for j in 0..nj {
+                let w = tree_joint_wrench(plan, &ws, JointId(j));
+                for x in [
+                    w.obj1_rot.tr_mul(&w.force),
+                    w.obj1_rot.tr_mul(&w.torque),
+                    w.force,
+                    w.torque,
+                ] {
+                    table.extend_from_slice(x.as_slice());
+                }
+            }
+        }
+        Ok(table)
     }
 
     /// [`Self::loads_unavailable`] as the error of signal `name`.
@@ -229,23 +300,7 @@ impl SimulationResult {
         let w: LinkWrench = match wrench {
             Ok(Some(w)) => w,
             Ok(None) => return None,
-            Err(e) => {
-                let reason = match e {
-                    LoadError::Singular => format!(
-                        "the mass matrix is singular at t = {t} s: no accelerations to \
-                         compute the loads from"
-                    ),
-                    LoadError::User(f) => format!(
-                        "{} failed at t = {t} s when the loads were computed: {:?}",
-                        f.element_name(),
-                        f.kind
-                    ),
-                };
-                return Some(Err(ResultError::LoadsUnavailable {
-                    signal: name.to_string(),
-                    reason,
-                }));
-            }
+            Err(e) => return Some(Err(load_error(e, t, name))),
         };
         Some(Ok(match i {
             0 => w.obj1_rot.tr_mul(&w.force),
@@ -285,5 +340,24 @@ impl SimulationResult {
             }
         }
         names
+    }
+}
+
+/// The error of load signal `name` whose state at `t` \[s\] gave `e`.
+fn load_error(e: LoadError, t: f64, name: &str) -> ResultError {
+    let reason = match e {
+        LoadError::Singular => format!(
+            "the mass matrix is singular at t = {t} s (or the run recorded no loop multipliers \
+             there): no accelerations to compute the loads from"
+        ),
+        LoadError::User(f) => format!(
+            "{} failed at t = {t} s when the loads were computed: {:?}",
+            f.element_name(),
+            f.kind
+        ),
+    };
+    ResultError::LoadsUnavailable {
+        signal: name.to_string(),
+        reason,
     }
 }

@@ -289,6 +289,9 @@ pub struct SimulationResult {
     dense: DenseOutput,
     /// The finished segments of a run with structure changes (`None` without; `segments.rs`).
     segments: Option<Box<segments::Segments>>,
+    /// Every tree joint's load at every output point, computed when a load signal is first read
+    /// (`loads.rs`) and dropped when a point is recorded.
+    tree_loads: std::sync::OnceLock<loads::TreeLoads>,
 }
 
 /// IDA's interpolating polynomial of each step of a run (`SimOptions::dense_output`), as
@@ -426,6 +429,7 @@ impl SimulationResult {
             multipliers: vec![],
             dense: DenseOutput::default(),
             segments: None,
+            tree_loads: std::sync::OnceLock::new(),
         }
     }
 
@@ -690,6 +694,10 @@ impl SimulationResult {
     }
 
     pub(crate) fn push(&mut self, t: f64, y: &[f64]) {
+        // A load read between steps (the step-wise API) covered the points before this one.
+        if self.tree_loads.get().is_some() {
+            self.tree_loads = std::sync::OnceLock::new();
+        }
         if let Some(s) = self.segments.as_mut() {
             s.time.push(t);
         }
