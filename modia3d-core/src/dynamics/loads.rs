@@ -40,7 +40,6 @@ use super::kinematics::object_in_world;
 use super::loops::{cut_wrench_world, LoopWork};
 use super::mass_matrix::accelerations_given_loop_forces;
 use super::{Plan, Workspace};
-use crate::scene::ValidJointKind;
 use crate::spatial::{Force, Inertia, Motion, Transform};
 use nalgebra::{Matrix3, Vector3};
 
@@ -160,7 +159,7 @@ pub fn link_ends(plan: &Plan, link: RigidLink) -> Option<(usize, usize)> {
     match link {
         RigidLink::Fix(sj) => {
             let j = scene.joints.get(sj)?;
-            (j.kind == ValidJointKind::Fix).then_some((j.obj1, j.obj2))
+            (j.kind.is_rigid()).then_some((j.obj1, j.obj2))
         }
         RigidLink::Parent(o) => Some((scene.objects.get(o)?.parent?, o)),
     }
@@ -181,7 +180,7 @@ fn obj2_side(plan: &Plan, link: RigidLink) -> Option<Vec<bool>> {
         }
     }
     for (sj, j) in scene.joints.iter().enumerate() {
-        if j.kind == ValidJointKind::Fix && !cut_joint(sj) {
+        if j.kind.is_rigid() && !cut_joint(sj) {
             adj[j.obj1].push((j.obj2, RigidLink::Fix(sj)));
             adj[j.obj2].push((j.obj1, RigidLink::Fix(sj)));
         }

@@ -27,7 +27,6 @@ use crate::dynamics::loads::{
     ObjectWrench, RigidLink,
 };
 use crate::dynamics::{ObjectId, Workspace};
-use crate::scene::ValidJointKind;
 use nalgebra::Vector3;
 
 /// The fields of a joint's load.
@@ -61,7 +60,7 @@ impl SimulationResult {
             }
             let sj = plan.scene.joints.iter().position(|j| {
                 j.name == owner
-                    && j.kind == ValidJointKind::Fix
+                    && j.kind.is_rigid()
                     && !plan.loops.cuts.iter().any(|c| c.name == owner)
             })?;
             return Some((Owner::Link(RigidLink::Fix(sj)), i));
@@ -330,7 +329,7 @@ impl SimulationResult {
         }
         for (sj, j) in plan.scene.joints.iter().enumerate() {
             let cut = plan.loops.cuts.iter().any(|c| c.scene_joint == sj);
-            if j.kind == ValidJointKind::Fix && !cut && moves(j.obj2) {
+            if j.kind.is_rigid() && !cut && moves(j.obj2) {
                 names.extend(JOINT_FIELDS.iter().map(|f| format!("{}.{f}", j.name)));
             }
         }
