@@ -332,7 +332,28 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
 
 /// Adds force element `e`'s (index in the scene's force elements) wrenches at time `t` \[s\] to
 /// `ws.f_ext` and `ws.tau_applied`; a failure of its law is recorded in `ws.fault`.
+#[inline]
 pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], e: usize) {
+    element_wrenches(plan, ws, t, q, v, e, &mut |ws, o, point, force, torque| {
+        add_world_wrench(ws, plan.objects[o].body, point, force, torque)
+    });
+}
+
+/// Force element `e`'s wrenches at time `t` \[s\], each handed to `sink` with the object it acts
+/// on: `sink(ws, object, point, force, torque)`, a force \[N\] at the world point \[m\] and a
+/// torque [N·m], all resolved in world. Its generalised joint forces go to `ws.tau_applied`, a
+/// failure of its law to `ws.fault`. [`apply_element`] adds the wrenches to the objects' bodies;
+/// the joint loads (`dynamics/loads.rs`) need them per object, to cut a body between its parts.
+#[inline]
+pub fn element_wrenches(
+    plan: &Plan,
+    ws: &mut Workspace,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    e: usize,
+    sink: &mut impl FnMut(&mut Workspace, ObjectId, &Vector3<f64>, &Vector3<f64>, &Vector3<f64>),
+) {
     let zero = Vector3::zeros();
     let f = &plan.scene.forces[e];
     let fault = |object: &str, what, kind| UserFault {
@@ -353,8 +374,8 @@ pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f6
         } => match ptp_state(plan, ws, (*obj1, *obj2), (spring, damper), *length0) {
             Ok(s) => {
                 let f2 = -s.dir * s.tension; // on obj2, towards obj1 when stretched
-                add_world_wrench(ws, plan.objects[*obj2].body, &s.r2, &f2, &zero);
-                add_world_wrench(ws, plan.objects[*obj1].body, &s.r1, &-f2, &zero);
+                sink(ws, ObjectId(*obj2), &s.r2, &f2, &zero);
+                sink(ws, ObjectId(*obj1), &s.r1, &-f2, &zero);
             }
             Err(k) => record(ws, || fault(name, "spring-damper", k)),
         },
@@ -364,8 +385,8 @@ pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f6
                     // On obj2 at its origin; the opposite on obj1 at the same point, so
                     // the pair exerts no net moment.
                     let (f2, t2) = (r1 * s.force, r1 * s.torque);
-                    add_world_wrench(ws, plan.objects[*obj2].body, &at, &f2, &t2);
-                    add_world_wrench(ws, plan.objects[*obj1].body, &at, &-f2, &-t2);
+                    sink(ws, ObjectId(*obj2), &at, &f2, &t2);
+                    sink(ws, ObjectId(*obj1), &at, &-f2, &-t2);
                 }
                 Err(k) => record(ws, || fault(&spec.name, "bushing", k)),
             }
@@ -379,7 +400,7 @@ pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f6
         } => match world_vector(plan, ws, t, (*object, *resolved_in), value) {
             Ok((x, m)) => {
                 let (f, n) = if *torque { (zero, x) } else { (x, zero) };
-                add_world_wrench(ws, plan.objects[*object].body, &m.r_abs, &f, &n);
+                sink(ws, ObjectId(*object), &m.r_abs, &f, &n);
             }
             Err(k) => {
                 let what = if *torque {
@@ -415,8 +436,7 @@ pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f6
                 Ok(Wrench { force, torque })
                     if force.iter().chain(torque.iter()).all(|x| x.is_finite()) =>
                 {
-                    let body = plan.objects[*object].body;
-                    add_world_wrench(ws, body, &m.r_abs, &force, &torque);
+                    sink(ws, ObjectId(*object), &m.r_abs, &force, &torque);
                     return;
                 }
                 Ok(w) => FaultKind::NonFinite {
@@ -449,9 +469,7 @@ fn point_gravity(plan: &Plan, ws: &mut Workspace, t: f64, mu: f64, centre: &Vect
             continue;
         }
         let c = body_com(plan, ws, b);
-        let r = c - centre;
-        let r2 = r.norm_squared();
-        let g = r * (-mu / (r2 * r2.sqrt()));
+        let (g, r2) = point_gravity_at(&c, mu, centre);
         if g.iter().all(|x| x.is_finite()) {
             add_world_wrench(ws, Some(b), &c, &(g * mass), &Vector3::zeros());
         } else {
@@ -469,6 +487,19 @@ fn point_gravity(plan: &Plan, ws: &mut Workspace, t: f64, mu: f64, centre: &Vect
             });
         }
     }
+}
+
+/// Point gravity's acceleration `−μ r/|r|³` [m/s²] at the world point `c` \[m\] (`r = c −
+/// centre`, resolved in world) and `|r|²` \[m²\]; non-finite at the centre.
+#[inline]
+pub(crate) fn point_gravity_at(
+    c: &Vector3<f64>,
+    mu: f64,
+    centre: &Vector3<f64>,
+) -> (Vector3<f64>, f64) {
+    let r = c - centre;
+    let r2 = r.norm_squared();
+    (r * (-mu / (r2 * r2.sqrt())), r2)
 }
 
 /// A body's name in messages: its first object's.

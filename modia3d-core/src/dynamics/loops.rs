@@ -804,6 +804,18 @@ pub fn cut_wrench(
     c: usize,
     lambda: &[f64],
 ) -> (Vector3<f64>, Vector3<f64>) {
+    let (f, t, f1, _) = cut_wrench_world(plan, ws, c, lambda);
+    (f1.rot.tr_mul(&f), f1.rot.tr_mul(&t))
+}
+
+/// [`cut_wrench`] resolved in world: force \[N\] and torque [N·m] on obj2 (the force acting at
+/// obj2's origin), with obj1's and obj2's frames placed in world at the workspace state.
+pub fn cut_wrench_world(
+    plan: &Plan,
+    ws: &Workspace,
+    c: usize,
+    lambda: &[f64],
+) -> (Vector3<f64>, Vector3<f64>, Transform, Transform) {
     let lp = &plan.loops;
     let cut = &lp.cuts[c];
     let f1 = frame(ws, cut.body1, &cut.in_body1);
@@ -816,7 +828,7 @@ pub fn cut_wrench(
             f += lambda[i] * b;
         }
     }
-    (f1.rot.tr_mul(&f), f1.rot.tr_mul(&t))
+    (f, t, f1, f2)
 }
 
 /// Accelerations `v̇` and multipliers `λ` from the KKT system

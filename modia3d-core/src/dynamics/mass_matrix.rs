@@ -123,6 +123,34 @@ pub fn consistent_accelerations_with(
     v: &[f64],
     extra: &mut dyn FnMut(&Plan, &mut Workspace),
 ) -> Option<(Vec<f64>, Vec<f64>)> {
+    accelerations_with(plan, ws, t, q, v, extra, true)
+}
+
+/// [`consistent_accelerations_with`] with the loops' constraint forces among the external
+/// forces that `extra` adds (the multipliers `λ` known, e.g. stored by a run): `M v̇ = τ_applied
+/// − C` per joint tree, no KKT system. For the joint loads of a result (`dynamics/loads.rs`),
+/// which must agree with the cut joints' forces of the same `λ`.
+pub fn accelerations_given_loop_forces(
+    plan: &Plan,
+    ws: &mut Workspace,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    extra: &mut dyn FnMut(&Plan, &mut Workspace),
+) -> Option<Vec<f64>> {
+    accelerations_with(plan, ws, t, q, v, extra, false).map(|(vd, _)| vd)
+}
+
+/// [`consistent_accelerations_with`]; with `kkt` false the loops are left to `extra`.
+fn accelerations_with(
+    plan: &Plan,
+    ws: &mut Workspace,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    extra: &mut dyn FnMut(&Plan, &mut Workspace),
+    kkt: bool,
+) -> Option<(Vec<f64>, Vec<f64>)> {
     let nv = plan.nv;
     let blocks = tree_mass_matrices(plan, ws, q);
     position_velocity(plan, ws, q, v);
@@ -136,7 +164,7 @@ pub fn consistent_accelerations_with(
             vd[k] = ws.inputs[*i];
         }
     }
-    if !plan.loops.is_empty() {
+    if kkt && !plan.loops.is_empty() {
         let rhs: Vec<f64> = (0..nv).map(|k| ws.tau_applied[k] - bias[k]).collect();
         let lambda = super::loops::kkt_accelerations(plan, ws, q, v, &blocks, &rhs, &mut vd)?;
         return Some((vd, lambda));

@@ -6,6 +6,7 @@
 pub mod forces;
 pub mod ids;
 pub mod kinematics;
+pub mod loads;
 pub mod loops;
 pub mod mass_matrix;
 pub mod plan;

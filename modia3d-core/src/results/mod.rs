@@ -10,6 +10,7 @@ mod contacts;
 mod force_signals;
 mod gltf;
 mod html;
+mod loads;
 mod mesh;
 pub(crate) mod plot;
 pub(crate) mod plot_axis;
@@ -229,6 +230,15 @@ pub enum ResultError {
         /// The cause.
         source: std::io::Error,
     },
+    /// A joint load signal (`<joint>.f`, `<object>.f_parent`, …) cannot be computed for this
+    /// result.
+    #[error("signal `{signal}` is not available: {reason}")]
+    LoadsUnavailable {
+        /// The signal asked for.
+        signal: String,
+        /// Why, and what to do.
+        reason: String,
+    },
     /// An export (plot, animation) could not be made from this result.
     #[error("cannot export `{path}`: {reason}")]
     Export {
@@ -279,6 +289,9 @@ pub struct SimulationResult {
     dense: DenseOutput,
     /// The finished segments of a run with structure changes (`None` without; `segments.rs`).
     segments: Option<Box<segments::Segments>>,
+    /// Every tree joint's load at every output point, computed when a load signal is first read
+    /// (`loads.rs`) and dropped when a point is recorded.
+    tree_loads: std::sync::OnceLock<loads::TreeLoads>,
 }
 
 /// IDA's interpolating polynomial of each step of a run (`SimOptions::dense_output`), as
@@ -416,6 +429,7 @@ impl SimulationResult {
             multipliers: vec![],
             dense: DenseOutput::default(),
             segments: None,
+            tree_loads: std::sync::OnceLock::new(),
         }
     }
 
@@ -446,12 +460,13 @@ impl SimulationResult {
 
     /// `<cut>.f` (force on obj2 \[N\]) and `<cut>.t` (torque on obj2 [N·m]) of cut joint `owner`,
     /// both resolved in obj1's frame; the force acts at obj2's origin, obj1 feels the opposite.
+    /// `<cut>.f_abs`, `<cut>.t_abs`: the same resolved in world.
     fn loop_signal(&self, owner: &str, field: &str) -> Option<Signal> {
         let plan = &*self.model.plan;
         let c = plan.loops.cuts.iter().position(|c| c.name == owner)?;
         let unit = match field {
-            "f" => "N",
-            "t" => "N·m",
+            "f" | "f_abs" => "N",
+            "t" | "t_abs" => "N·m",
             _ => return None,
         };
         let (nq, m) = (plan.nq, plan.loops.m());
@@ -461,12 +476,26 @@ impl SimulationResult {
             let (q, v) = y.split_at(nq);
             kinematics::position_velocity(plan, &mut ws, q, v);
             let lambda = self.multipliers.get(k * m..(k + 1) * m)?;
-            let (f, t) = crate::dynamics::loops::cut_wrench(plan, &ws, c, lambda);
-            data.extend_from_slice(if field == "f" {
-                f.as_slice()
-            } else {
-                t.as_slice()
-            });
+            let value = match field {
+                "f" | "t" => {
+                    let (f, t) = crate::dynamics::loops::cut_wrench(plan, &ws, c, lambda);
+                    if field == "f" {
+                        f
+                    } else {
+                        t
+                    }
+                }
+                _ => {
+                    let (f, t, _, _) =
+                        crate::dynamics::loops::cut_wrench_world(plan, &ws, c, lambda);
+                    if field == "f_abs" {
+                        f
+                    } else {
+                        t
+                    }
+                }
+            };
+            data.extend_from_slice(value.as_slice());
         }
         Some(Signal {
             name: format!("{owner}.{field}"),
@@ -665,6 +694,10 @@ impl SimulationResult {
     }
 
     pub(crate) fn push(&mut self, t: f64, y: &[f64]) {
+        // A load read between steps (the step-wise API) covered the points before this one.
+        if self.tree_loads.get().is_some() {
+            self.tree_loads = std::sync::OnceLock::new();
+        }
         if let Some(s) = self.segments.as_mut() {
             s.time.push(t);
         }
@@ -763,9 +796,11 @@ impl SimulationResult {
         }
         names.extend(self.force_signal_names());
         for c in &self.model.plan.loops.cuts {
-            names.push(format!("{}.f", c.name));
-            names.push(format!("{}.t", c.name));
+            for f in ["f", "t", "f_abs", "t_abs"] {
+                names.push(format!("{}.{f}", c.name));
+            }
         }
+        names.extend(self.load_signal_names());
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
                 names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
@@ -786,7 +821,23 @@ impl SimulationResult {
     /// signal of a run without `contact_results` is [`ResultError::ContactResultsOff`].
     /// Per cut joint of a closed loop (see `Model::loops`): `<joint>.f`, the constraint force
     /// \[N\] on obj2 at obj2's origin, and `<joint>.t`, the constraint torque [N·m] on obj2, both
-    /// resolved in obj1's frame (obj1 feels the opposite).
+    /// resolved in obj1's frame (obj1 feels the opposite); `<joint>.f_abs`, `<joint>.t_abs` the
+    /// same resolved in world.
+    /// Joint loads, the same wrench through every other joint: per tree joint (every kind) and
+    /// `Fix` joint `<joint>.f` \[N\] and `<joint>.t` [N·m], the force obj1 exerts on obj2 and
+    /// its torque about obj2's origin, resolved in obj1's frame, and `<joint>.f_abs`,
+    /// `<joint>.t_abs` resolved in world; per object with a parent, its parent link's
+    /// `<object>.f_parent`, `<object>.t_parent` (on the object's side of the link, about the
+    /// object's origin, resolved in the parent's frame) and `<object>.f_parent_abs`,
+    /// `<object>.t_parent_abs` (world). They include the joint's springs and drives along its
+    /// free directions; computed on demand from the stored states by a Newton–Euler pass with
+    /// the model's accelerations at each state (`dynamics/loads.rs`); a scene with collision
+    /// pairs needs `contact_results` ([`ResultError::ContactResultsOff`] otherwise), a scene
+    /// with inputs has none ([`ResultError::LoadsUnavailable`]). Listed by `signal_names` where
+    /// obj2 moves; [`Self::signal_at`] takes them, as joint signals, at the state of IDA's
+    /// polynomial with [`crate::SimOptions::dense_output`] (scenes without collision pairs,
+    /// whose contact forces exist at output points only), else by the cubic of the output
+    /// points.
     /// Per named point-to-point spring-damper: `<name>.length` \[m\], `<name>.length_rate` [m/s], `<name>.tension` \[N\]
     /// (positive pulls the ends together); per bushing (all resolved in obj1): `<name>.r` \[m\]
     /// and `<name>.v` [m/s] (obj2's origin relative to obj1's and its rate), `<name>.angles`
@@ -813,9 +864,14 @@ impl SimulationResult {
                 what: format!("signal `{name}`"),
             });
         }
-        let full = full
+        let full = match full
             .or_else(|| self.contact_signal(owner, field))
             .or_else(|| self.loop_signal(owner, field))
+        {
+            Some(s) => Some(s),
+            None => self.load_signal(owner, field).transpose()?,
+        };
+        let full = full
             .or_else(|| self.force_signal(owner, field))
             .ok_or_else(|| {
                 let names = self.signal_names();
@@ -891,6 +947,9 @@ impl SimulationResult {
         // they take the cubic below).
         if let Some(v) = self.dense_signal_at(name, t) {
             return Ok(v);
+        }
+        if let Some(v) = self.dense_load_at(name, t) {
+            return v;
         }
         // The event-free stretch around t: from the last event before t to the first after.
         let lo = self
