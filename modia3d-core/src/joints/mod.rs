@@ -444,10 +444,6 @@ kinds! {
 }
 
 impl ValidJointKind {
-    /// The kind's name, as [`crate::JointKind::name`].
-    pub fn name(&self) -> &'static str {
-        self.facts().spec.name
-    }
     /// Whether obj2 is fixed to obj1 (one rigid body; never in the tree).
     pub(crate) fn is_rigid(&self) -> bool {
         self.facts().rigid
@@ -459,10 +455,6 @@ impl ValidJointKind {
 }
 
 impl JointCoord {
-    /// The kind's name, as [`crate::JointKind::name`].
-    pub fn name(&self) -> &'static str {
-        self.facts().spec.name
-    }
     /// Number of position coordinates.
     #[inline]
     pub fn nq(&self) -> usize {

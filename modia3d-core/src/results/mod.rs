@@ -758,7 +758,7 @@ impl SimulationResult {
     }
 
     /// The plan the run was made with.
-    pub fn plan(&self) -> &Plan {
+    pub(crate) fn plan(&self) -> &Plan {
         &self.model.plan
     }
 
