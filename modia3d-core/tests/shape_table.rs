@@ -93,9 +93,7 @@ fn stand_ins_are_their_variants() {
             continue;
         };
         assert!(
-            row.params
-                .iter()
-                .all(|p| p.value != ShapeValue::TriangleMesh),
+            row.params.iter().all(|p| p.value != ShapeValue::LoadedMesh),
             "{}",
             row.name
         );
@@ -104,7 +102,7 @@ fn stand_ins_are_their_variants() {
         if !row
             .params
             .iter()
-            .any(|p| matches!(p.value, ShapeValue::Points | ShapeValue::Path))
+            .any(|p| matches!(p.value, ShapeValue::Vertices | ShapeValue::File))
         {
             assert_eq!(shape.spec().name, row.name);
             assert_eq!(shape.kind(), row.kind, "{}", row.name);

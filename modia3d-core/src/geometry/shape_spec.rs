@@ -63,7 +63,9 @@ pub struct ShapeParam {
     pub required: bool,
 }
 
-/// The type of a shape parameter's value.
+/// The type of a shape parameter's value. (No variant is named after a type of the crate —
+/// `Axis`, `Path`, `MeshCollision`: a second public item of a type's name makes rustc print
+/// that type with its full path in `model!`'s type errors.)
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ShapeValue {
     /// A length (`f64`) \[m\]; default 0.
@@ -73,16 +75,16 @@ pub enum ShapeValue {
     /// Three factors along x, y, z (`Vector3<f64>`, `[f64; 3]` in `model!`); default ones.
     Factors,
     /// A frame [`Axis`] (1, 2 or 3 in `model!`); default z.
-    Axis,
+    AxisIndex,
     /// Points in the shape frame (`Vec<Point3<f64>>`) \[m\].
-    Points,
-    /// A file (`PathBuf`, anything `PathBuf::from` takes in `model!`).
-    Path,
+    Vertices,
+    /// A file (`PathBuf`; anything `PathBuf::from` takes in `model!`).
+    File,
     /// A [`MeshCollision`](super::MeshCollision) (`model!`: a `bool`, true for a convex
     /// decomposition); default the convex hull.
-    MeshCollision,
+    Decomposition,
     /// A loaded triangle mesh (not a `model!` value).
-    TriangleMesh,
+    LoadedMesh,
 }
 
 /// The values `model!` knows of a shape's parameters at compile time, by key: a literal, else
@@ -93,7 +95,7 @@ pub trait ShapeValues {
     fn length(&mut self, key: &'static str) -> f64;
     /// A [`ShapeValue::Lengths`] or [`ShapeValue::Factors`].
     fn vector(&mut self, key: &'static str) -> Vector3<f64>;
-    /// A [`ShapeValue::Axis`].
+    /// A [`ShapeValue::AxisIndex`].
     fn axis(&mut self, key: &'static str) -> Axis;
     /// The length that stands in for a value known only at run time \[m\].
     fn stand_in(&self) -> f64;
@@ -124,7 +126,7 @@ const fn param(key: &'static str, value: ShapeValue, unit: &'static str) -> Shap
 /// The axis of a shape (optional: z).
 const AXIS: ShapeParam = ShapeParam {
     required: false,
-    ..param("axis", ShapeValue::Axis, "1")
+    ..param("axis", ShapeValue::AxisIndex, "1")
 };
 
 const SPHERE: ShapeKindSpec = ShapeKindSpec {
@@ -224,7 +226,7 @@ const ELLIPSOID: ShapeKindSpec = ShapeKindSpec {
 const CONVEX_HULL: ShapeKindSpec = ShapeKindSpec {
     name: "ConvexHull",
     kind: ShapeKind::ConvexHull,
-    params: &[param("points", ShapeValue::Points, "m")],
+    params: &[param("points", ShapeValue::Vertices, "m")],
     stand_in: Some(|v| tetrahedron(v.stand_in())),
 };
 
@@ -232,7 +234,7 @@ const FILE_MESH: ShapeKindSpec = ShapeKindSpec {
     name: "FileMesh",
     kind: ShapeKind::Mesh,
     params: &[
-        param("path", ShapeValue::Path, "1"),
+        param("path", ShapeValue::File, "1"),
         ShapeParam {
             required: false,
             ..param("scale", ShapeValue::Factors, "1")
@@ -240,7 +242,7 @@ const FILE_MESH: ShapeKindSpec = ShapeKindSpec {
         ShapeParam {
             key: "convex_decomposition",
             required: false,
-            ..param("collision", ShapeValue::MeshCollision, "1")
+            ..param("collision", ShapeValue::Decomposition, "1")
         },
     ],
     // The file is read by `build()` at run time.
@@ -251,8 +253,8 @@ const MESH: ShapeKindSpec = ShapeKindSpec {
     name: "Mesh",
     kind: ShapeKind::Mesh,
     params: &[
-        param("mesh", ShapeValue::TriangleMesh, "m"),
-        param("collision", ShapeValue::MeshCollision, "1"),
+        param("mesh", ShapeValue::LoadedMesh, "m"),
+        param("collision", ShapeValue::Decomposition, "1"),
     ],
     stand_in: None,
 };
