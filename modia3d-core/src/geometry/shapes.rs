@@ -207,6 +207,23 @@ impl Shape {
         }
     }
 
+    /// The diameter of a ball \[m\] (a sphere: the contact laws of the paper's sphere pairs
+    /// apply to it); `None` for every other shape.
+    pub fn ball_diameter(&self) -> Option<f64> {
+        match self {
+            Shape::Sphere { diameter } => Some(*diameter),
+            Shape::Box { .. }
+            | Shape::Cylinder { .. }
+            | Shape::Capsule { .. }
+            | Shape::Cone { .. }
+            | Shape::Beam { .. }
+            | Shape::Ellipsoid { .. }
+            | Shape::ConvexHull { .. }
+            | Shape::FileMesh { .. }
+            | Shape::Mesh { .. } => None,
+        }
+    }
+
     /// Every length parameter with its name, for validation (must be finite and > 0, except a
     /// cone's top diameter, which may be 0).
     pub fn dimensions(&self) -> Vec<(&'static str, f64)> {
