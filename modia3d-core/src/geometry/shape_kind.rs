@@ -1,11 +1,12 @@
 //! The kinds of shapes, listed once (geometry vocabulary, imports nothing): the table
-//! [`shape_table!`] names each kind with the builder's [`Shape`](super::Shape) variants of the
-//! kind and each variant's row of solid-free facts (`geometry/shape_spec.rs`). It generates
+//! `shape_table!` names each kind with the builder's [`Shape`](super::Shape) variants of the
+//! kind and each variant's row of solver-free facts (`geometry/shape_spec.rs`). It generates
 //! [`ShapeKind`] here and, in `shape_spec.rs`, [`SHAPE_KINDS`](super::SHAPE_KINDS) and the
 //! dispatch from a `Shape` to its kind and row (exhaustive `match`es). A new shape is a line
-//! here, its row and its builder variant; the algorithms that must decide for it (support map,
-//! smoothing, mass properties, display, the narrow phase's pair table) are exhaustive `match`es
-//! in their files.
+//! here, its row and its builder variant; the algorithms that must decide for it (mass
+//! properties, core and smoothing, display, contact radius, volume-law solid, validation) are
+//! exhaustive `match`es in their files; the narrow phase's pair tables give a pair without a
+//! closed form to MPR.
 //!
 //! (The table is a macro that hands the list to another macro, so that [`ShapeKind`] lives in
 //! this leaf: `error.rs` names it, and the rows, which build `Shape`s, sit above `error.rs`.)
