@@ -76,7 +76,9 @@ mod counting_alloc;
 
 #[cfg(feature = "solver")]
 pub use contact::ContactError;
-pub use geometry::{Axis, MeshCollision, Shape};
+pub use geometry::{
+    Axis, MeshCollision, Shape, ShapeKindSpec, ShapeParam, ShapeValue, ShapeValues, SHAPE_KINDS,
+};
 pub use joints::{
     AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue, JOINT_KINDS,
 };

@@ -8,7 +8,7 @@
 //! unchanged.
 
 use crate::ast::ModelDef;
-use crate::vocab::{is_component, joint_kind, NESTED};
+use crate::vocab::{is_component, is_nested, joint_kind};
 use syn::{Expr, Lit, LitFloat};
 
 /// Keys whose scalar value is an integer (an array value of such a key is still a float
@@ -60,7 +60,7 @@ fn value(e: &mut Expr, integer_scalar: bool) {
         // A built-in nested constructor `Ctor(key = value, …)`.
         Expr::Call(call)
             if matches!(&*call.func, Expr::Path(p)
-                if p.path.get_ident().is_some_and(|i| NESTED.contains(&i.to_string().as_str()))) =>
+                if p.path.get_ident().is_some_and(|i| is_nested(&i.to_string()))) =>
         {
             for arg in call.args.iter_mut() {
                 if let Expr::Assign(asg) = arg {

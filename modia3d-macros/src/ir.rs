@@ -8,7 +8,7 @@
 #![allow(clippy::large_enum_variant)]
 
 use crate::vocab::Kind;
-use modia3d_core::JointKindSpec;
+use modia3d_core::{JointKindSpec, ShapeKindSpec};
 use proc_macro2::{Ident, Span};
 use syn::Expr;
 
@@ -151,46 +151,30 @@ pub struct SolidIr {
 pub enum ShapeIr {
     /// An expression of type `Shape`.
     Expr(Expr),
-    /// `Sphere(diameter)`.
-    Sphere(Num),
-    /// `Box(lengths)` or `Ellipsoid(lengths)` (`ellipsoid` true).
-    Lengths {
-        /// Which.
-        ellipsoid: bool,
-        /// Full lengths.
-        lengths: Num,
+    /// A constructor of the core's table (`modia3d_core::SHAPE_KINDS`) with the arguments
+    /// given, by key, in the row's order.
+    Call {
+        /// The constructor's row.
+        spec: &'static ShapeKindSpec,
+        /// The arguments given (an axis is always there: given or its default).
+        args: Vec<(&'static str, ShapeArg)>,
     },
-    /// `Cylinder`, `Capsule`, `Cone`.
-    Round {
-        /// `Cylinder`, `Capsule` or `Cone`.
-        ctor: &'static str,
-        /// The axis (1..3 literal or an `Axis` expression).
-        axis: AxisIr,
-        /// Diameter.
-        diameter: Num,
-        /// Length.
-        length: Num,
-        /// A cone's top diameter.
-        top_diameter: Option<Num>,
-    },
-    /// `ConvexHull(points)`.
-    Hull(Expr),
-    /// `FileMesh(path, scale, convex_decomposition)`.
-    FileMesh {
-        /// The path (anything `PathBuf::from` takes).
-        path: Expr,
-        /// `[f64; 3]` factors (default ones).
-        scale: Option<Num>,
-        /// A `bool` (default false).
-        convex_decomposition: Option<Expr>,
-    },
-    /// `Beam(axis, length, width, thickness)`.
-    Beam {
-        /// The longitudinal axis.
-        axis: AxisIr,
-        /// `[length, width, thickness]`.
-        dims: [Num; 3],
-    },
+}
+
+/// The argument `key` of a shape constructor's `args`, if given.
+pub fn shape_arg<'a>(args: &'a [(&'static str, ShapeArg)], key: &str) -> Option<&'a ShapeArg> {
+    args.iter().find(|(k, _)| *k == key).map(|(_, a)| a)
+}
+
+/// An argument of a shape constructor, by the value type of its parameter.
+#[derive(Clone, Debug)]
+pub enum ShapeArg {
+    /// A length, lengths or factors.
+    Num(Num),
+    /// An axis.
+    Axis(AxisIr),
+    /// Points, a path or the flag `convex_decomposition`: the user's expression.
+    Expr(Expr),
 }
 
 /// A shape's axis.

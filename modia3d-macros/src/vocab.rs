@@ -1,9 +1,10 @@
 //! Vocabulary of `model!`: the constructors, the keys each accepts, synonyms users guess, and
 //! what kind of component a constructor makes. Plain data; the rules a *value* must satisfy
-//! are the core's (`modia3d_core::scene`), not listed here, and so are the joint kinds: their
-//! names, keys, defaults and units are the core's table (`modia3d_core::JOINT_KINDS`).
+//! are the core's (`modia3d_core::scene`), not listed here, and so are the joint and shape
+//! kinds: their names, keys, defaults and units are the core's tables
+//! (`modia3d_core::JOINT_KINDS`, `modia3d_core::SHAPE_KINDS`).
 
-use modia3d_core::{JointKindSpec, JOINT_KINDS};
+use modia3d_core::{JointKindSpec, ShapeKindSpec, JOINT_KINDS, SHAPE_KINDS};
 
 /// Constructors of components: `Object3D`, the joint kinds (the core's table), then
 /// [`OTHER_COMPONENTS`].
@@ -36,7 +37,7 @@ pub const OTHER_COMPONENTS: &[&str] = &[
     "ActionDelete",
 ];
 
-/// Constructors that appear only inside values.
+/// Constructors that appear only inside values, besides the shapes ([`is_nested`]).
 pub const NESTED: &[&str] = &[
     "Scene",
     "Solid",
@@ -44,32 +45,32 @@ pub const NESTED: &[&str] = &[
     "MassProperties",
     "MassPropertiesFromShapeAndMass",
     "Var",
-    "Sphere",
-    "Box",
-    "Cylinder",
-    "Capsule",
-    "Cone",
-    "Ellipsoid",
-    "ConvexHull",
-    "Beam",
-    "FileMesh",
 ];
+
+/// Whether `name` is a constructor that appears only inside values: [`NESTED`] or a shape.
+pub fn is_nested(name: &str) -> bool {
+    NESTED.contains(&name) || shape_kind(name).is_some()
+}
 
 /// Constructors of `feature = …`.
 pub const FEATURES: &[&str] = &["Scene", "Solid", "Visual"];
 
-/// Constructors of `shape = …`.
-pub const SHAPES: &[&str] = &[
-    "Sphere",
-    "Box",
-    "Cylinder",
-    "Capsule",
-    "Cone",
-    "Ellipsoid",
-    "ConvexHull",
-    "Beam",
-    "FileMesh",
-];
+/// The row of the shape constructor `ctor` in the core's table; `None` for other names (and
+/// for variants that are no `model!` constructor, such as a loaded `Mesh`).
+pub fn shape_kind(ctor: &str) -> Option<&'static ShapeKindSpec> {
+    SHAPE_KINDS
+        .iter()
+        .find(|k| k.name == ctor && k.stand_in.is_some())
+}
+
+/// Constructors of `shape = …`: the core's table's, in its order.
+pub fn shapes() -> Vec<&'static str> {
+    SHAPE_KINDS
+        .iter()
+        .filter(|k| k.stand_in.is_some())
+        .map(|k| k.name)
+        .collect()
+}
 
 /// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).
 pub const SCENE_KEYS: &[&str] = &[
@@ -275,6 +276,7 @@ pub fn nested_hint(n: &str) -> String {
         "MassProperties" | "MassPropertiesFromShapeAndMass" => {
             format!("`Solid(mass_properties = {n}(…))`")
         }
+        // The shapes (the rest of `is_nested`).
         _ => format!("`Object3D(feature = Solid(shape = {n}(…)))`"),
     }
 }

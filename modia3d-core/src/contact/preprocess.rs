@@ -287,14 +287,11 @@ impl ContactPlan {
                     shape: cs,
                     contact_material: cm.clone(),
                     c,
-                    round: matches!(shape, Shape::Sphere { .. }),
+                    round: shape.ball_diameter().is_some(),
                     material: 0, // set below
                     geo: {
                         let (radius, flat) = contact_radius(shape);
-                        let sphere_diameter = match shape {
-                            Shape::Sphere { diameter } => Some(*diameter),
-                            _ => None,
-                        };
+                        let sphere_diameter = shape.ball_diameter();
                         ShapeGeo {
                             sphere_diameter,
                             radius,
@@ -517,14 +514,26 @@ fn volume_shape(
     let h = layer_depth.unwrap_or(own_depth);
     // A beam's volume is that of its polytope (rounded ends as inscribed polygons): its signed
     // distance must be of the same solid, so that the force is zero at both events.
-    let sharp = match (shape, &solid) {
-        (Shape::Beam { .. }, VolumeSolid::Polytope(p)) => CollisionShape::with_smoothing(
-            &Shape::ConvexHull {
-                points: p.vertices().to_vec(),
-            },
-            0.0,
-        )?,
-        _ => CollisionShape::with_smoothing(shape, 0.0)?,
+    let exact = || CollisionShape::with_smoothing(shape, 0.0);
+    let sharp = match shape {
+        Shape::Beam { .. } => match &solid {
+            VolumeSolid::Polytope(p) => CollisionShape::with_smoothing(
+                &Shape::ConvexHull {
+                    points: p.vertices().to_vec(),
+                },
+                0.0,
+            )?,
+            VolumeSolid::Frustum(_) => exact()?,
+        },
+        Shape::Sphere { .. }
+        | Shape::Box { .. }
+        | Shape::Cylinder { .. }
+        | Shape::Capsule { .. }
+        | Shape::Cone { .. }
+        | Shape::Ellipsoid { .. }
+        | Shape::ConvexHull { .. }
+        | Shape::FileMesh { .. }
+        | Shape::Mesh { .. } => exact()?,
     };
     Ok(Some(VolumeShape {
         sharp,

@@ -25,7 +25,10 @@ pub fn world_aabb(shape: &CollisionShape, pose: &Isometry3<f64>) -> Aabb {
             let half = Vector3::new(ra.row(0).norm(), ra.row(1).norm(), ra.row(2).norm());
             (pose.translation.vector.into(), half)
         }
-        _ => {
+        CoreShape::Segment { .. }
+        | CoreShape::Frustum { .. }
+        | CoreShape::Beam { .. }
+        | CoreShape::Hull { .. } => {
             let r = r();
             let mut lo = Vector3::zeros();
             let mut hi = Vector3::zeros();

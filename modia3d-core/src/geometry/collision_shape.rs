@@ -149,7 +149,12 @@ impl CollisionShape {
                 .map(|v| (v - centre).norm())
                 .fold(0.0, f64::max),
             // The farthest point of the core's AABB from the centre bounds all other cores.
-            _ => {
+            CoreShape::Point { .. }
+            | CoreShape::Segment { .. }
+            | CoreShape::Box { .. }
+            | CoreShape::Frustum { .. }
+            | CoreShape::Beam { .. }
+            | CoreShape::Ellipsoid { .. } => {
                 let d = (hi - centre.coords).abs().sup(&(lo - centre.coords).abs());
                 (d - Vector3::repeat(margin)).norm()
             }

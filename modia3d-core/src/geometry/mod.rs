@@ -2,7 +2,8 @@
 //! narrow phase. Touches nothing outside itself.
 //!
 //! Pipeline (`docs/contact-model.md` §2), one file per step:
-//! - [`shapes`]: the user's [`Shape`] and its exact mass properties;
+//! - [`shapes`]: the user's [`Shape`] and its exact mass properties; its kinds are listed once
+//!   (`shape_kind.rs`), each variant with a row of [`SHAPE_KINDS`] (`shape_spec.rs`);
 //! - [`collision_shape`]: [`CollisionShape`] = core ⊕ ball(margin), built once per solid, with
 //!   [`smoothing`] (rounded edges of boxes, cylinders, cones, hulls) and [`support`] (closed-form
 //!   support maps of the cores); [`mesh_file`]: triangle meshes from OBJ/STL files, their
@@ -26,6 +27,7 @@ pub mod narrow_phase;
 pub mod overlap;
 mod pose;
 mod shape_kind;
+mod shape_spec;
 pub mod shapes;
 pub mod smoothing;
 pub mod support;
@@ -42,6 +44,7 @@ pub use narrow_phase::{
     contact_patch, contact_point, signed_distance, signed_distance_method, ContactPatch,
     NarrowPhaseOptions, SignedDistance,
 };
+pub use shape_spec::{ShapeKindSpec, ShapeParam, ShapeValue, ShapeValues, SHAPE_KINDS};
 pub use shapes::{convex_hull_from_obj, Axis, MeshCollision, Shape, ShapeKind, UnitMassProperties};
 pub use smoothing::{effective_smoothing_radius, DEFAULT_SMOOTHING_RADIUS};
 pub use support::CoreShape;

@@ -159,21 +159,6 @@ pub enum Shape {
 }
 
 impl Shape {
-    /// The kind of this shape.
-    pub fn kind(&self) -> ShapeKind {
-        match self {
-            Shape::Sphere { .. } => ShapeKind::Sphere,
-            Shape::Box { .. } => ShapeKind::Box,
-            Shape::Cylinder { .. } => ShapeKind::Cylinder,
-            Shape::Capsule { .. } => ShapeKind::Capsule,
-            Shape::Cone { .. } => ShapeKind::Cone,
-            Shape::Beam { .. } => ShapeKind::Beam,
-            Shape::Ellipsoid { .. } => ShapeKind::Ellipsoid,
-            Shape::ConvexHull { .. } => ShapeKind::ConvexHull,
-            Shape::FileMesh { .. } | Shape::Mesh { .. } => ShapeKind::Mesh,
-        }
-    }
-
     /// This shape with a [`Shape::FileMesh`] read into a [`Shape::Mesh`]; other shapes
     /// unchanged. Only reading and parsing can fail here; whether the mesh bounds a solid
     /// (needed for mass properties, not for a visual) is [`mesh_mass_properties`]' check.
@@ -190,7 +175,15 @@ impl Shape {
                     collision: *collision,
                 })
             }
-            _ => Ok(self.clone()),
+            Shape::Sphere { .. }
+            | Shape::Box { .. }
+            | Shape::Cylinder { .. }
+            | Shape::Capsule { .. }
+            | Shape::Cone { .. }
+            | Shape::Beam { .. }
+            | Shape::Ellipsoid { .. }
+            | Shape::ConvexHull { .. }
+            | Shape::Mesh { .. } => Ok(self.clone()),
         }
     }
 
@@ -203,7 +196,31 @@ impl Shape {
                 .map(|points| Shape::ConvexHull { points })
                 .collect(),
             Shape::FileMesh { .. } => vec![],
-            _ => vec![self.clone()],
+            Shape::Sphere { .. }
+            | Shape::Box { .. }
+            | Shape::Cylinder { .. }
+            | Shape::Capsule { .. }
+            | Shape::Cone { .. }
+            | Shape::Beam { .. }
+            | Shape::Ellipsoid { .. }
+            | Shape::ConvexHull { .. } => vec![self.clone()],
+        }
+    }
+
+    /// The diameter of a ball \[m\] (a sphere: the contact laws of the paper's sphere pairs
+    /// apply to it); `None` for every other shape.
+    pub fn ball_diameter(&self) -> Option<f64> {
+        match self {
+            Shape::Sphere { diameter } => Some(*diameter),
+            Shape::Box { .. }
+            | Shape::Cylinder { .. }
+            | Shape::Capsule { .. }
+            | Shape::Cone { .. }
+            | Shape::Beam { .. }
+            | Shape::Ellipsoid { .. }
+            | Shape::ConvexHull { .. }
+            | Shape::FileMesh { .. }
+            | Shape::Mesh { .. } => None,
         }
     }
 

@@ -275,7 +275,10 @@ impl CoreShape {
                 (r > 0.0).then_some(f)
             }
             CoreShape::Beam { axis, .. } => along(axis.beam_directions().1),
-            _ => None,
+            CoreShape::Point { .. }
+            | CoreShape::Segment { .. }
+            | CoreShape::Ellipsoid { .. }
+            | CoreShape::Hull { .. } => None,
         }
     }
 

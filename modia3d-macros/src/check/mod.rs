@@ -15,7 +15,7 @@ mod values;
 use crate::ast::{push, Arg, Ctor, ModelDef};
 use crate::ir::{Ir, Item, LitNum, Num, Parent, PathCheck};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
-use crate::vocab::{components, nested_hint, Kind, NESTED, SYNONYMS};
+use crate::vocab::{components, is_nested, nested_hint, Kind, SYNONYMS};
 use proc_macro2::{Ident, Span};
 use quote::ToTokens;
 use std::collections::{HashMap, HashSet};
@@ -273,7 +273,7 @@ impl Checker {
         if let Some(k) = Kind::of_builtin(&n) {
             return Some(k);
         }
-        if NESTED.contains(&n.as_str()) {
+        if is_nested(&n) {
             let h = nested_hint(&n);
             self.err(
                 ctor.span(),

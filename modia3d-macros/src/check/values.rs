@@ -4,10 +4,14 @@
 use super::{lit_bool, lit_int, lit_matrix, lit_str, Checker};
 use crate::ast::Ctor;
 use crate::ir::{
-    AxisIr, FeatureIr, Item, MassIr, MaterialName, Num, Parent, Profile, SceneIr, ShapeIr, SolidIr,
+    AxisIr, FeatureIr, Item, MassIr, MaterialName, Num, Parent, Profile, SceneIr, ShapeArg,
+    ShapeIr, SolidIr,
 };
 use crate::names::{did_you_mean, hint};
-use crate::vocab::{Kind, FEATURES, PROFILES, SCENE_KEYS, SCENE_NUMBERS, SHAPES, SOLID_KEYS};
+use crate::vocab::{
+    shape_kind, shapes, Kind, FEATURES, PROFILES, SCENE_KEYS, SCENE_NUMBERS, SOLID_KEYS,
+};
+use modia3d_core::ShapeValue;
 use proc_macro2::{Ident, Span};
 use syn::spanned::Spanned;
 use syn::Expr;
@@ -266,78 +270,41 @@ impl Checker {
         }
     }
 
+    /// A shape: an expression, or a constructor of the core's table with its row's keys (a
+    /// required one missing is an error), each read as its value type asks.
     pub(super) fn shape(&mut self, e: &Expr) -> Option<ShapeIr> {
-        let sc = match self.nested(e, SHAPES, "shape") {
+        let sc = match self.nested(e, &shapes(), "shape") {
             Err(expr) => return Some(ShapeIr::Expr(expr.clone())),
             Ok(None) => return None,
             Ok(Some(c)) => c,
         };
-        let name = sc.name().to_string();
-        match name.as_str() {
-            "Sphere" => {
-                let a = self.args(&sc, &["diameter"]);
-                Some(ShapeIr::Sphere(self.num(&a, "diameter", true)?))
-            }
-            "Box" | "Ellipsoid" => {
-                let a = self.args(&sc, &["lengths"]);
-                Some(ShapeIr::Lengths {
-                    ellipsoid: name == "Ellipsoid",
-                    lengths: self.num(&a, "lengths", true)?,
-                })
-            }
-            "Cylinder" | "Capsule" | "Cone" => {
-                let cone = name == "Cone";
-                let keys: &[&str] = if cone {
-                    &["axis", "diameter", "length", "top_diameter"]
-                } else {
-                    &["axis", "diameter", "length"]
-                };
-                let a = self.args(&sc, keys);
-                let axis = self.shape_axis(a.get("axis"));
-                let d = self.num(&a, "diameter", true);
-                let l = self.num(&a, "length", true);
-                let top = if cone {
-                    self.num(&a, "top_diameter", false)
-                } else {
-                    None
-                };
-                Some(ShapeIr::Round {
-                    ctor: match name.as_str() {
-                        "Cylinder" => "Cylinder",
-                        "Capsule" => "Capsule",
-                        _ => "Cone",
-                    },
-                    axis: axis?,
-                    diameter: d?,
-                    length: l?,
-                    top_diameter: top,
-                })
-            }
-            "FileMesh" => {
-                let a = self.args(&sc, &["path", "scale", "convex_decomposition"]);
-                let scale = self.num(&a, "scale", false);
-                Some(ShapeIr::FileMesh {
-                    path: self.required(&a, "path")?.clone(),
-                    scale,
-                    convex_decomposition: a.get("convex_decomposition").cloned(),
-                })
-            }
-            "Beam" => {
-                let a = self.args(&sc, &["axis", "length", "width", "thickness"]);
-                let axis = self.shape_axis(a.get("axis"));
-                let l = self.num(&a, "length", true);
-                let w = self.num(&a, "width", true);
-                let t = self.num(&a, "thickness", true);
-                Some(ShapeIr::Beam {
-                    axis: axis?,
-                    dims: [l?, w?, t?],
-                })
-            }
-            _ => {
-                let a = self.args(&sc, &["points"]);
-                Some(ShapeIr::Hull(self.required(&a, "points")?.clone()))
+        // `nested` returns only constructors of the table.
+        let spec = shape_kind(&sc.name().to_string())?;
+        let a = self.args(&sc, &spec.keys().collect::<Vec<_>>());
+        let mut args = vec![];
+        let mut ok = true;
+        for p in spec.params {
+            let arg = match p.value {
+                ShapeValue::AxisIndex => self.shape_axis(a.get(p.key)).map(ShapeArg::Axis),
+                ShapeValue::Length | ShapeValue::Lengths | ShapeValue::Factors => {
+                    self.num(&a, p.key, p.required).map(ShapeArg::Num)
+                }
+                ShapeValue::Vertices | ShapeValue::File | ShapeValue::Decomposition => {
+                    let e = match p.required {
+                        true => self.required(&a, p.key),
+                        false => a.get(p.key),
+                    };
+                    e.cloned().map(ShapeArg::Expr)
+                }
+                // Not a `model!` value (`shape_kind` gives no row with one).
+                ShapeValue::LoadedMesh => None,
+            };
+            match arg {
+                Some(arg) => args.push((p.key, arg)),
+                None => ok &= !p.required && p.value != ShapeValue::AxisIndex,
             }
         }
+        ok.then_some(ShapeIr::Call { spec, args })
     }
 
     /// A shape's axis: literal 1..3 (default 3, z) or an expression of type `Axis`.

@@ -3,11 +3,12 @@
 //! spliced in on their own spans so rustc reports type errors there.
 
 use super::{local, paths_module_at, prefix, scoped};
+use crate::ir::shape_arg;
 use crate::ir::{
     ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr,
-    MaterialName, Num, Parent, PathCheck, Profile, SceneIr, ShapeIr, SolidIr,
+    MaterialName, Num, Parent, PathCheck, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr,
 };
-use modia3d_core::ParamValue;
+use modia3d_core::{ParamValue, ShapeValue};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
 use syn::Expr;
@@ -330,64 +331,59 @@ fn solid(s: &SolidIr) -> TokenStream {
     quote!(#base #(#calls)*)
 }
 
+/// A shape's `Shape` expression: the row's variant with every field, each as given (or its
+/// value type's default).
 fn shape(s: &ShapeIr) -> TokenStream {
-    let shape = quote!(::modia3d::core::Shape);
+    let (spec, args) = match s {
+        ShapeIr::Expr(e) => return quote!(#e),
+        ShapeIr::Call { spec, args } => (spec, args),
+    };
     let v3 = quote!(::modia3d::__private::vector3);
-    match s {
-        ShapeIr::Expr(e) => quote!(#e),
-        ShapeIr::Sphere(d) => {
-            let d = &d.expr;
-            quote!(#shape::Sphere { diameter: #d })
-        }
-        ShapeIr::Lengths { ellipsoid, lengths } => {
-            let id = format_ident!("{}", if *ellipsoid { "Ellipsoid" } else { "Box" });
-            let l = &lengths.expr;
-            quote!(#shape::#id { lengths: #v3(#l) })
-        }
-        ShapeIr::Round {
-            ctor,
-            axis,
-            diameter,
-            length,
-            top_diameter,
-        } => {
-            let axis = shape_axis(axis);
-            let (d, l) = (&diameter.expr, &length.expr);
-            let top = (*ctor == "Cone").then(|| {
-                let t = num_or(top_diameter, quote!(0.0));
-                quote!(top_diameter: #t,)
-            });
-            let id = format_ident!("{}", ctor);
-            quote!(#shape::#id { axis: #axis, diameter: #d, length: #l, #top })
-        }
-        ShapeIr::Hull(p) => {
-            quote!(#shape::ConvexHull { points: ::modia3d::__private::points(#p) })
-        }
-        ShapeIr::FileMesh {
-            path,
-            scale,
-            convex_decomposition,
-        } => {
-            let scale = num_or(scale, quote!([1.0, 1.0, 1.0]));
-            let mc = quote!(::modia3d::core::MeshCollision);
-            let collision = match convex_decomposition {
-                Some(e) => quote!(if #e { #mc::ConvexDecomposition } else { #mc::ConvexHull }),
-                None => quote!(#mc::ConvexHull),
-            };
+    let fields = spec.params.iter().map(|p| {
+        let field = format_ident!("{}", p.field);
+        let arg = shape_arg(args, p.key);
+        let value = match (p.value, arg) {
+            (ShapeValue::Length, Some(ShapeArg::Num(n))) => {
+                let e = &n.expr;
+                quote!(#e)
+            }
+            (ShapeValue::Lengths | ShapeValue::Factors, Some(ShapeArg::Num(n))) => {
+                let e = &n.expr;
+                quote!(#v3(#e))
+            }
+            (ShapeValue::AxisIndex, Some(ShapeArg::Axis(a))) => shape_axis(a),
+            (ShapeValue::Vertices, Some(ShapeArg::Expr(p))) => {
+                quote!(::modia3d::__private::points(#p))
+            }
             // Spanned on the user's path so a type error points at it.
-            let path = quote_spanned!(syn::spanned::Spanned::span(path)=> ::std::path::PathBuf::from(#path));
-            quote!(#shape::FileMesh {
-                path: #path,
-                scale: #v3(#scale),
-                collision: #collision,
-            })
-        }
-        ShapeIr::Beam { axis, dims } => {
-            let axis = shape_axis(axis);
-            let [l, w, t] = dims.each_ref().map(|n| &n.expr);
-            quote!(#shape::Beam { axis: #axis, length: #l, width: #w, thickness: #t })
-        }
-    }
+            (ShapeValue::File, Some(ShapeArg::Expr(path))) => {
+                quote_spanned!(syn::spanned::Spanned::span(path)=> ::std::path::PathBuf::from(#path))
+            }
+            (ShapeValue::Decomposition, arg) => {
+                let mc = quote!(::modia3d::core::MeshCollision);
+                match arg {
+                    Some(ShapeArg::Expr(e)) => {
+                        quote!(if #e { #mc::ConvexDecomposition } else { #mc::ConvexHull })
+                    }
+                    _ => quote!(#mc::ConvexHull),
+                }
+            }
+            // Not given: the value type's default (a required one is always given).
+            (ShapeValue::Length, _) => quote!(0.0),
+            (ShapeValue::Factors, _) => quote!(#v3([1.0, 1.0, 1.0])),
+            (ShapeValue::AxisIndex, _) => quote!(::modia3d::core::Axis::Z),
+            (
+                ShapeValue::Lengths
+                | ShapeValue::Vertices
+                | ShapeValue::File
+                | ShapeValue::LoadedMesh,
+                _,
+            ) => quote!(::core::default::Default::default()),
+        };
+        quote!(#field: #value)
+    });
+    let id = format_ident!("{}", spec.name);
+    quote!(::modia3d::core::Shape::#id { #(#fields),* })
 }
 
 /// A shape's axis as an `Axis` expression.

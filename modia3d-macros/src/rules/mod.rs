@@ -9,9 +9,10 @@ mod map;
 
 use crate::ast::ModelDef;
 use crate::check::Errors;
+use crate::ir::shape_arg;
 use crate::ir::{
     ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr, LitNum,
-    MassIr, MaterialName, Num, Parent, SceneIr, ShapeIr, SolidIr,
+    MassIr, MaterialName, Num, Parent, SceneIr, ShapeArg, ShapeIr, SolidIr,
 };
 use crate::names::NameRef;
 use crate::vocab::Kind;
@@ -20,8 +21,8 @@ use modia3d_core::scene::{
     Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial, Wrench,
 };
 use modia3d_core::scene::{Bushing, Law, VectorLaw};
-use modia3d_core::{Axis, Shape};
-use nalgebra::{Matrix3, Point3, Vector3};
+use modia3d_core::{Axis, Shape, ShapeValues};
+use nalgebra::{Matrix3, Vector3};
 use std::collections::{HashMap, HashSet};
 
 /// The value of every number known only at run time: inside every range the core checks
@@ -426,69 +427,24 @@ impl<'a> Probe<'a> {
         o
     }
 
+    /// A shape as its row builds it from the literal values (`ShapeKindSpec::stand_in`); an
+    /// expression stands in as a sphere.
     fn shape(&mut self, owner: &str, s: &'a ShapeIr) -> Shape {
         match s {
             ShapeIr::Expr(_) => {
                 self.run_time_values = true;
                 Shape::Sphere { diameter: STAND_IN }
             }
-            ShapeIr::Sphere(d) => Shape::Sphere {
-                diameter: self.scalar(owner, d),
-            },
-            ShapeIr::Lengths { ellipsoid, lengths } => {
-                let lengths = self.vec3(owner, lengths);
-                if *ellipsoid {
-                    Shape::Ellipsoid { lengths }
-                } else {
-                    Shape::Box { lengths }
-                }
+            ShapeIr::Call { spec, args } => {
+                let mut values = ShapeLiterals {
+                    probe: self,
+                    owner,
+                    args,
+                };
+                // `ShapeIr::Call` holds only rows that are `model!` constructors.
+                spec.stand_in
+                    .map_or(Shape::Sphere { diameter: STAND_IN }, |f| f(&mut values))
             }
-            ShapeIr::Beam { axis, dims } => {
-                let [length, width, thickness] = dims.each_ref().map(|n| self.scalar(owner, n));
-                Shape::Beam {
-                    axis: shape_axis(axis),
-                    length,
-                    width,
-                    thickness,
-                }
-            }
-            ShapeIr::Round {
-                ctor,
-                axis,
-                diameter,
-                length,
-                top_diameter,
-            } => {
-                let axis = shape_axis(axis);
-                let (diameter, length) = (self.scalar(owner, diameter), self.scalar(owner, length));
-                match *ctor {
-                    "Cylinder" => Shape::Cylinder {
-                        axis,
-                        diameter,
-                        length,
-                    },
-                    "Capsule" => Shape::Capsule {
-                        axis,
-                        diameter,
-                        length,
-                    },
-                    _ => Shape::Cone {
-                        axis,
-                        diameter,
-                        length,
-                        top_diameter: top_diameter.as_ref().map_or(0.0, |t| self.scalar(owner, t)),
-                    },
-                }
-            }
-            // The file is read by `build()` at run time; a tetrahedron stands in.
-            ShapeIr::Hull(_) | ShapeIr::FileMesh { .. } => Shape::ConvexHull {
-                points: vec![
-                    Point3::origin(),
-                    Point3::new(STAND_IN, 0.0, 0.0),
-                    Point3::new(0.0, STAND_IN, 0.0),
-                    Point3::new(0.0, 0.0, STAND_IN),
-                ],
-            },
         }
     }
 
@@ -530,6 +486,39 @@ impl<'a> Probe<'a> {
             solid.layer_depth = Some(self.scalar(owner, h));
         }
         solid
+    }
+}
+
+/// The values of a shape constructor's arguments as the scene rules see them: literals
+/// (recorded, so that an error on one is put on its token), stand-ins for values known only at
+/// run time, the default of an argument not given.
+struct ShapeLiterals<'p, 'a> {
+    probe: &'p mut Probe<'a>,
+    owner: &'p str,
+    args: &'a [(&'static str, ShapeArg)],
+}
+
+impl ShapeValues for ShapeLiterals<'_, '_> {
+    fn length(&mut self, key: &'static str) -> f64 {
+        match shape_arg(self.args, key) {
+            Some(ShapeArg::Num(n)) => self.probe.scalar(self.owner, n),
+            Some(ShapeArg::Axis(_) | ShapeArg::Expr(_)) | None => 0.0,
+        }
+    }
+    fn vector(&mut self, key: &'static str) -> Vector3<f64> {
+        match shape_arg(self.args, key) {
+            Some(ShapeArg::Num(n)) => self.probe.vec3(self.owner, n),
+            Some(ShapeArg::Axis(_) | ShapeArg::Expr(_)) | None => Vector3::repeat(1.0),
+        }
+    }
+    fn axis(&mut self, key: &'static str) -> Axis {
+        match shape_arg(self.args, key) {
+            Some(ShapeArg::Axis(a)) => shape_axis(a),
+            Some(ShapeArg::Num(_) | ShapeArg::Expr(_)) | None => Axis::Z,
+        }
+    }
+    fn stand_in(&self) -> f64 {
+        STAND_IN
     }
 }
 

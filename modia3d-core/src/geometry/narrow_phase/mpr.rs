@@ -99,7 +99,11 @@ fn profile(c: &CoreShape) -> Profile {
     match c {
         CoreShape::Point { .. } => Profile::Point,
         CoreShape::Ellipsoid { .. } => Profile::Smooth,
-        _ => Profile::Faceted,
+        CoreShape::Segment { .. }
+        | CoreShape::Box { .. }
+        | CoreShape::Frustum { .. }
+        | CoreShape::Beam { .. }
+        | CoreShape::Hull { .. } => Profile::Faceted,
     }
 }
 

@@ -122,7 +122,14 @@ impl Polytope {
             }
             Shape::ConvexHull { points } => Polytope::from_points(points).map(Some),
             Shape::Mesh { mesh, .. } => Polytope::from_points(&mesh.vertices).map(Some),
-            _ => Ok(None),
+            // Round solids are frustums (`Frustum::from_shape`) or have no volume law; a file
+            // mesh is loaded first.
+            Shape::Sphere { .. }
+            | Shape::Cylinder { .. }
+            | Shape::Capsule { .. }
+            | Shape::Cone { .. }
+            | Shape::Ellipsoid { .. }
+            | Shape::FileMesh { .. } => Ok(None),
         }
     }
 

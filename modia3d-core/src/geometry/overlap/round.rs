@@ -119,7 +119,14 @@ impl Frustum {
                 r0: 0.5 * diameter,
                 r1: 0.5 * top_diameter,
             }),
-            _ => None,
+            Shape::Sphere { .. }
+            | Shape::Box { .. }
+            | Shape::Capsule { .. }
+            | Shape::Beam { .. }
+            | Shape::Ellipsoid { .. }
+            | Shape::ConvexHull { .. }
+            | Shape::FileMesh { .. }
+            | Shape::Mesh { .. } => None,
         }
     }
 
