@@ -4,44 +4,13 @@
 //! with. Reads the source, so a variant added without its row fails here (the generated
 //! dispatch in `joints/mod.rs` does not compile without one either).
 
+mod builder_source;
+
 use modia3d_core::JOINT_KINDS;
 
 /// The variants of `pub enum JointKind` with their fields, read from `desc.rs`.
 fn builder_variants() -> Vec<(String, Vec<String>)> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/src/scene/desc.rs");
-    let src = std::fs::read_to_string(path).unwrap();
-    let body = src
-        .split("pub enum JointKind {")
-        .nth(1)
-        .expect("desc.rs declares `pub enum JointKind`");
-    let mut variants: Vec<(String, Vec<String>)> = vec![];
-    for line in body.lines() {
-        if line.starts_with('}') {
-            break;
-        }
-        if line.trim_start().starts_with("//") {
-            continue;
-        }
-        // Variants at one indentation, their fields at two.
-        if let Some(v) = line.strip_prefix("    ").filter(|l| !l.starts_with(' ')) {
-            let name: String = v.chars().take_while(|c| c.is_alphanumeric()).collect();
-            if !name.is_empty() {
-                variants.push((name, vec![]));
-            }
-        } else if let Some(f) = line
-            .strip_prefix("        ")
-            .filter(|l| !l.starts_with(' '))
-        {
-            if let Some((field, _)) = f.split_once(':') {
-                variants
-                    .last_mut()
-                    .unwrap()
-                    .1
-                    .push(field.trim().to_string());
-            }
-        }
-    }
-    variants
+    builder_source::builder_variants("src/scene/desc.rs", "pub enum JointKind {")
 }
 
 #[test]
