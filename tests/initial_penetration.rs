@@ -23,11 +23,16 @@ const WHAT_TO_DO: &str = "the contact force would throw them apart or stall the 
 /// A steel ball (Ø 0.1 m) whose lowest point lies `depth` below the top of a 1 × 1 × 0.1 m
 /// steel table (top face at z = 0).
 fn ball_in_table(depth: f64) -> SceneDesc {
+    ball_in(0.1, depth, SceneOptions::default())
+}
+
+/// [`ball_in_table`] on a table `thickness` \[m\] thick, with the scene options `options`.
+fn ball_in(thickness: f64, depth: f64, options: SceneOptions) -> SceneDesc {
     let mut s = SceneDesc::new();
-    s.add(world(SceneOptions::default())).add(fixed_box(
+    s.add(world(options)).add(fixed_box(
         "table",
-        [1.0, 1.0, 0.1],
-        [0.0, 0.0, -0.05],
+        [1.0, 1.0, thickness],
+        [0.0, 0.0, -0.5 * thickness],
         "Steel",
     ));
     add_free_sphere(
@@ -196,24 +201,8 @@ fn a_ball_falling_through_a_soft_table_ends_with_too_deep() {
         k_red: 1e-9,
         ..SceneOptions::default()
     };
-    let mut s = SceneDesc::new();
-    s.add(world(options)).add(fixed_box(
-        "table",
-        [1.0, 1.0, 0.4],
-        [0.0, 0.0, -0.2],
-        "Steel",
-    ));
-    add_free_sphere(
-        &mut s,
-        "ball",
-        0.1,
-        "Steel",
-        None,
-        [0.0, 0.0, 0.1],
-        [0.0; 3],
-        [0.0; 3],
-    );
-    let e = s
+    // Its lowest point 5 cm above the table.
+    let e = ball_in(0.4, -0.05, options)
         .build()
         .expect("the ball starts 5 cm above the table")
         .simulate(&SimOptions::new(0.5).progress(false))

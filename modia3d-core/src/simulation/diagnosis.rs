@@ -25,10 +25,10 @@
 //! The same causes are given when IDA itself gives up (`SimErrorKind::SolverStalled`).
 //! Only read at the end of a failed run: allocates freely.
 
+use crate::contact::initial::extent;
 use crate::contact::{ContactPlan, ContactState};
 use crate::dynamics::mass_matrix::tree_mass_matrices;
 use crate::dynamics::{BodyId, ObjectId, Plan, Workspace};
-use crate::geometry::world_aabb;
 use crate::joints::Source;
 use crate::results::Event;
 use crate::scene::ValidForce;
@@ -658,12 +658,7 @@ pub(crate) fn deep_contact(
     cs: Option<&ContactState>,
 ) -> Option<SlowCause> {
     let (cp, cs) = (cp?, cs?);
-    let thickness = |s: usize| {
-        cp.shapes.get(s).map_or(f64::NAN, |s| {
-            let b = world_aabb(&s.shape, &nalgebra::Isometry3::identity());
-            (b.maxs - b.mins).min()
-        })
-    };
+    let thickness = |s: usize| cp.shapes.get(s).map_or(f64::NAN, |s| extent(&s.shape));
     let mut best: Option<(f64, SlowCause)> = None;
     for (_, pp, ps) in cs.active_pairs() {
         let depth = ps.response.penetration;
