@@ -183,6 +183,24 @@ fn main() {
             },
             false,
         ),
+        // An ellipsoid against a box: the face closed form where the ellipsoid's support
+        // point lies over a face (`closed_form.rs::box_face`), MPR elsewhere; beside MPR alone.
+        (
+            "box-ellipsoid (dispatch: face form)",
+            bx(0.6),
+            Shape::Ellipsoid {
+                lengths: Vector3::new(0.6, 0.4, 0.3),
+            },
+            false,
+        ),
+        (
+            "box-ellipsoid (MPR)",
+            bx(0.6),
+            Shape::Ellipsoid {
+                lengths: Vector3::new(0.6, 0.4, 0.3),
+            },
+            false,
+        ),
         (
             "ellipsoid-ellipsoid (MPR)",
             Shape::Ellipsoid {
