@@ -110,16 +110,18 @@ fn relaxed_contact_tightening_loses_no_energy() {
     let mut e = vec![0.0; res.time().len()];
     let mut kinetic_max: f64 = 0.0;
     for (k, b) in s.bodies.iter().enumerate() {
-        let fuzz::ShapeSpec::Box(l) = b.shape else {
-            panic!("the reproducer's bodies are boxes");
-        };
         let m = b.mass.expect("the reproducer's masses are given");
-        // A box's inertia about its centre (its object origin) [kg·m²].
-        let inertia = Matrix3::from_diagonal(&Vector3::new(
-            m / 12.0 * (l[1] * l[1] + l[2] * l[2]),
-            m / 12.0 * (l[0] * l[0] + l[2] * l[2]),
-            m / 12.0 * (l[0] * l[0] + l[1] * l[1]),
-        ));
+        // The body's inertia about its centre (its object origin) [kg·m²]: a solid sphere's
+        // 2/5·m·r², a box's m/12·(l_j² + l_k²).
+        let inertia = match b.shape {
+            fuzz::ShapeSpec::Sphere(d) => Matrix3::from_diagonal_element(0.1 * m * d * d),
+            fuzz::ShapeSpec::Box(l) => Matrix3::from_diagonal(&Vector3::new(
+                m / 12.0 * (l[1] * l[1] + l[2] * l[2]),
+                m / 12.0 * (l[0] * l[0] + l[2] * l[2]),
+                m / 12.0 * (l[0] * l[0] + l[1] * l[1]),
+            )),
+            _ => panic!("the reproducer's bodies are a sphere and a box"),
+        };
         let name = format!("b{k}");
         let r = res.signal(&format!("{name}.r_abs")).unwrap();
         let vel = res.signal(&format!("{name}.v_abs")).unwrap();

@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use modia3d_core::geometry::narrow_phase::Method;
+use modia3d_core::geometry::narrow_phase::{exact, Method};
 use modia3d_core::geometry::{
     signed_distance, signed_distance_method, Axis, CollisionShape, NarrowPhaseOptions, Shape,
     ShapeKind,
@@ -92,6 +92,56 @@ fn closed_forms_agree_with_mpr_and_parry() {
             "{ka:?}-{kb:?}: MPR above the exact depth by {e_deep}"
         );
         assert!(e_wit < 1e-12, "{ka:?}-{kb:?}: witness {e_wit}");
+    }
+}
+
+/// `narrow_phase::exact` (which pairs always take a closed form; the DAE keeps the full
+/// contact tightening for them only) against the dispatch itself: for every pair of kinds
+/// (meshes are hulls to the narrow phase), 400 random poses from overlapping to apart. An
+/// exact pair must answer every query in closed form; any other pair must go to MPR for at
+/// least one of them (the ellipsoid on a box off the box's faces), so a closed form added to
+/// the dispatch without `exact`, or the reverse, fails here.
+#[test]
+fn exact_names_the_pairs_the_dispatch_answers_in_closed_form() {
+    use ShapeKind as K;
+    let kinds = [
+        K::Sphere,
+        K::Box,
+        K::Ellipsoid,
+        K::Cylinder,
+        K::Capsule,
+        K::Cone,
+        K::ConvexHull,
+        K::Beam,
+    ];
+    let opts = NarrowPhaseOptions::default();
+    let mut rng = Rng(11);
+    for ka in kinds {
+        for kb in kinds {
+            let mut closed = 0;
+            for _ in 0..400 {
+                let a = CollisionShape::with_smoothing(&random_shape(&mut rng, ka), 0.05).unwrap();
+                let b = CollisionShape::with_smoothing(&random_shape(&mut rng, kb), 0.05).unwrap();
+                let size = a.bounding_radius() + b.bounding_radius();
+                let pa = random_pose(&mut rng, 0.1);
+                let pb = Isometry3::from_parts(
+                    Translation3::from(
+                        pa.translation.vector + rng.unit_vector() * rng.range(0.0, 1.1) * size,
+                    ),
+                    rng.rotation(),
+                );
+                let (_, method) = signed_distance_method(&a, &pa, &b, &pb, &opts).unwrap();
+                closed += usize::from(method == Method::ClosedForm);
+            }
+            if exact(ka, kb) {
+                assert_eq!(closed, 400, "{ka:?}-{kb:?} is exact but went to MPR");
+            } else {
+                assert!(
+                    closed < 400,
+                    "{ka:?}-{kb:?} always closed form but not exact"
+                );
+            }
+        }
     }
 }
 

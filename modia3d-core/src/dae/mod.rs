@@ -34,6 +34,21 @@ pub const VOLUME_CONTACT_RTOL_FLOOR: f64 = 1e-8;
 /// `falling_boxes` took 14,684 steps instead of 17,410.
 pub const VOLUME_TIGHTENING_SHARE: f64 = 0.3;
 
+/// The tightest relative tolerance the contact tightening asks of a body in a point-law
+/// contact whose narrow phase is iterative for some poses (MPR: the pairs that are not
+/// [`crate::geometry::narrow_phase::exact`]), as [`VOLUME_CONTACT_RTOL_FLOOR`] for the volume
+/// law: MPR's normal jitters by 1e-6–1e-5 rad between poses 1e-9 m apart, so the force's
+/// direction carries that noise, and a tightening to `rtol/κ` far below it (3e-12 at rtol
+/// 1e-9, κ = 316) only chases it: the steps collapse to 1e-10 s. The floor only lowers the
+/// tightening (the factor stays ≥ 1: never looser than the asked rtol), so it acts below
+/// rtol ≈ 1e-6 (κ = 100 there). Measured on the 10,000-scene batch's budget runs whose
+/// diagnosis was the narrow phase's noise (BENCHMARKS.md, "Random scenes"): 7 of 14 then
+/// finish within 20 s, 5 of them at rtol ≤ 4e-9 in 0.6–5 s; a floor of 1e-7 rescued two more
+/// but coarsens the contact times of these pairs at rtol 1e-6 tenfold, and loosening below
+/// the asked rtol (a factor < 1) rescued none of seven more runs at rtol ≤ 1.6e-8. Sphere
+/// pairs with a closed form keep the full tightening, bit for bit.
+pub const ITERATIVE_CONTACT_RTOL_FLOOR: f64 = 1e-8;
+
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
 pub struct MultibodyDae {
@@ -53,8 +68,9 @@ pub struct MultibodyDae {
     /// evaluations and LU as IDA's dense Jacobian, but the difference-quotient increments of
     /// `solver/ida/linear.rs`, which see contacts at nanometre penetration.
     blocks: Option<TreeBlocks>,
-    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in contact (1: in a
-    /// point-law contact only, 2: in a volume-law contact).
+    /// Scratch of [`DaeSystem::error_weight_factors`]: blocks with a body in contact (the
+    /// largest mark of its contacts, the one that tightens least: 1 in a point-law contact
+    /// with a closed form, 2 in one with an iterative narrow phase, 3 in a volume-law contact).
     ewt_marked: Vec<u8>,
     /// The factors of the last [`DaeSystem::error_weight_factors`] that formed them, with the
     /// marks and the tightening they came from: the contact set changes only at events, so
@@ -65,6 +81,9 @@ pub struct MultibodyDae {
     /// The largest tightening of a block in a volume-law contact: `rtol / 1e-8`, at least 1
     /// ([`VOLUME_CONTACT_RTOL_FLOOR`]; infinite until [`MultibodyDae::set_tolerance`]).
     volume_tightening_cap: f64,
+    /// The largest tightening of a block in a point-law contact with an iterative narrow
+    /// phase: `rtol / 1e-8`, at least 1 ([`ITERATIVE_CONTACT_RTOL_FLOOR`]).
+    iterative_tightening_cap: f64,
     /// Factor of the error weights of the bodies in contact (1 = off; see
     /// [`crate::SimOptions::contact_tightening`]).
     contact_tightening: f64,
@@ -246,6 +265,7 @@ impl MultibodyDae {
             ewt_factors_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
             ewt_factors_kappa: f64::NAN,
             volume_tightening_cap: f64::INFINITY,
+            iterative_tightening_cap: f64::INFINITY,
             contact_tightening: 1.0,
             blocks,
             analytic: vec![],
@@ -261,6 +281,7 @@ impl MultibodyDae {
     /// volume-law contact (see [`VOLUME_CONTACT_RTOL_FLOOR`]).
     pub fn set_tolerance(&mut self, rtol: f64) {
         self.volume_tightening_cap = (rtol / VOLUME_CONTACT_RTOL_FLOOR).max(1.0);
+        self.iterative_tightening_cap = (rtol / ITERATIVE_CONTACT_RTOL_FLOOR).max(1.0);
     }
     pub fn set_contact_tightening(&mut self, factor: f64) {
         self.contact_tightening = factor.max(1.0);
@@ -636,10 +657,17 @@ impl DaeSystem for MultibodyDae {
         marked.resize(tb.fixed.n_blocks, 0);
         let mut any = false;
         for (_, pp, _) in cs.active_pairs() {
-            let mark = if pp.law == crate::contact::PairLaw::Point {
-                1
-            } else {
-                2
+            let mark = match pp.law {
+                crate::contact::PairLaw::Point
+                    if crate::geometry::narrow_phase::exact(
+                        cp.shapes[pp.a].shape.kind(),
+                        cp.shapes[pp.b].shape.kind(),
+                    ) =>
+                {
+                    1
+                }
+                crate::contact::PairLaw::Point => 2,
+                _ => 3,
             };
             for s in [pp.a, pp.b] {
                 if let Some(b) = cp.shapes[s].body {
@@ -663,6 +691,7 @@ impl DaeSystem for MultibodyDae {
                     match marked[blk] {
                         0 => 1.0,
                         1 => kappa,
+                        2 => kappa.min(self.iterative_tightening_cap).max(1.0),
                         _ => (VOLUME_TIGHTENING_SHARE * kappa)
                             .min(self.volume_tightening_cap)
                             .max(1.0),

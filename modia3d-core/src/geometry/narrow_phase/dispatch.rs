@@ -60,3 +60,18 @@ pub fn signed_distance_method(
         Err(GeometryError::NotFinite)
     }
 }
+
+/// Whether every query of a pair of these kinds takes a closed form of [`signed_distance`]
+/// (exact and smooth in the poses up to rounding). The other pairs go to MPR for some or all
+/// poses (the ellipsoid on a box off the box's faces), whose normal jitters by 1e-6–1e-5 rad
+/// between poses 1e-9 m apart (`simulation/diagnosis.rs`, `ROUGHNESS_TESTS`): the DAE does
+/// not ask their bodies' error test for more than that carries
+/// ([`crate::dae::ITERATIVE_CONTACT_RTOL_FLOOR`]).
+pub fn exact(a: K, b: K) -> bool {
+    matches!(
+        (a, b),
+        (K::Sphere, K::Sphere | K::Box | K::Cylinder | K::Capsule)
+            | (K::Box | K::Cylinder | K::Capsule, K::Sphere)
+            | (K::Capsule, K::Capsule)
+    )
+}

@@ -12,7 +12,7 @@ mod gjk_distance;
 mod mpr;
 
 pub use contact_point::{contact_patch, contact_point, ContactPatch};
-pub use dispatch::{signed_distance, signed_distance_method};
+pub use dispatch::{exact, signed_distance, signed_distance_method};
 
 use nalgebra::{Point3, Vector3};
 
