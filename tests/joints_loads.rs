@@ -279,6 +279,20 @@ fn static_arm_loads_are_statics() {
             tol,
             &format!("j{k}.t"),
         );
+        // Resolved in obj2's frame (link k's, turned by its absolute angle θ_k): what a load
+        // cell on the link reads.
+        close(
+            &last(&format!("j{k}.f_obj2")),
+            &rot_y(-theta[k], f),
+            tol,
+            &format!("j{k}.f_obj2"),
+        );
+        close(
+            &last(&format!("j{k}.t_obj2")),
+            &rot_y(-theta[k], t),
+            tol,
+            &format!("j{k}.t_obj2"),
+        );
     }
     let (f, t) = carried(&|i| i == 4, p[3]);
     close(&last("mount.f_abs"), &f, tol, "mount.f_abs");
@@ -292,10 +306,23 @@ fn static_arm_loads_are_statics() {
         tol,
         "tool.f_parent",
     );
+    // The tool's own frame is link1's (a parent link without rotation): the same turn.
+    close(
+        &last("tool.t_parent_own"),
+        &rot_y(-theta[1], t),
+        tol,
+        "tool.t_parent_own",
+    );
     // The payload's weight on the tip: the Fix joint's frames coincide, so obj1's frame is
     // the tip's, turned by θ3.
     let (f, _) = carried(&|i| i == 4, p[3]);
     close(&last("mount.f"), &rot_y(-theta[2], f), tol, "mount.f");
+    close(
+        &last("mount.f_obj2"),
+        &rot_y(-theta[2], f),
+        tol,
+        "mount.f_obj2",
+    );
 }
 
 #[allow(dead_code)] // the model type is used, not the example's main

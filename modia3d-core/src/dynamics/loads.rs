@@ -67,7 +67,8 @@ pub enum LoadError {
 }
 
 /// The wrench obj1 exerts on obj2 through a joint or rigid link: `force` \[N\] and `torque`
-/// [N·m] about obj2's origin, both resolved in world; `obj1_rot` turns obj1's frame into world.
+/// [N·m] about obj2's origin, both resolved in world; `obj1_rot` and `obj2_rot` turn obj1's and
+/// obj2's frames into world.
 #[derive(Clone, Copy, Debug)]
 pub struct LinkWrench {
     /// Force on obj2, resolved in world \[N\].
@@ -76,6 +77,8 @@ pub struct LinkWrench {
     pub torque: Vector3<f64>,
     /// obj1's orientation in world (columns = obj1's axes).
     pub obj1_rot: Matrix3<f64>,
+    /// obj2's orientation in world (columns = obj2's axes).
+    pub obj2_rot: Matrix3<f64>,
 }
 
 /// A rigid link between two objects of one body (or of the world's cluster).
@@ -150,6 +153,7 @@ pub fn tree_joint_wrench(plan: &Plan, ws: &Workspace, j: JointId) -> LinkWrench 
         force,
         torque,
         obj1_rot: x1.rot,
+        obj2_rot: x2.rot,
     }
 }
 
@@ -214,7 +218,8 @@ pub fn rigid_link_wrench(
     };
     let scene = &plan.scene;
     let x1 = object_in_world(plan, ws, ObjectId(o1));
-    let p2 = object_in_world(plan, ws, ObjectId(o2)).pos;
+    let x2 = object_in_world(plan, ws, ObjectId(o2));
+    let p2 = x2.pos;
     let (mut f, mut n) = (Vector3::zeros(), Vector3::zeros());
     // What the link must supply, accumulated as (force, moment about p2), both world.
     let mut add = |ff: &Vector3<f64>, nn: &Vector3<f64>, at: &Vector3<f64>, sign: f64| {
@@ -299,5 +304,6 @@ pub fn rigid_link_wrench(
         force: f,
         torque: n,
         obj1_rot: x1.rot,
+        obj2_rot: x2.rot,
     }))
 }

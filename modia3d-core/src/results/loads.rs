@@ -7,11 +7,13 @@
 //!
 //! * per joint (tree joints of every kind, `Fix` joints): `<joint>.f` the force \[N\] on obj2
 //!   and `<joint>.t` the torque [N·m] on obj2 about obj2's origin, both resolved in obj1's
-//!   frame; `<joint>.f_abs`, `<joint>.t_abs` the same resolved in world;
+//!   frame; `<joint>.f_abs`, `<joint>.t_abs` the same resolved in world; `<joint>.f_obj2`,
+//!   `<joint>.t_obj2` the same resolved in obj2's frame (what a load cell on obj2 reads);
 //! * per object with a parent (its parent link): `<object>.f_parent`, `<object>.t_parent`, the
 //!   wrench the parent exerts on the object's side of the link (the object and everything
 //!   rigidly attached to it but through the link), about the object's origin, resolved in the
-//!   parent's frame; `<object>.f_parent_abs`, `<object>.t_parent_abs` resolved in world.
+//!   parent's frame; `<object>.f_parent_abs`, `<object>.t_parent_abs` resolved in world;
+//!   `<object>.f_parent_own`, `<object>.t_parent_own` resolved in the object's own frame.
 //!
 //! `signal_at` takes them at the state of IDA's polynomial with `dense_output` (scenes without
 //! collision pairs), else by the cubic of the output points, as the other signals.
@@ -30,13 +32,31 @@ use crate::dynamics::{ObjectId, Workspace};
 use nalgebra::Vector3;
 
 /// The fields of a joint's load.
-const JOINT_FIELDS: [&str; 4] = ["f", "t", "f_abs", "t_abs"];
+const JOINT_FIELDS: [&str; 6] = ["f", "t", "f_abs", "t_abs", "f_obj2", "t_obj2"];
 /// The fields of a parent link's load, owned by the child object.
-const PARENT_FIELDS: [&str; 4] = ["f_parent", "t_parent", "f_parent_abs", "t_parent_abs"];
+const PARENT_FIELDS: [&str; 6] = [
+    "f_parent",
+    "t_parent",
+    "f_parent_abs",
+    "t_parent_abs",
+    "f_parent_own",
+    "t_parent_own",
+];
 
 /// Values per tree joint and output point in [`TreeLoads`]: force and torque in obj1's frame,
-/// then in world.
-const PER_JOINT: usize = 12;
+/// in world, then in obj2's frame (the order of [`JOINT_FIELDS`]).
+const PER_JOINT: usize = 18;
+
+/// Field `i` of a load, in the order of [`JOINT_FIELDS`] and [`PARENT_FIELDS`]: force and
+/// torque resolved in obj1's frame, in world, in obj2's frame.
+fn field(w: &LinkWrench, i: usize) -> Vector3<f64> {
+    let v = if i % 2 == 0 { &w.force } else { &w.torque };
+    match i / 2 {
+        0 => w.obj1_rot.tr_mul(v),
+        1 => *v,
+        _ => w.obj2_rot.tr_mul(v),
+    }
+}
 
 /// Every tree joint's load at every output point (`PER_JOINT` values per joint, joints in
 /// plan order, point after point), or the first point whose loads could not be computed, with
@@ -252,13 +272,8 @@ impl SimulationResult {
             load_pass(plan, &mut ws, (t, q, v), lambda, &contacts).map_err(|e| Box::new((t, e)))?;
             for j in 0..nj {
                 let w = tree_joint_wrench(plan, &ws, JointId(j));
-                for x in [
-                    w.obj1_rot.tr_mul(&w.force),
-                    w.obj1_rot.tr_mul(&w.torque),
-                    w.force,
-                    w.torque,
-                ] {
-                    table.extend_from_slice(x.as_slice());
+                for i in 0..JOINT_FIELDS.len() {
+                    table.extend_from_slice(field(&w, i).as_slice());
                 }
             }
         }
@@ -301,12 +316,7 @@ impl SimulationResult {
             Ok(None) => return None,
             Err(e) => return Some(Err(load_error(e, t, name))),
         };
-        Some(Ok(match i {
-            0 => w.obj1_rot.tr_mul(&w.force),
-            1 => w.obj1_rot.tr_mul(&w.torque),
-            2 => w.force,
-            _ => w.torque,
-        }))
+        Some(Ok(field(&w, i)))
     }
 
     /// Names of the load signals this result can give (none when they are unavailable: see

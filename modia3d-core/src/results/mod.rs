@@ -825,11 +825,12 @@ impl SimulationResult {
     /// same resolved in world.
     /// Joint loads, the same wrench through every other joint: per tree joint (every kind) and
     /// `Fix` joint `<joint>.f` \[N\] and `<joint>.t` [N·m], the force obj1 exerts on obj2 and
-    /// its torque about obj2's origin, resolved in obj1's frame, and `<joint>.f_abs`,
-    /// `<joint>.t_abs` resolved in world; per object with a parent, its parent link's
-    /// `<object>.f_parent`, `<object>.t_parent` (on the object's side of the link, about the
-    /// object's origin, resolved in the parent's frame) and `<object>.f_parent_abs`,
-    /// `<object>.t_parent_abs` (world). They include the joint's springs and drives along its
+    /// its torque about obj2's origin, resolved in obj1's frame, `<joint>.f_abs`,
+    /// `<joint>.t_abs` resolved in world and `<joint>.f_obj2`, `<joint>.t_obj2` resolved in
+    /// obj2's frame; per object with a parent, its parent link's `<object>.f_parent`,
+    /// `<object>.t_parent` (on the object's side of the link, about the object's origin,
+    /// resolved in the parent's frame), `<object>.f_parent_abs`, `<object>.t_parent_abs`
+    /// (world) and `<object>.f_parent_own`, `<object>.t_parent_own` (the object's frame). They include the joint's springs and drives along its
     /// free directions; computed on demand from the stored states by a Newton–Euler pass with
     /// the model's accelerations at each state (`dynamics/loads.rs`); a scene with collision
     /// pairs needs `contact_results` ([`ResultError::ContactResultsOff`] otherwise), a scene
