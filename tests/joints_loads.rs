@@ -137,6 +137,36 @@ fn pendulum_hinge_carries_m_g_plus_v2_over_l_at_the_bottom() {
         tol,
         "rod_end.f_parent_abs",
     );
+    // The peak of the hinge's force over the swing is this bottom value (the tension grows as
+    // the bob falls and its tangential part vanishes there), found between the 1 ms output
+    // points by the parabola through the largest sample and its neighbours: the swing is
+    // symmetric about the bottom, so the parabola's error is of order (ω·1 ms)⁴ ~ 1e-11 and
+    // the solver's 10·rtol bounds the value; the time of a flat maximum is conditioned as
+    // √(value error / curvature), ~1e-5 s here, so 1e-4 s.
+    let peaks = res.joint_load_peaks().unwrap();
+    let p = peaks
+        .iter()
+        .find(|p| p.joint == "hinge")
+        .expect("hinge peak");
+    println!(
+        "hinge peak {:.12e} N at {:.9} s (bottom {hinge:.12e} N at {t:.9} s)",
+        p.max_force, p.t_max_force
+    );
+    assert!((p.max_force - hinge).abs() < tol, "peak {}", p.max_force);
+    assert!(
+        (p.t_max_force - t).abs() < 1e-4,
+        "peak time {}",
+        p.t_max_force
+    );
+    let m = peaks
+        .iter()
+        .find(|p| p.joint == "mount")
+        .expect("mount peak");
+    assert!(
+        (m.max_force - mount).abs() < tol,
+        "mount peak {}",
+        m.max_force
+    );
     let f = res.signal("hinge.f").unwrap();
     assert_eq!(f.unit, "N");
     assert_eq!(res.signal("hinge.t").unwrap().unit, "N·m");
@@ -770,6 +800,10 @@ fn load_signals_that_cannot_be_computed_are_typed_errors() {
         "{e}"
     );
     assert!(!res.signal_names().iter().any(|n| n == "hinge.f"));
+    assert!(matches!(
+        res.joint_load_peaks(),
+        Err(ResultError::LoadsUnavailable { .. })
+    ));
     // Collision pairs without contact results.
     let mut s = SceneDesc::new();
     s.add(Object3D::new("world").scene(SceneOptions::default()))
@@ -802,6 +836,10 @@ fn load_signals_that_cannot_be_computed_are_typed_errors() {
     assert!(matches!(e, ResultError::ContactResultsOff { .. }), "{e}");
     assert!(e.to_string().contains("contact_results(true)"), "{e}");
     assert!(!res.signal_names().iter().any(|n| n == "slide.f"));
+    assert!(matches!(
+        res.joint_load_peaks(),
+        Err(ResultError::ContactResultsOff { .. })
+    ));
 }
 
 /// With `dense_output`, `signal_at` takes the loads at the state of the solver's polynomial,

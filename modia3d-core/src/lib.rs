@@ -86,8 +86,8 @@ pub use joints::{
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
 #[cfg(feature = "solver")]
 pub use results::{
-    ContactPhase, Event, PlotFormat, PlotOptions, ResultError, Signal, SimStats, SimWarning,
-    SimulationResult, EVENT_MARKER_COLOR,
+    ContactPhase, Event, JointLoadPeak, PlotFormat, PlotOptions, ResultError, Signal, SimStats,
+    SimWarning, SimulationResult, EVENT_MARKER_COLOR,
 };
 pub use scene::{
     Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,

@@ -205,3 +205,34 @@ impl PhaseBook {
         }
     }
 }
+
+/// The vertex `(t, value)` of the parabola through three samples, if it opens downwards: the
+/// refinement of a maximum sampled at discrete times (contact phases, joint load peaks).
+pub(crate) fn parabola_max(t: [f64; 3], f: [f64; 3]) -> Option<(f64, f64)> {
+    let [t0, t1, t2] = t;
+    let [f0, f1, f2] = f;
+    let d01 = (f1 - f0) / (t1 - t0);
+    let d12 = (f2 - f1) / (t2 - t1);
+    let a = (d12 - d01) / (t2 - t0);
+    if a.is_nan() || a >= 0.0 {
+        return None;
+    }
+    // f(t) = f1 + b (t − t1) + a (t − t1)², b the slope at t1.
+    let b = d01 + a * (t1 - t0);
+    let dt = -b / (2.0 * a);
+    let tv = (t1 + dt).clamp(t0, t2);
+    Some((tv, f1 + b * (tv - t1) + a * (tv - t1) * (tv - t1)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parabola_max;
+
+    /// The vertex of an exact parabola is found exactly.
+    #[test]
+    fn parabola_vertex() {
+        let f = |t: f64| 3.0 - 2.0 * (t - 0.37) * (t - 0.37);
+        let (tv, fv) = parabola_max([0.1, 0.3, 0.6], [f(0.1), f(0.3), f(0.6)]).unwrap();
+        assert!((tv - 0.37).abs() < 1e-12 && (fv - 3.0).abs() < 1e-12);
+    }
+}

@@ -22,7 +22,7 @@
 //! scene with collision pairs needs it; input values are not recorded, so a scene with inputs
 //! has no load signals ([`ResultError::LoadsUnavailable`]).
 
-use super::{ResultError, Signal, SimulationResult, PAIR_VALUES};
+use super::{parabola_max, ResultError, Signal, SimulationResult, PAIR_VALUES};
 use crate::dynamics::ids::JointId;
 use crate::dynamics::loads::{
     link_ends, load_pass, rigid_link_wrench, tree_joint_wrench, LinkWrench, LoadError,
@@ -58,10 +58,48 @@ fn field(w: &LinkWrench, i: usize) -> Vector3<f64> {
     }
 }
 
+/// The largest of `values` sampled at `time` and when: refined by [`parabola_max`] through it
+/// and its neighbours when it is an interior sample (never below the sample itself).
+fn peak_of(time: &[f64], values: &[f64]) -> (f64, f64) {
+    let Some((k, &v)) = values
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.is_finite())
+        .max_by(|a, b| a.1.total_cmp(b.1))
+    else {
+        return (f64::NAN, f64::NAN);
+    };
+    if k == 0 || k + 1 >= values.len() || k + 1 >= time.len() {
+        return (time.get(k).copied().unwrap_or(f64::NAN), v);
+    }
+    match parabola_max(
+        [time[k - 1], time[k], time[k + 1]],
+        [values[k - 1], v, values[k + 1]],
+    ) {
+        Some((t, p)) if p >= v => (t, p),
+        _ => (time[k], v),
+    }
+}
+
 /// Every tree joint's load at every output point (`PER_JOINT` values per joint, joints in
 /// plan order, point after point), or the first point whose loads could not be computed, with
 /// the reason.
 pub(super) type TreeLoads = Result<Vec<f64>, Box<(f64, LoadError)>>;
+
+/// The largest load one joint carried over a run ([`SimulationResult::joint_load_peaks`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointLoadPeak {
+    /// The joint (a tree joint of any kind, a `Fix` joint or a loop's cut joint).
+    pub joint: String,
+    /// The largest magnitude of the force obj1 exerts on obj2 through it \[N\].
+    pub max_force: f64,
+    /// When it occurred \[s\].
+    pub t_max_force: f64,
+    /// The largest magnitude of the torque on obj2 about obj2's origin [N·m].
+    pub max_torque: f64,
+    /// When it occurred \[s\].
+    pub t_max_torque: f64,
+}
 
 /// Whose load a signal asks for.
 #[derive(Clone, Copy)]
@@ -317,6 +355,51 @@ impl SimulationResult {
             Err(e) => return Some(Err(load_error(e, t, name))),
         };
         Some(Ok(field(&w, i)))
+    }
+
+    /// Every joint's largest load over the run, joints in the order of
+    /// [`Self::signal_names`]: the largest magnitude of `<joint>.f_abs` and of `<joint>.t_abs`
+    /// over the output points, refined by the parabola through the largest sample and its two
+    /// neighbours (exact for a peak that is locally quadratic; a peak between output points
+    /// that no sample comes near is missed — `SimOptions::output_steps(true)` samples every
+    /// step). Computed on demand as the load signals are, with their errors
+    /// ([`ResultError::LoadsUnavailable`], [`ResultError::ContactResultsOff`]).
+    pub fn joint_load_peaks(&self) -> Result<Vec<JointLoadPeak>, ResultError> {
+        if let Some(e) = self.loads_error("joint_load_peaks()") {
+            return Err(e);
+        }
+        let mut joints: Vec<String> = self
+            .load_signal_names()
+            .iter()
+            .filter_map(|n| n.strip_suffix(".f_abs"))
+            .map(str::to_string)
+            .collect();
+        let plan = &*self.model.plan;
+        joints.extend(plan.loops.cuts.iter().map(|c| c.name.clone()));
+        let peak = |name: &str| -> Result<(f64, f64), ResultError> {
+            let s = self.signal(name)?;
+            let mags: Vec<f64> = (0..self.time.len())
+                .map(|k| {
+                    s.at(k)
+                        .map_or(f64::NAN, |v| Vector3::new(v[0], v[1], v[2]).norm())
+                })
+                .collect();
+            Ok(peak_of(&self.time, &mags))
+        };
+        joints
+            .into_iter()
+            .map(|joint| {
+                let (t_max_force, max_force) = peak(&format!("{joint}.f_abs"))?;
+                let (t_max_torque, max_torque) = peak(&format!("{joint}.t_abs"))?;
+                Ok(JointLoadPeak {
+                    joint,
+                    max_force,
+                    t_max_force,
+                    max_torque,
+                    t_max_torque,
+                })
+            })
+            .collect()
     }
 
     /// Names of the load signals this result can give (none when they are unavailable: see

@@ -26,8 +26,10 @@ use crate::dynamics::{kinematics, Plan, Workspace};
 use crate::joints::Source;
 use crate::model::Model;
 use crate::solver::IdaStats;
+pub(crate) use contacts::parabola_max;
 pub use contacts::ContactPhase;
 use contacts::PhaseBook;
+pub use loads::JointLoadPeak;
 use std::io::Write;
 pub use warnings::SimWarning;
 

@@ -29,6 +29,7 @@
 //! work budget the measurement was the larger part of the run (BENCHMARKS.md).
 
 use super::{SimErrorKind, Simulation};
+use crate::results::parabola_max;
 use nalgebra::Vector3;
 
 /// Gauss–Lobatto nodes on `[−1, 1]` (4 points: the ends and `±1/√5`).
@@ -81,23 +82,6 @@ impl PhaseScratch {
     pub(super) fn forget(&mut self) {
         self.end_t = f64::NAN;
     }
-}
-
-/// The vertex `(t, value)` of the parabola through three samples, if it opens downwards.
-fn parabola_max(t: [f64; 3], f: [f64; 3]) -> Option<(f64, f64)> {
-    let [t0, t1, t2] = t;
-    let [f0, f1, f2] = f;
-    let d01 = (f1 - f0) / (t1 - t0);
-    let d12 = (f2 - f1) / (t2 - t1);
-    let a = (d12 - d01) / (t2 - t0);
-    if a.is_nan() || a >= 0.0 {
-        return None;
-    }
-    // f(t) = f1 + b (t − t1) + a (t − t1)², b the slope at t1.
-    let b = d01 + a * (t1 - t0);
-    let dt = -b / (2.0 * a);
-    let tv = (t1 + dt).clamp(t0, t2);
-    Some((tv, f1 + b * (tv - t1) + a * (tv - t1) * (tv - t1)))
 }
 
 /// The three of `pts` (sorted by time) and `v` around the largest value: it and its
@@ -323,13 +307,5 @@ mod tests {
         }
         let err = 2f64.powi(7) / 7.0 - rule(6);
         assert!((err + 128.0 * 720.0 / 1_512_000.0).abs() < 1e-12, "{err}");
-    }
-
-    /// The vertex of an exact parabola is found exactly.
-    #[test]
-    fn parabola_vertex() {
-        let f = |t: f64| 3.0 - 2.0 * (t - 0.37) * (t - 0.37);
-        let (tv, fv) = parabola_max([0.1, 0.3, 0.6], [f(0.1), f(0.3), f(0.6)]).unwrap();
-        assert!((tv - 0.37).abs() < 1e-12 && (fv - 3.0).abs() < 1e-12);
     }
 }
