@@ -71,9 +71,9 @@ pub(crate) struct MultibodyDae {
     /// Trees whose Jacobian columns the DAE computes itself (`dae/jacobian.rs`), as last
     /// reported by `jacobian_structure`.
     analytic: Vec<bool>,
-    /// Free bodies get analytic columns (off with the environment variable
-    /// `MODIA3D_DQ_JACOBIAN=1`, read when the DAE is built: every block by difference
-    /// quotients, as before `dae/jacobian.rs`, for comparisons).
+    /// Free bodies and hinge trees get the DAE's own columns (default; off with
+    /// `SimOptions::analytic_jacobian`, set before the solver is created: every block by
+    /// difference quotients, as before `dae/jacobian.rs`, for comparisons).
     analytic_enabled: bool,
     /// The body each position coordinate places (the body of its joint), for
     /// [`DaeSystem::quotient_residual`].
@@ -249,7 +249,7 @@ impl MultibodyDae {
             contact_tightening: 1.0,
             blocks,
             analytic: vec![],
-            analytic_enabled: std::env::var_os("MODIA3D_DQ_JACOBIAN").is_none_or(|v| v != "1"),
+            analytic_enabled: true,
         }
     }
     /// Tightens the error test of the bodies in contact (in the contact set) by `factor`
@@ -261,6 +261,12 @@ impl MultibodyDae {
     /// volume-law contact (see [`VOLUME_CONTACT_RTOL_FLOOR`]).
     pub(crate) fn set_tolerance(&mut self, rtol: f64) {
         self.volume_tightening_cap = (rtol / VOLUME_CONTACT_RTOL_FLOOR).max(1.0);
+    }
+    /// Computes the Jacobian columns of free bodies and hinge trees itself (`on`, the default)
+    /// or leaves every block to the solver's coloured difference quotients: see
+    /// [`crate::SimOptions::analytic_jacobian`]. Set before the solver is created.
+    pub(crate) fn set_analytic_jacobian(&mut self, on: bool) {
+        self.analytic_enabled = on;
     }
     pub(crate) fn set_contact_tightening(&mut self, factor: f64) {
         self.contact_tightening = factor.max(1.0);

@@ -127,10 +127,9 @@ struct OrderScratch {
 }
 
 impl BlockLu {
-    /// A block LU that chooses dense or block-sparse per component, or (`MODIA3D_DENSE_LU=1`,
-    /// read here, for comparisons) factors every component densely.
-    pub(super) fn new() -> Self {
-        let dense = std::env::var_os("MODIA3D_DENSE_LU").is_some_and(|v| v == "1");
+    /// A block LU that chooses dense or block-sparse per component, or (`dense`:
+    /// `IdaOptions::dense_lu`, for comparisons) factors every component densely.
+    pub(super) fn new(dense: bool) -> Self {
         BlockLu {
             gain: dense.then_some(f64::INFINITY),
             ..Default::default()

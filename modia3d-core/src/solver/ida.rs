@@ -184,7 +184,7 @@ impl<S: DaeSystem> Ida<S> {
             zero_size: Vec::new(),
             rtol: 0.0,
             ewt_factor: Vec::new(),
-            block_lu: BlockLu::new(),
+            block_lu: BlockLu::new(opts.dense_lu),
             jac_parts: JacobianParts::default(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());

@@ -57,6 +57,9 @@ pub(crate) struct IdaOptions {
     /// iteration matrix for a new `c_j` from the last difference-quotient matrix's parts
     /// until Newton's method fails to converge (default true).
     pub jacobian_reuse: bool,
+    /// With the coloured Jacobian: factor every component of the iteration matrix densely
+    /// instead of choosing dense or block-sparse per component (default false).
+    pub dense_lu: bool,
 }
 
 impl Default for IdaOptions {
@@ -74,6 +77,7 @@ impl Default for IdaOptions {
             max_order: None,
             structured_jacobian: true,
             jacobian_reuse: true,
+            dense_lu: false,
         }
     }
 }
