@@ -18,8 +18,8 @@ mod response;
 mod restitution;
 mod step_guard;
 
-// `ContactError` is public (re-exported by lib.rs: `SceneDesc::build` returns it); the rest
-// of the contact stage is internal.
+// `ContactError` is public (re-exported by lib.rs: `SimErrorKind::Contact` carries it); the
+// rest of the contact stage is internal.
 pub use contact_set::ContactError;
 pub(crate) use contact_set::{ContactState, Mode, PairGeometry, PairState};
 pub(crate) use initial::initial_penetrations;
