@@ -1,7 +1,7 @@
 //! The linear algebra of large contact components: `demo::ball_pit(N)` (N steel balls dropped
 //! into a box one layer wide, so that they settle into one component in which each ball touches
 //! a handful of others), 0.5 s at rtol 1e-5, each component of the iteration matrix factored
-//! as the library chooses (dense or block-sparse) and — `MODIA3D_DENSE_LU=1` — always densely,
+//! as the library chooses (dense or block-sparse) and — `SimOptions::dense_lu(true)` — always densely,
 //! the two run interleaved. Prints a table: median wall time of 3 runs each, steps, residuals,
 //! Jacobians, events, and the largest difference of the final states between the two.
 //! Release build:
@@ -28,11 +28,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for n in sizes {
         let model = demo::ball_pit(n).build()?;
         let opts = SimOptions::new(0.5).tolerance(1e-5).interval(0.05);
-        // `MODIA3D_DENSE_LU` is read when the solver is created (`solver/block_lu.rs`).
+        let dense_opts = opts.clone().dense_lu(true);
         let modia3d::core::bench::Alternated {
             mut walls,
             last: [chosen, dense],
-        } = modia3d::core::bench::alternate_env_switch(&model, &opts, "MODIA3D_DENSE_LU", 3)?;
+        } = modia3d::core::bench::alternate(&model, [&opts, &dense_opts], 3)?;
         // The whole state: positions [m], quaternions, angular and linear velocities.
         let diff = match (chosen.final_state(), dense.final_state()) {
             (Some(a), Some(d)) => a

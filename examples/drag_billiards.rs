@@ -3,7 +3,7 @@
 //! `−c_w ω` (`c_w` 1e-7 N·m·s). Each ball is a free body whose own force element acts on it
 //! alone, so its block of the iteration matrix stays analytic and only the element is
 //! differentiated by quotients (`dae/jacobian.rs`, `own_force_columns`); with
-//! `MODIA3D_DQ_JACOBIAN=1` every block takes the solver's coloured quotients of the whole
+//! `SimOptions::analytic_jacobian(false)` every block takes the solver's coloured quotients of the whole
 //! residual, as all of these balls did before. The two run interleaved, 5 runs each; prints a
 //! table (median wall, steps, residuals, residuals for Jacobians, Jacobians, events) and the
 //! largest difference of the cue ball's final position between the two (both follow rtol).
@@ -38,14 +38,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("billiards16 with air drag on every ball, 5 s, rtol {rtol:e}");
     println!("| Jacobian of the balls | wall [s] (median of 5) | steps | residuals | residuals for Jacobians | Jacobians | events |");
     println!("|---|---:|---:|---:|---:|---:|---:|");
-    // `MODIA3D_DQ_JACOBIAN` is read when the DAE is created (`dae/mod.rs`).
+    let dq_opts = opts.clone().analytic_jacobian(false);
     let modia3d::core::bench::Alternated {
         mut walls,
         last: [own, dq],
-    } = modia3d::core::bench::alternate_env_switch(&model, &opts, "MODIA3D_DQ_JACOBIAN", 5)?;
+    } = modia3d::core::bench::alternate(&model, [&opts, &dq_opts], 5)?;
     for (k, (label, res)) in [
         ("analytic, own elements by quotients", &own),
-        ("coloured quotients (MODIA3D_DQ_JACOBIAN=1)", &dq),
+        ("coloured quotients (analytic_jacobian(false))", &dq),
     ]
     .into_iter()
     .enumerate()

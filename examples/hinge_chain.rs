@@ -4,7 +4,7 @@
 //! between x and y, every joint damped (0.5 N·m·s/rad, so that the chain is not chaotic and
 //! the error of its final angles follows rtol), released from angles 0.3 + 0.1·i rad, 1 s.
 //! Per N and rtol the two Jacobians run alternately in this process
-//! (`MODIA3D_DQ_JACOBIAN=1` selects the quotients; the mass matrix `∂F/∂y'` that both keep
+//! (`SimOptions::analytic_jacobian(false)` selects the quotients; the mass matrix `∂F/∂y'` that both keep
 //! for new `c_j` comes from the hinge trees' own pass either way), 5 times each; the table
 //! has the median wall times, the work of one run of each, and the largest error of the
 //! final joint angles against the same scene at rtol 1e-10. Release build:
@@ -71,10 +71,14 @@ fn run(
     rtol: f64,
     quotients: bool,
 ) -> (f64, modia3d::core::SimStats, Vec<f64>) {
-    std::env::set_var("MODIA3D_DQ_JACOBIAN", if quotients { "1" } else { "0" });
     let t0 = Instant::now();
     let res = model
-        .simulate(&SimOptions::new(1.0).tolerance(rtol).interval(0.01))
+        .simulate(
+            &SimOptions::new(1.0)
+                .tolerance(rtol)
+                .interval(0.01)
+                .analytic_jacobian(!quotients),
+        )
         .expect("the chain simulates");
     let wall = t0.elapsed().as_secs_f64();
     let phi = (0..n)

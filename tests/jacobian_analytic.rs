@@ -1,12 +1,9 @@
 //! The DAE's own Jacobian columns for free bodies (`modia3d-core/src/dae/jacobian.rs`: exact
 //! blocks, pair-local quotients for the contacts) against the coloured difference quotients
-//! of every block (the environment variable `MODIA3D_DQ_JACOBIAN=1`, read when a model's DAE
-//! is built), at rtol 1e-5: the same events (the same pairs starting and ending, in order),
+//! of every block (`SimOptions::analytic_jacobian(false)`), at rtol 1e-5: the same events (the same pairs starting and ending, in order),
 //! final positions as close to a tight reference run (rtol 1e-9) as the quotients' run, and no
 //! residual evaluation spent on Jacobians. The entries themselves are checked against central
 //! differences by the unit tests next to the code.
-//!
-//! One test function: the variable is process-wide, so the two variants run in sequence.
 
 use modia3d::demo;
 use modia3d::prelude::*;
@@ -75,10 +72,9 @@ fn analytic_free_body_columns_keep_the_physics() {
     for (name, scene, stop, bodies) in cases {
         let model = scene.build().unwrap();
         let opts = |rtol: f64| SimOptions::new(stop).tolerance(rtol).interval(stop / 100.0);
-        std::env::set_var("MODIA3D_DQ_JACOBIAN", "1");
-        let quotients = model.simulate(&opts(rtol));
-        std::env::remove_var("MODIA3D_DQ_JACOBIAN");
-        let quotients = quotients.unwrap();
+        let quotients = model
+            .simulate(&opts(rtol).analytic_jacobian(false))
+            .unwrap();
         let analytic = model.simulate(&opts(rtol)).unwrap();
         let reference = model.simulate(&opts(1e-9)).unwrap();
         assert_eq!(

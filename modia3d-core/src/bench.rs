@@ -223,8 +223,8 @@ pub fn chunk_args(evaluations: usize, repeats: usize) -> (usize, usize) {
     )
 }
 
-/// Wall times and last results of an A/B comparison in one process ([`alternate_env_switch`]):
-/// index 0 with the switch off, 1 with it on.
+/// Wall times and last results of an A/B comparison in one process ([`alternate`]):
+/// index 0 with the first options, 1 with the second.
 pub struct Alternated {
     /// Wall time \[s\] of each run of each setting, in run order.
     pub walls: [Vec<f64>; 2],
@@ -232,33 +232,27 @@ pub struct Alternated {
     pub last: [crate::SimulationResult; 2],
 }
 
-/// Runs `model` with `opts` `rounds` times (at least once) for each setting of the environment
-/// switch `var` — `"0"`, then `"1"`, alternately, so that a change of the machine's load hits
-/// both alike — and removes `var` afterwards. For switches read when a run creates its DAE or
-/// solver (`MODIA3D_DQ_JACOBIAN`, `MODIA3D_DENSE_LU`).
-pub fn alternate_env_switch(
+/// Runs `model` `rounds` times (at least once) with each of the two `options` — the first, then
+/// the second, alternately, so that a change of the machine's load hits both alike. For
+/// comparisons of a switch such as [`SimOptions::analytic_jacobian`](crate::SimOptions::analytic_jacobian)
+/// or [`SimOptions::dense_lu`](crate::SimOptions::dense_lu).
+pub fn alternate(
     model: &Model,
-    opts: &crate::SimOptions,
-    var: &str,
+    options: [&crate::SimOptions; 2],
     rounds: usize,
 ) -> Result<Alternated, crate::SimError> {
-    let timed = |on: &str, walls: &mut Vec<f64>| {
-        std::env::set_var(var, on);
+    let timed = |opts: &crate::SimOptions, walls: &mut Vec<f64>| {
         let t0 = Instant::now();
         let res = model.simulate(opts);
         walls.push(t0.elapsed().as_secs_f64());
         res
     };
     let mut walls = [Vec::new(), Vec::new()];
-    let [w_off, w_on] = &mut walls;
-    let mut runs = || -> Result<[crate::SimulationResult; 2], crate::SimError> {
-        let mut last = [timed("0", w_off)?, timed("1", w_on)?];
-        for _ in 1..rounds {
-            last = [timed("0", w_off)?, timed("1", w_on)?];
-        }
-        Ok(last)
-    };
-    let last = runs();
-    std::env::remove_var(var);
-    Ok(Alternated { walls, last: last? })
+    let [w_a, w_b] = &mut walls;
+    let [a, b] = options;
+    let mut last = [timed(a, w_a)?, timed(b, w_b)?];
+    for _ in 1..rounds {
+        last = [timed(a, w_a)?, timed(b, w_b)?];
+    }
+    Ok(Alternated { walls, last })
 }

@@ -4,6 +4,7 @@
 //! compile — [`scene`] (description, materials, validation) and [`geometry`] — so the `model!`
 //! macro can run the same scene checks at compile time without building SUNDIALS.
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
 // Only the solver stage's FFI module `solver::ida` (solver/ida.rs with its children ida/callbacks.rs
 // and ida/linear.rs) may use `unsafe`; `mod ida` opts back in explicitly.
 #![deny(unsafe_code)]
@@ -47,8 +48,9 @@ mod sweep;
 mod solver;
 
 /// Test builds only: the unit tests' deterministic pseudo-random numbers (xorshift64, the
-/// same sequences the tests used when each had its own copy).
-#[cfg(test)]
+/// same sequences the tests used when each had its own copy). Only the solver stages' tests
+/// use them.
+#[cfg(all(test, feature = "solver"))]
 pub(crate) mod test_rng {
     /// The raw xorshift64 sequence from `seed` (non-zero).
     pub(crate) fn bits(seed: u64) -> impl FnMut() -> u64 {
@@ -68,8 +70,9 @@ pub(crate) mod test_rng {
     }
 }
 
-// Test builds only: counts allocations per thread, for the "hot path allocates nothing" tests.
-#[cfg(test)]
+// Test builds only: counts allocations per thread, for the "hot path allocates nothing" tests
+// (the DAE's, a solver stage).
+#[cfg(all(test, feature = "solver"))]
 #[allow(unsafe_code)]
 #[path = "../tests/common/counting_alloc.rs"]
 mod counting_alloc;

@@ -235,6 +235,7 @@ fn ida_options(
         root_directions: (root_functions == 2).then(|| vec![1, -1]),
         structured_jacobian: opts.structured_jacobian,
         jacobian_reuse: opts.jacobian_reuse,
+        dense_lu: opts.dense_lu,
         // Closed loops: λ and μ are algebraic and left out of the error test
         // (dynamics/loops.rs).
         differential: (plan.loops.m() > 0).then(|| (0..n).map(|i| i < plan.nq + plan.nv).collect()),
@@ -494,6 +495,7 @@ impl Simulation {
         }
         let t0 = opts.start_time;
         let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
+        dae.set_analytic_jacobian(opts.analytic_jacobian);
         dae.set_contact_tightening(opts.effective_contact_tightening());
         dae.set_tolerance(opts.rtol);
         let mut y0 = plan.y0();

@@ -7,7 +7,7 @@ use nalgebra::{Matrix3, Vector3};
 
 /// A spatial motion vector `(ω, v)` resolved in some frame ([rad/s], [m/s] or their rates).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Motion {
+pub(crate) struct Motion {
     /// Angular part.
     pub w: Vector3<f64>,
     /// Linear part (of the point at the frame origin).
@@ -16,7 +16,7 @@ pub struct Motion {
 
 /// A spatial force vector `(n, f)` resolved in some frame ([N·m], \[N\]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Force {
+pub(crate) struct Force {
     /// Moment about the frame origin.
     pub n: Vector3<f64>,
     /// Force.
@@ -25,12 +25,12 @@ pub struct Force {
 
 impl Motion {
     /// The zero motion.
-    pub fn zero() -> Self {
+    pub(crate) fn zero() -> Self {
         Self::default()
     }
     /// Motion cross product `self ×ₘ m`.
     #[inline]
-    pub fn cross_motion(&self, m: &Motion) -> Motion {
+    pub(crate) fn cross_motion(&self, m: &Motion) -> Motion {
         Motion {
             w: self.w.cross(&m.w),
             v: self.w.cross(&m.v) + self.v.cross(&m.w),
@@ -38,7 +38,7 @@ impl Motion {
     }
     /// Force cross product `self ×f f`.
     #[inline]
-    pub fn cross_force(&self, f: &Force) -> Force {
+    pub(crate) fn cross_force(&self, f: &Force) -> Force {
         Force {
             n: self.w.cross(&f.n) + self.v.cross(&f.f),
             f: self.w.cross(&f.f),
@@ -82,7 +82,7 @@ impl std::ops::Sub for Force {
 /// Placement of a child frame in its parent: `rot` has the child's axes resolved in the parent
 /// as columns, `pos` is the child's origin resolved in the parent \[m\].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Transform {
+pub(crate) struct Transform {
     /// Child axes resolved in the parent.
     pub rot: Matrix3<f64>,
     /// Child origin resolved in the parent \[m\].
@@ -101,7 +101,7 @@ impl Default for Transform {
 impl Transform {
     /// Parent motion → child motion (Featherstone's `X m`).
     #[inline]
-    pub fn motion_to_child(&self, m: &Motion) -> Motion {
+    pub(crate) fn motion_to_child(&self, m: &Motion) -> Motion {
         Motion {
             w: self.rot.tr_mul(&m.w),
             v: self.rot.tr_mul(&(m.v + m.w.cross(&self.pos))),
@@ -109,7 +109,7 @@ impl Transform {
     }
     /// Child force → parent force (Featherstone's `Xᵀ f`).
     #[inline]
-    pub fn force_to_parent(&self, f: &Force) -> Force {
+    pub(crate) fn force_to_parent(&self, f: &Force) -> Force {
         let fp = self.rot * f.f;
         Force {
             n: self.rot * f.n + self.pos.cross(&fp),
@@ -118,7 +118,7 @@ impl Transform {
     }
     /// Composition: `self` (child in parent) followed by `c` (grandchild in child).
     #[inline]
-    pub fn then(&self, c: &Transform) -> Transform {
+    pub(crate) fn then(&self, c: &Transform) -> Transform {
         Transform {
             rot: self.rot * c.rot,
             pos: self.pos + self.rot * c.pos,
@@ -129,7 +129,7 @@ impl Transform {
 /// Rigid-body inertia about a frame origin: mass \[kg\], centre of mass \[m\] and inertia about the
 /// centre of mass [kg·m²], resolved in that frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Inertia {
+pub(crate) struct Inertia {
     /// Mass \[kg\].
     pub mass: f64,
     /// Centre of mass \[m\].
@@ -140,7 +140,7 @@ pub struct Inertia {
 
 impl Inertia {
     /// No mass.
-    pub fn zero() -> Self {
+    pub(crate) fn zero() -> Self {
         Inertia {
             mass: 0.0,
             com: Vector3::zeros(),
@@ -149,7 +149,7 @@ impl Inertia {
     }
     /// Spatial momentum `I m` of a motion.
     #[inline]
-    pub fn mul_motion(&self, m: &Motion) -> Force {
+    pub(crate) fn mul_motion(&self, m: &Motion) -> Force {
         let lin = (m.v + m.w.cross(&self.com)) * self.mass;
         Force {
             n: self.inertia_com * m.w + self.com.cross(&lin),
@@ -163,7 +163,7 @@ impl Inertia {
     /// dwarfs the inertia terms (a 3 µm sphere drifting at 0.1 m/s: a torque noise of 1e-31
     /// N·m against an inertia of 1e-25 kg·m², and IDA needed 650,000 steps for 0.3 s).
     #[inline]
-    pub fn bias_force(&self, m: &Motion) -> Force {
+    pub(crate) fn bias_force(&self, m: &Motion) -> Force {
         let wc = m.w.cross(&self.com);
         let lin = (m.v + wc) * self.mass;
         let n_h = self.inertia_com * m.w + self.com.cross(&lin);
@@ -173,7 +173,7 @@ impl Inertia {
         }
     }
     /// Adds `other`, given in a frame placed at `x` in this frame (parallel-axis theorem).
-    pub fn add_transformed(&self, other: &Inertia, x: &Transform) -> Inertia {
+    pub(crate) fn add_transformed(&self, other: &Inertia, x: &Transform) -> Inertia {
         let m = self.mass + other.mass;
         if m == 0.0 {
             return Inertia::zero();
@@ -197,7 +197,7 @@ impl Inertia {
 
 /// Rotation matrix of `angle` \[rad\] about the unit vector `axis`.
 #[inline]
-pub fn axis_angle(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
+pub(crate) fn axis_angle(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
     let (s, c) = angle.sin_cos();
     let k = axis.cross_matrix();
     Matrix3::identity() + k * s + k * k * (1.0 - c)
@@ -205,7 +205,7 @@ pub fn axis_angle(axis: &Vector3<f64>, angle: f64) -> Matrix3<f64> {
 
 /// Rotation matrix of the quaternion `(w, x, y, z)` after normalising it.
 #[inline]
-pub fn quat_to_matrix(q: &[f64]) -> Matrix3<f64> {
+pub(crate) fn quat_to_matrix(q: &[f64]) -> Matrix3<f64> {
     let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
     let (w, x, y, z) = (q[0] / n, q[1] / n, q[2] / n, q[3] / n);
     Matrix3::new(
@@ -224,7 +224,7 @@ pub fn quat_to_matrix(q: &[f64]) -> Matrix3<f64> {
 /// `½ q ⊗ (0, ω)`: the derivative of the quaternion `q = (w, x, y, z)` for the angular velocity
 /// `ω` resolved in the rotated (body) frame.
 #[inline]
-pub fn quat_rate(q: &[f64], w: &Vector3<f64>) -> [f64; 4] {
+pub(crate) fn quat_rate(q: &[f64], w: &Vector3<f64>) -> [f64; 4] {
     [
         0.5 * (-q[1] * w.x - q[2] * w.y - q[3] * w.z),
         0.5 * (q[0] * w.x + q[2] * w.z - q[3] * w.y),

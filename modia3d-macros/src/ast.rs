@@ -18,7 +18,7 @@ use syn::spanned::Spanned;
 use syn::{braced, parenthesized, Attribute, Expr, Ident, Token, Type, Visibility};
 
 /// A whole `model!` block: one model or assembly type.
-pub struct ModelDef {
+pub(crate) struct ModelDef {
     /// Outer attributes, doc comments among them; copied onto the generated struct.
     pub attrs: Vec<Attribute>,
     /// Visibility of the generated type.
@@ -34,7 +34,7 @@ pub struct ModelDef {
 }
 
 /// `name: Type = default` — a parameter.
-pub struct Param {
+pub(crate) struct Param {
     /// Doc comments and other attributes, copied onto the field.
     pub attrs: Vec<Attribute>,
     /// Field name.
@@ -46,7 +46,7 @@ pub struct Param {
 }
 
 /// `name = Constructor(key = value, …)` — one component of the model.
-pub struct Component {
+pub(crate) struct Component {
     /// The component's name (object, joint, force element, material or sub-assembly).
     pub name: Ident,
     /// Its constructor.
@@ -54,7 +54,7 @@ pub struct Component {
 }
 
 /// `Path(key = value, …)`, or a bare `Path` with no arguments.
-pub struct Ctor {
+pub(crate) struct Ctor {
     /// The constructor as written (a single identifier for built-ins).
     pub path: syn::Path,
     /// The arguments in source order.
@@ -63,17 +63,17 @@ pub struct Ctor {
 
 impl Ctor {
     /// The last path segment (`Revolute`, `Arm`).
-    pub fn name(&self) -> &Ident {
+    pub(crate) fn name(&self) -> &Ident {
         &self.path.segments.last().expect("non-empty path").ident
     }
     /// Whether the constructor is a single identifier (built-ins are).
-    pub fn is_single(&self) -> bool {
+    pub(crate) fn is_single(&self) -> bool {
         self.path.leading_colon.is_none() && self.path.segments.len() == 1
     }
 }
 
 /// `key = value`.
-pub struct Arg {
+pub(crate) struct Arg {
     /// The key.
     pub key: Ident,
     /// The value, as a Rust expression (nested constructors are expressions too).
@@ -191,7 +191,7 @@ impl Ctor {
     /// Reads `Path(key = value, …)` or a bare `Path` out of an expression. `Ok(None)` when the
     /// expression is not a call or path at all; an error when it is a call whose arguments are
     /// not `key = value`.
-    pub fn from_expr(e: &Expr) -> syn::Result<Option<Ctor>> {
+    pub(crate) fn from_expr(e: &Expr) -> syn::Result<Option<Ctor>> {
         match e {
             Expr::Path(p) if p.qself.is_none() && p.attrs.is_empty() => Ok(Some(Ctor {
                 path: p.path.clone(),
@@ -245,13 +245,13 @@ impl Ctor {
     }
 
     /// The span of the constructor's name.
-    pub fn span(&self) -> Span {
+    pub(crate) fn span(&self) -> Span {
         self.name().span()
     }
 }
 
 /// Adds `e` to an optional combined error.
-pub fn push(acc: &mut Option<syn::Error>, e: syn::Error) {
+pub(crate) fn push(acc: &mut Option<syn::Error>, e: syn::Error) {
     match acc {
         Some(a) => a.combine(e),
         None => *acc = Some(e),

@@ -23,7 +23,7 @@ fn integer_key(ctor: &str, key: &str) -> bool {
 }
 
 /// Rewrites the integer literals of `def` that stand for floats (see the module header).
-pub fn floatify(def: &mut ModelDef) {
+pub(crate) fn floatify(def: &mut ModelDef) {
     for p in &mut def.params {
         if matches!(&p.ty, syn::Type::Path(t) if t.path.is_ident("f64")) {
             value(&mut p.default, false);

@@ -14,7 +14,7 @@ use syn::Expr;
 
 /// A reference to an object or joint of this block or of a sub-assembly, as a dotted path.
 #[derive(Clone, Debug)]
-pub struct NameRef {
+pub(crate) struct NameRef {
     /// `body` or `arm1.tip`.
     pub path: String,
     /// The user's tokens.
@@ -25,7 +25,7 @@ pub struct NameRef {
 
 /// A literal number in the source (possibly negated), where the core's checks can see it.
 #[derive(Clone, Debug)]
-pub struct LitNum {
+pub(crate) struct LitNum {
     /// Its value.
     pub value: f64,
     /// The literal's tokens (errors cover all of them).
@@ -36,7 +36,7 @@ pub struct LitNum {
 
 /// A number-valued key (`diameter = 0.1`, `lengths = [1.0, 2.0, 3.0]`).
 #[derive(Clone, Debug)]
-pub struct Num {
+pub(crate) struct Num {
     /// The key, as messages name it.
     pub key: &'static str,
     /// The user's expression.
@@ -48,7 +48,7 @@ pub struct Num {
 
 /// Where an object's or sub-assembly's parent comes from.
 #[derive(Clone, Debug)]
-pub enum Parent {
+pub(crate) enum Parent {
     /// A root (the scene, or a body moved by a joint).
     None,
     /// `parent = …`.
@@ -59,7 +59,7 @@ pub enum Parent {
 
 /// A solid material or contact material as written.
 #[derive(Clone, Debug)]
-pub enum MaterialName {
+pub(crate) enum MaterialName {
     /// A material of this block (`wood` or `"wood"`).
     Local(String),
     /// A literal name that is not one of the block's (`"Steel"`): the core resolves it.
@@ -70,7 +70,7 @@ pub enum MaterialName {
 
 /// `Scene(…)`.
 #[derive(Clone, Debug)]
-pub struct SceneIr {
+pub(crate) struct SceneIr {
     /// `gravity = …`.
     pub gravity: Option<Expr>,
     /// `gravity_field = …` (a `GravityField` expression).
@@ -95,7 +95,7 @@ pub struct SceneIr {
 
 /// `profile = …`.
 #[derive(Clone, Debug)]
-pub enum Profile {
+pub(crate) enum Profile {
     /// A `ContactProfile` variant.
     Variant(Ident),
     /// An expression of type `ContactProfile`.
@@ -104,7 +104,7 @@ pub enum Profile {
 
 /// `mass_properties = …`.
 #[derive(Clone, Debug)]
-pub enum MassIr {
+pub(crate) enum MassIr {
     /// `MassProperties(mass = …)`: a mass without inertia (`MassSpec::Mass`: inertia from the
     /// shape, or a point mass with Modia3D conventions).
     Mass(Num),
@@ -125,7 +125,7 @@ pub enum MassIr {
 
 /// `Solid(…)`.
 #[derive(Clone, Debug)]
-pub struct SolidIr {
+pub(crate) struct SolidIr {
     /// The shape (`None` with explicit mass properties only).
     pub shape: Option<ShapeIr>,
     /// `mass_properties`.
@@ -148,7 +148,7 @@ pub struct SolidIr {
 
 /// `shape = …`.
 #[derive(Clone, Debug)]
-pub enum ShapeIr {
+pub(crate) enum ShapeIr {
     /// An expression of type `Shape`.
     Expr(Expr),
     /// A constructor of the core's table (`modia3d_core::SHAPE_KINDS`) with the arguments
@@ -162,13 +162,16 @@ pub enum ShapeIr {
 }
 
 /// The argument `key` of a shape constructor's `args`, if given.
-pub fn shape_arg<'a>(args: &'a [(&'static str, ShapeArg)], key: &str) -> Option<&'a ShapeArg> {
+pub(crate) fn shape_arg<'a>(
+    args: &'a [(&'static str, ShapeArg)],
+    key: &str,
+) -> Option<&'a ShapeArg> {
     args.iter().find(|(k, _)| *k == key).map(|(_, a)| a)
 }
 
 /// An argument of a shape constructor, by the value type of its parameter.
 #[derive(Clone, Debug)]
-pub enum ShapeArg {
+pub(crate) enum ShapeArg {
     /// A length, lengths or factors.
     Num(Num),
     /// An axis.
@@ -179,7 +182,7 @@ pub enum ShapeArg {
 
 /// A shape's axis.
 #[derive(Clone, Debug)]
-pub enum AxisIr {
+pub(crate) enum AxisIr {
     /// 1, 2 or 3 (default 3).
     Index(u8),
     /// An expression of type `Axis`.
@@ -188,7 +191,7 @@ pub enum AxisIr {
 
 /// `feature = …`.
 #[derive(Clone, Debug)]
-pub enum FeatureIr {
+pub(crate) enum FeatureIr {
     /// An expression of type `Feature`.
     Expr(Expr),
     /// `Scene(…)`.
@@ -202,7 +205,7 @@ pub enum FeatureIr {
 /// A joint's kind: its row of the core's table (`modia3d_core::JOINT_KINDS`), the axes and the
 /// `Var(init)` of the initial values that were given, by key.
 #[derive(Clone, Debug)]
-pub struct JointKindIr {
+pub(crate) struct JointKindIr {
     /// The kind's row.
     pub spec: &'static JointKindSpec,
     /// Axis keys with their axes (absent keys with a default have it).
@@ -213,7 +216,7 @@ pub struct JointKindIr {
 
 /// A joint's axis.
 #[derive(Clone, Debug)]
-pub enum JointAxis {
+pub(crate) enum JointAxis {
     /// Default (3) or a literal ±1..3.
     Index(Option<Expr>, i64),
     /// An `i64` expression.
@@ -224,7 +227,7 @@ pub enum JointAxis {
 
 /// A force element.
 #[derive(Clone, Debug)]
-pub enum ForceIr {
+pub(crate) enum ForceIr {
     /// `SpringDamper`.
     SpringDamper {
         /// Ends.
@@ -291,7 +294,7 @@ pub enum ForceIr {
 
 /// An input.
 #[derive(Clone, Debug)]
-pub enum InputIr {
+pub(crate) enum InputIr {
     /// `JointForce(joint, coordinate)`: the coordinate's expression and literal value.
     JointForce(NameRef, Option<(Expr, Option<String>)>),
     /// `JointAcceleration(joint, coordinate)`.
@@ -302,7 +305,7 @@ pub enum InputIr {
 
 /// A scheduled structure change (`ActionAttach`, `ActionRelease`, `ActionDelete`).
 #[derive(Clone, Debug)]
-pub enum ActionIr {
+pub(crate) enum ActionIr {
     /// `ActionAttach(object, to, gap)`.
     Attach {
         /// The free object.
@@ -320,7 +323,7 @@ pub enum ActionIr {
 
 /// One component.
 #[derive(Clone, Debug)]
-pub enum Item {
+pub(crate) enum Item {
     /// `SolidMaterial(density, young_modulus, poisson_ratio)`.
     Material {
         /// Component name.
@@ -423,7 +426,7 @@ pub enum Item {
 
 /// A reference into a sub-assembly for rustc to check: `arm1.tip` → `__modia3d_Arm::tip`.
 #[derive(Clone, Debug)]
-pub struct PathCheck {
+pub(crate) struct PathCheck {
     /// The sub-assembly's type.
     pub ty: syn::Path,
     /// The path inside it.
@@ -434,7 +437,7 @@ pub struct PathCheck {
 
 /// The checked model.
 #[derive(Clone, Debug)]
-pub struct Ir {
+pub(crate) struct Ir {
     /// Components in declaration order.
     pub items: Vec<Item>,
     /// Kind of every component, in declaration order.

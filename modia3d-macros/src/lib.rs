@@ -7,6 +7,7 @@
 //! literal part: `modia3d_core::SceneDesc::scene_errors`, the code `build()` runs) →
 //! `expand/` (builder calls). The entry point below only chains them.
 #![warn(missing_docs)]
+#![warn(unreachable_pub)]
 #![forbid(unsafe_code)]
 
 mod ast;

@@ -3,22 +3,22 @@
 //! rule that decides which parts of an assembly hang from the `parent` handed to `add_to`.
 //! Plain data on syntax; no code generation.
 
-pub use crate::ir::NameRef;
+pub(crate) use crate::ir::NameRef;
 use crate::ir::{Item, Parent};
 use proc_macro2::Ident;
 use std::collections::{HashMap, HashSet};
 use syn::Expr;
 
-pub use modia3d_core::scene::did_you_mean;
+pub(crate) use modia3d_core::scene::did_you_mean;
 
 /// ` (hint: did you mean `x`?)` or nothing.
-pub fn hint(h: Option<String>) -> String {
+pub(crate) fn hint(h: Option<String>) -> String {
     h.map(|h| format!(" (hint: did you mean `{h}`?)"))
         .unwrap_or_default()
 }
 
 /// `a` or `a.b.c` → identifiers; false for anything else.
-pub fn path_segments(e: &Expr, out: &mut Vec<Ident>) -> bool {
+pub(crate) fn path_segments(e: &Expr, out: &mut Vec<Ident>) -> bool {
     match e {
         Expr::Path(p) if p.qself.is_none() => match p.path.get_ident() {
             Some(id) => {
@@ -46,7 +46,7 @@ pub fn path_segments(e: &Expr, out: &mut Vec<Ident>) -> bool {
 /// The hidden paths module of a generated type, given the type's path as written:
 /// `a::Arm` → `a::__modia3d_Arm`. With `from_module`, relative paths are made to work from
 /// inside another hidden module (one level deeper).
-pub fn paths_module(ty: &syn::Path, from_module: bool) -> syn::Path {
+pub(crate) fn paths_module(ty: &syn::Path, from_module: bool) -> syn::Path {
     let mut p = ty.clone();
     let last = p.segments.last_mut().expect("non-empty path");
     last.ident = Ident::new(&format!("__modia3d_{}", last.ident), last.ident.span());
@@ -66,7 +66,7 @@ pub fn paths_module(ty: &syn::Path, from_module: bool) -> syn::Path {
 /// The attach rule: an assembly's root-level parts — objects without `parent` whose rigid
 /// group (parent links) no joint of the block moves, and sub-assemblies without `parent`
 /// that no joint of the block moves — take the `parent` handed to `add_to`.
-pub fn attach_roots(items: &mut [Item]) {
+pub(crate) fn attach_roots(items: &mut [Item]) {
     let parent_of: HashMap<String, String> = items
         .iter()
         .filter_map(|it| match it {

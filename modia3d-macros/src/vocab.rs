@@ -8,19 +8,19 @@ use modia3d_core::{JointKindSpec, ShapeKindSpec, JOINT_KINDS, SHAPE_KINDS};
 
 /// Constructors of components: `Object3D`, the joint kinds (the core's table), then
 /// [`OTHER_COMPONENTS`].
-pub fn components() -> impl Iterator<Item = &'static str> {
+pub(crate) fn components() -> impl Iterator<Item = &'static str> {
     std::iter::once("Object3D")
         .chain(JOINT_KINDS.iter().map(|k| k.name))
         .chain(OTHER_COMPONENTS.iter().copied())
 }
 
 /// Whether `name` is a constructor of a component ([`components`]).
-pub fn is_component(name: &str) -> bool {
+pub(crate) fn is_component(name: &str) -> bool {
     components().any(|c| c == name)
 }
 
 /// Constructors of components other than objects and joints.
-pub const OTHER_COMPONENTS: &[&str] = &[
+pub(crate) const OTHER_COMPONENTS: &[&str] = &[
     "SpringDamper",
     "JointSpringDamper",
     "ObjectForce",
@@ -38,7 +38,7 @@ pub const OTHER_COMPONENTS: &[&str] = &[
 ];
 
 /// Constructors that appear only inside values, besides the shapes ([`is_nested`]).
-pub const NESTED: &[&str] = &[
+pub(crate) const NESTED: &[&str] = &[
     "Scene",
     "Solid",
     "Visual",
@@ -48,23 +48,23 @@ pub const NESTED: &[&str] = &[
 ];
 
 /// Whether `name` is a constructor that appears only inside values: [`NESTED`] or a shape.
-pub fn is_nested(name: &str) -> bool {
+pub(crate) fn is_nested(name: &str) -> bool {
     NESTED.contains(&name) || shape_kind(name).is_some()
 }
 
 /// Constructors of `feature = …`.
-pub const FEATURES: &[&str] = &["Scene", "Solid", "Visual"];
+pub(crate) const FEATURES: &[&str] = &["Scene", "Solid", "Visual"];
 
 /// The row of the shape constructor `ctor` in the core's table; `None` for other names (and
 /// for variants that are no `model!` constructor, such as a loaded `Mesh`).
-pub fn shape_kind(ctor: &str) -> Option<&'static ShapeKindSpec> {
+pub(crate) fn shape_kind(ctor: &str) -> Option<&'static ShapeKindSpec> {
     SHAPE_KINDS
         .iter()
         .find(|k| k.name == ctor && k.stand_in.is_some())
 }
 
 /// Constructors of `shape = …`: the core's table's, in its order.
-pub fn shapes() -> Vec<&'static str> {
+pub(crate) fn shapes() -> Vec<&'static str> {
     SHAPE_KINDS
         .iter()
         .filter(|k| k.stand_in.is_some())
@@ -73,7 +73,7 @@ pub fn shapes() -> Vec<&'static str> {
 }
 
 /// Keys of `Scene(…)`: the fields of `SceneOptions` (`profile` is `contact_profile`).
-pub const SCENE_KEYS: &[&str] = &[
+pub(crate) const SCENE_KEYS: &[&str] = &[
     "gravity",
     "gravity_field",
     "contact_detection",
@@ -93,7 +93,7 @@ pub const SCENE_KEYS: &[&str] = &[
 ];
 
 /// The numeric fields of `SceneOptions` that `Scene(…)` sets directly (`f64`).
-pub const SCENE_NUMBERS: &[&str] = &[
+pub(crate) const SCENE_NUMBERS: &[&str] = &[
     "k_red",
     "d_max",
     "cor_min",
@@ -105,11 +105,11 @@ pub const SCENE_NUMBERS: &[&str] = &[
 ];
 
 /// The variants of `ContactProfile`.
-pub const PROFILES: &[&str] = &["Volume", "Paper2019", "Modia3DLater"];
+pub(crate) const PROFILES: &[&str] = &["Volume", "Paper2019", "Modia3DLater"];
 
 /// Keys of `SpringDamper(…)`: `spring_law`/`damper_law` (a number or a closure of the
 /// elongation / its rate) replace `stiffness`/`damping`.
-pub const SPRING_DAMPER_KEYS: &[&str] = &[
+pub(crate) const SPRING_DAMPER_KEYS: &[&str] = &[
     "obj1",
     "obj2",
     "stiffness",
@@ -120,7 +120,7 @@ pub const SPRING_DAMPER_KEYS: &[&str] = &[
 ];
 
 /// Keys of `Bushing(…)` (Modia3D's, in snake case; each law a 3-array of numbers or closures).
-pub const BUSHING_KEYS: &[&str] = &[
+pub(crate) const BUSHING_KEYS: &[&str] = &[
     "obj1",
     "obj2",
     "nominal_force",
@@ -133,7 +133,7 @@ pub const BUSHING_KEYS: &[&str] = &[
 ];
 
 /// The law keys of `Bushing(…)`.
-pub const BUSHING_LAWS: &[&str] = &[
+pub(crate) const BUSHING_LAWS: &[&str] = &[
     "spring_law",
     "damper_law",
     "rot_spring_law",
@@ -141,7 +141,7 @@ pub const BUSHING_LAWS: &[&str] = &[
 ];
 
 /// Keys of `WorldForce(…)` and `WorldTorque(…)` (the value key is `force` or `torque`).
-pub fn world_vector_keys(ctor: &str) -> &'static [&'static str] {
+pub(crate) fn world_vector_keys(ctor: &str) -> &'static [&'static str] {
     match ctor {
         "WorldTorque" => &["object", "torque", "resolved_in"],
         _ => &["object", "force", "resolved_in"],
@@ -149,7 +149,7 @@ pub fn world_vector_keys(ctor: &str) -> &'static [&'static str] {
 }
 
 /// Keys of `Solid(…)`.
-pub const SOLID_KEYS: &[&str] = &[
+pub(crate) const SOLID_KEYS: &[&str] = &[
     "shape",
     "solid_material",
     "mass_properties",
@@ -160,7 +160,7 @@ pub const SOLID_KEYS: &[&str] = &[
 ];
 
 /// Keys of `ContactPair(…)`.
-pub const PAIR_KEYS: &[&str] = &[
+pub(crate) const PAIR_KEYS: &[&str] = &[
     "material1",
     "material2",
     "cor",
@@ -171,13 +171,13 @@ pub const PAIR_KEYS: &[&str] = &[
 ];
 
 /// The row of the joint kind `ctor` in the core's table; `None` for other names.
-pub fn joint_kind(ctor: &str) -> Option<&'static JointKindSpec> {
+pub(crate) fn joint_kind(ctor: &str) -> Option<&'static JointKindSpec> {
     JOINT_KINDS.iter().find(|k| k.name == ctor)
 }
 
 /// Keys of a joint constructor: the objects, the kind's parameters (the core's table), then
 /// `can_collide` and `cut`.
-pub fn joint_keys(kind: &JointKindSpec) -> Vec<&'static str> {
+pub(crate) fn joint_keys(kind: &JointKindSpec) -> Vec<&'static str> {
     ["obj1", "obj2"]
         .into_iter()
         .chain(kind.keys())
@@ -186,7 +186,7 @@ pub fn joint_keys(kind: &JointKindSpec) -> Vec<&'static str> {
 }
 
 /// Keys that are easy to guess wrong, with the key meant.
-pub const SYNONYMS: &[(&str, &str)] = &[
+pub(crate) const SYNONYMS: &[(&str, &str)] = &[
     ("radius", "diameter"),
     ("size", "lengths"),
     ("dimensions", "lengths"),
@@ -218,7 +218,7 @@ pub const SYNONYMS: &[(&str, &str)] = &[
 
 /// What a component is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
+pub(crate) enum Kind {
     /// An `Object3D`.
     Object,
     /// A joint.
@@ -239,7 +239,7 @@ pub enum Kind {
 
 impl Kind {
     /// The kind a built-in component constructor makes; `None` for other names.
-    pub fn of_builtin(ctor: &str) -> Option<Kind> {
+    pub(crate) fn of_builtin(ctor: &str) -> Option<Kind> {
         Some(match ctor {
             "Object3D" => Kind::Object,
             k if joint_kind(k).is_some() => Kind::Joint,
@@ -254,7 +254,7 @@ impl Kind {
     }
 
     /// "an object", "a joint", … for messages.
-    pub fn article(self) -> &'static str {
+    pub(crate) fn article(self) -> &'static str {
         match self {
             Kind::Object => "an object",
             Kind::Joint => "a joint",
@@ -269,7 +269,7 @@ impl Kind {
 }
 
 /// How to write a nested constructor that was used as a component.
-pub fn nested_hint(n: &str) -> String {
+pub(crate) fn nested_hint(n: &str) -> String {
     match n {
         "Scene" | "Solid" | "Visual" => format!("`Object3D(feature = {n}(…))`"),
         "Var" => "`phi = Var(init = …)` inside a joint".into(),

@@ -32,7 +32,7 @@ use parry3d_f64::bounding_volume::BoundingVolume;
 
 /// How the collision stage is evaluated (docs/contact-model.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
+pub(crate) enum Mode {
     /// At an event: all `z_AB`, rebuild the contact set, store `δ̇⁻` of new contacts.
     Event,
     /// IDA asks for root values: all `z_AB`, the set is kept.
@@ -55,7 +55,7 @@ pub struct ContactError {
 
 /// Mutable state of one candidate pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairState {
+pub(crate) struct PairState {
     /// Member of the contact set.
     pub in_contact: bool,
     /// Last `z_AB` \[m\] (AABB distance while the boxes are apart, signed distance otherwise).
@@ -75,7 +75,7 @@ pub struct PairState {
 
 /// A pair the broad phase reported near, or one in the contact set.
 #[derive(Clone, Debug)]
-pub struct PairSlot {
+pub(super) struct PairSlot {
     /// Id of the pair ([`ContactPlan::pair_id`]), set when the pair enters the contact set
     /// (it costs a scan of one row of shapes, so the root functions never compute it).
     pub id: u32,
@@ -97,7 +97,7 @@ fn key(a: usize, b: usize) -> u64 {
 
 /// The contact set and scratch of a [`ContactPlan`].
 #[derive(Clone, Debug)]
-pub struct ContactState {
+pub(crate) struct ContactState {
     /// Pair slots (indices are stable while a pair stays near or in contact).
     slots: Vec<PairSlot>,
     /// Unused slots.
@@ -160,7 +160,7 @@ pub struct ContactState {
 /// contact patch (point of application and spread) and, for a volume-law pair, the overlap
 /// (else [`VolumeGeometry::NONE`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairGeometry(pub SignedDistance, pub ContactPatch, pub VolumeGeometry);
+pub(crate) struct PairGeometry(pub SignedDistance, pub ContactPatch, pub VolumeGeometry);
 
 /// The shapes the narrow phase of pair `pp` uses: the sharp ones for a volume-law pair, the
 /// smoothed ones otherwise.
@@ -282,7 +282,7 @@ pub(crate) fn shape_pose(cp: &ContactPlan, ws: &Workspace, s: usize) -> Isometry
 
 impl ContactState {
     /// The state of `cp`: empty contact set.
-    pub fn new(cp: &ContactPlan) -> Self {
+    pub(crate) fn new(cp: &ContactPlan) -> Self {
         let ns = cp.shapes.len();
         let mut cs = ContactState {
             slots: Vec::with_capacity(ns),
@@ -443,7 +443,7 @@ impl ContactState {
     /// Evaluates the collision stage in `mode` at the workspace state (`position_velocity`
     /// done). `Continuous` adds the contact forces to `ws.f_ext`; `Event` also fills
     /// `started`/`ended`.
-    pub fn evaluate(
+    pub(crate) fn evaluate(
         &mut self,
         plan: &Plan,
         cp: &ContactPlan,
@@ -602,7 +602,7 @@ impl ContactState {
     /// evaluation left them (called right after the residual at the point of a Jacobian), for
     /// the quotient residuals of [`Self::evaluate_moved`]. Allocation-free once the set has
     /// been sized at an event.
-    pub fn begin_quotients(&mut self) {
+    pub(crate) fn begin_quotients(&mut self) {
         if self.base.len() < self.active.len() {
             self.base.resize(self.active.len(), EMPTY_GEOMETRY);
         }
@@ -621,7 +621,7 @@ impl ContactState {
     /// [`Self::begin_quotients`] only for the bodies flagged in `moved` (indexed by body):
     /// the pairs of unflagged bodies reuse that call's narrow phase. The same forces, to the
     /// last bit.
-    pub fn evaluate_moved(
+    pub(crate) fn evaluate_moved(
         &mut self,
         plan: &Plan,
         cp: &ContactPlan,
@@ -793,7 +793,7 @@ impl ContactState {
     /// The two root functions from the last `z` values \[m\]: `z_1` = max over pairs in contact
     /// of `z − 2ε` (−42 if none), `z_2` = min over the others of `z`, where pairs the broad
     /// phase does not report count as `margin` apart (so `z_2 ≤ margin`). See [`Hysteresis`].
-    pub fn roots(&self, cp: &ContactPlan) -> (f64, f64) {
+    pub(crate) fn roots(&self, cp: &ContactPlan) -> (f64, f64) {
         let band = cp.hysteresis_band();
         let mut z1 = -42.0f64;
         let mut any = false;
@@ -814,7 +814,7 @@ impl ContactState {
 
     /// Number of pairs in the contact set (the `k` of [`Self::active_bodies`],
     /// [`Self::pair_geometry`], [`Self::pair_wrenches`]).
-    pub fn n_in_contact(&self) -> usize {
+    pub(crate) fn n_in_contact(&self) -> usize {
         self.active.len()
     }
 
@@ -825,7 +825,7 @@ impl ContactState {
 
     /// Bodies (`None` = fixed to the world) of shape a and shape b of the `k`-th pair in the
     /// contact set.
-    pub fn active_bodies(
+    pub(crate) fn active_bodies(
         &self,
         cp: &ContactPlan,
         k: usize,
@@ -840,14 +840,19 @@ impl ContactState {
     /// Whether the narrow phase of shapes `a`, `b` has stopped at its iteration limit in this
     /// run (the pair was warned about): its geometry is rough at the scale of a difference
     /// quotient's increment.
-    pub fn hit_iteration_limit(&self, a: usize, b: usize) -> bool {
+    pub(crate) fn hit_iteration_limit(&self, a: usize, b: usize) -> bool {
         !self.limit_warned.is_empty() && self.limit_warned.contains(&key(a, b))
     }
 
     /// Whether the geometry of the `k`-th pair in the contact set is independent of the
     /// rotation of body `b`: its shapes on `b` are spheres centred at the body origin (placed
     /// by position only, see [`shape_pose`]).
-    pub fn rotation_free(&self, cp: &ContactPlan, k: usize, b: crate::dynamics::BodyId) -> bool {
+    pub(crate) fn rotation_free(
+        &self,
+        cp: &ContactPlan,
+        k: usize,
+        b: crate::dynamics::BodyId,
+    ) -> bool {
         let (sa, sb) = self.shapes_of(self.active[k] as usize);
         [sa, sb].into_iter().all(|s| {
             let sp = &cp.shapes[s];
@@ -862,7 +867,7 @@ impl ContactState {
     /// `step` = 1e-9 m; a narrow phase whose answer jumps with the pose (an iteration stopped at
     /// its tolerance on a curved core, MPR's portal on a deep overlap) gives the jump itself.
     /// For the work-budget diagnosis only (not on the hot path); `None` if a query fails.
-    pub fn pair_roughness(
+    pub(crate) fn pair_roughness(
         &self,
         cp: &ContactPlan,
         ws: &Workspace,
@@ -902,7 +907,7 @@ impl ContactState {
     /// Narrow phase and contact patch of the `k`-th pair in the contact set at the workspace
     /// poses, as continuous mode computes them, but touching no pair state, pose or counter:
     /// for pair-local difference quotients of the Jacobian (`dae/jacobian.rs`).
-    pub fn pair_geometry(
+    pub(crate) fn pair_geometry(
         &self,
         plan: &Plan,
         cp: &ContactPlan,
@@ -948,7 +953,7 @@ impl ContactState {
     /// in the contact set on its bodies a and b (`None` for a fixed shape), for the geometry
     /// `geo` of [`Self::pair_geometry`] and the workspace velocities: what continuous mode adds
     /// to `ws.f_ext`, without touching the pair's state.
-    pub fn pair_wrenches(
+    pub(crate) fn pair_wrenches(
         &self,
         cp: &ContactPlan,
         ws: &Workspace,
@@ -1000,7 +1005,7 @@ impl ContactState {
     /// the poses of the last evaluation (no state touched): the sum of the distances \[m\]
     /// (errors count as 0). For the bench hook `crate::bench::contact_stage_cost`, which
     /// subtracts this from a whole continuous evaluation.
-    pub fn narrow_phase_only(&self, cp: &ContactPlan) -> f64 {
+    pub(crate) fn narrow_phase_only(&self, cp: &ContactPlan) -> f64 {
         let mut sum = 0.0;
         for &p in &self.active {
             let (a, b) = self.shapes_of(p as usize);
@@ -1016,20 +1021,20 @@ impl ContactState {
 
     /// Number of pairs in the contact set.
     #[cfg(test)]
-    pub fn n_active(&self) -> usize {
+    pub(crate) fn n_active(&self) -> usize {
         self.active.len()
     }
 
     /// Number of pairs that have a state (reported near at the last root or event
     /// evaluation, or in the contact set).
     #[cfg(test)]
-    pub fn pairs_with_state(&self) -> usize {
+    pub(crate) fn pairs_with_state(&self) -> usize {
         self.slot_of.len()
     }
 
     /// The pairs in the contact set: their ids ([`ContactPlan::pair_id`]), constants and
     /// states.
-    pub fn active_pairs(&self) -> impl Iterator<Item = (usize, &PairPlan, &PairState)> {
+    pub(crate) fn active_pairs(&self) -> impl Iterator<Item = (usize, &PairPlan, &PairState)> {
         self.active.iter().map(|&p| {
             let sl = &self.slots[p as usize];
             (sl.id as usize, &sl.plan, &sl.state)
@@ -1038,7 +1043,7 @@ impl ContactState {
 
     /// The state of the pair of shapes `a`, `b` (either order), `None` while the broad phase
     /// does not report it (apart: not in contact, zero response).
-    pub fn state_of(&self, a: usize, b: usize) -> Option<&PairState> {
+    pub(crate) fn state_of(&self, a: usize, b: usize) -> Option<&PairState> {
         self.slot_of
             .get(&key(a, b))
             .map(|&p| &self.slots[p as usize].state)
@@ -1047,7 +1052,7 @@ impl ContactState {
 
 impl PairState {
     /// The state of a pair apart: not in contact, `z` infinite, zero response.
-    pub const APART: PairState = PairState {
+    pub(crate) const APART: PairState = PairState {
         in_contact: false,
         z: f64::INFINITY,
         delta_dot_minus: 0.0,
@@ -1108,7 +1113,7 @@ fn shape_aabb(cp: &ContactPlan, s: usize, pose: &Isometry3<f64>) -> crate::geome
 /// at touch instead of at 2ε of depth, the same within `2ε/v` of time. docs/contact-hysteresis.md
 /// has the full argument and the measurements.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hysteresis {
+pub(crate) struct Hysteresis {
     /// Level \[m\] at which a contact starts (0: touching).
     pub start: f64,
     /// Level \[m\] that decides membership at an event (ε).
@@ -1120,7 +1125,7 @@ pub struct Hysteresis {
 impl ContactPlan {
     /// The hysteresis levels of this plan (see [`Hysteresis`]).
     #[inline]
-    pub fn hysteresis_band(&self) -> Hysteresis {
+    pub(crate) fn hysteresis_band(&self) -> Hysteresis {
         Hysteresis {
             start: 0.0,
             decide: self.hysteresis,

@@ -21,11 +21,11 @@ use nalgebra::{Isometry3, Vector3};
 /// Deepest admissible initial penetration relative to the thinner shape's extent [-]: a
 /// penetration of more than half the extent puts the centre of a ball (or the mid-plane of a
 /// plate) inside the other solid.
-pub const MAX_INITIAL_DEPTH_RATIO: f64 = 0.5;
+pub(crate) const MAX_INITIAL_DEPTH_RATIO: f64 = 0.5;
 
 /// Extent of a shape \[m\]: the smallest edge of its bounding box in its own frame (the diameter
 /// of a sphere, the thickness of a plate, the smaller of diameter and length of a cylinder).
-pub fn extent(s: &CollisionShape) -> f64 {
+pub(crate) fn extent(s: &CollisionShape) -> f64 {
     2.0 * s.local_half_extents().min()
 }
 

@@ -18,8 +18,11 @@ mod response;
 mod restitution;
 mod step_guard;
 
-pub use contact_set::{ContactError, ContactState, Mode, PairGeometry, PairState};
+// `ContactError` is public (re-exported by lib.rs: `SimErrorKind::Contact` carries it); the
+// rest of the contact stage is internal.
+pub use contact_set::ContactError;
+pub(crate) use contact_set::{ContactState, Mode, PairGeometry, PairState};
 pub(crate) use initial::initial_penetrations;
 pub(crate) use pair_jacobian::{pair_wrench_jacobian, PER_BODY};
-pub use preprocess::{ContactPlan, PairLaw};
+pub(crate) use preprocess::{ContactPlan, PairLaw};
 pub(crate) use regularise::CLAMP_BAND;

@@ -42,7 +42,7 @@ use crate::spatial::Force;
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Tangent directions per moving body: `δx` (3), `δθ` (3), `δω` (3), `δv` (3).
-pub const PER_BODY: usize = 12;
+pub(crate) const PER_BODY: usize = 12;
 
 /// Offset of `δθ` within a body's tangent directions.
 const TH: usize = 3;

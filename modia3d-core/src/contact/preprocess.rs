@@ -15,7 +15,7 @@ use crate::spatial::Transform;
 
 /// A collision shape of the plan.
 #[derive(Clone, Debug)]
-pub struct ShapePlan {
+pub(crate) struct ShapePlan {
     /// Scene object index (the shape frame is the object frame).
     pub object: usize,
     /// Index of this convex part of a decomposed mesh (`None` for every other shape): the
@@ -50,7 +50,7 @@ pub struct ShapePlan {
 /// A shape as the volume law sees it (docs/contact-model.md §3.2): sharp (not smoothed), with
 /// its elastic layer.
 #[derive(Clone, Debug)]
-pub struct VolumeShape {
+pub(crate) struct VolumeShape {
     /// The shape without smoothing: the signed distance (root functions) and bounding box of
     /// its volume pairs, so that the force is zero exactly where the distance is ≥ 0.
     pub sharp: CollisionShape,
@@ -66,7 +66,7 @@ pub struct VolumeShape {
 
 /// The solid of a [`VolumeShape`].
 #[derive(Clone, Debug)]
-pub enum VolumeSolid {
+pub(crate) enum VolumeSolid {
     /// A box, convex hull, convex part of a mesh, or a beam (its rounded ends as inscribed
     /// polygons: `geometry::overlap::polytope::beam_points`).
     Polytope(Polytope),
@@ -76,7 +76,7 @@ pub enum VolumeSolid {
 
 /// Which force law a pair has (docs/contact-model.md §3).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PairLaw {
+pub(crate) enum PairLaw {
     /// The paper's single-point law (Hertz or linear, by `n_geo`) on the smoothed shapes.
     Point,
     /// The volume law for two polytopes.
@@ -103,7 +103,7 @@ struct ShapeGeo {
 /// A candidate pair with its constants (from the plan, on demand: [`ContactPlan::pair`]; the
 /// damping factor is fixed when a contact starts).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PairPlan {
+pub(crate) struct PairPlan {
     /// Shape index of object 1 (normal points from it to object 2).
     pub a: usize,
     /// Shape index of object 2.
@@ -134,7 +134,7 @@ pub struct PairPlan {
 
 /// The compiled collision pipeline of a scene with at least one candidate pair.
 #[derive(Clone, Debug)]
-pub struct ContactPlan {
+pub(crate) struct ContactPlan {
     /// Collision shapes.
     pub shapes: Vec<ShapePlan>,
     /// Number of candidate pairs (they are enumerated by [`Self::candidate_pairs`]).
@@ -188,13 +188,13 @@ impl ContactPlan {
     /// The narrow phase's stopping length \[m\] for shapes `a` and `b`: `mpr_tolerance` times
     /// the sum of their bounding radii (`geometry/narrow_phase/mod.rs`), the precision to
     /// which their signed distance is known.
-    pub fn stopping_length(&self, a: usize, b: usize) -> f64 {
+    pub(crate) fn stopping_length(&self, a: usize, b: usize) -> f64 {
         self.narrow.mpr_tolerance
             * (self.shapes[a].shape.bounding_radius() + self.shapes[b].shape.bounding_radius())
     }
 
     /// Display name of pair `pp`: `"<object a>|<object b>"` (the owner part of its signals).
-    pub fn pair_name(&self, scene: &ValidScene, pp: &PairPlan) -> String {
+    pub(crate) fn pair_name(&self, scene: &ValidScene, pp: &PairPlan) -> String {
         format!(
             "{}|{}",
             self.shape_name(scene, pp.a),
@@ -204,7 +204,7 @@ impl ContactPlan {
 
     /// Display name of shape `s`: its object's name, `"<object>#<k>"` for part `k` of a
     /// decomposed mesh (the halves of [`Self::pair_name`]).
-    pub fn shape_name(&self, scene: &ValidScene, s: usize) -> String {
+    pub(crate) fn shape_name(&self, scene: &ValidScene, s: usize) -> String {
         let sp = &self.shapes[s];
         let o = &scene.objects[sp.object].name;
         match sp.part {
@@ -398,7 +398,7 @@ impl ContactPlan {
     /// filter): on bodies that can meet, with a pair material. O(1) for scenes without
     /// joints that forbid collisions.
     #[inline]
-    pub fn can_meet(&self, a: usize, b: usize) -> bool {
+    pub(crate) fn can_meet(&self, a: usize, b: usize) -> bool {
         let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
         a != b
             && self.materials[sa.material * self.n_materials + sb.material].is_some()
@@ -408,7 +408,7 @@ impl ContactPlan {
     /// Candidate pair of shapes `a` and `b` (either order) with its constants, `None` if they
     /// cannot meet. A sphere comes first (`μ_geo = r_1` for sphere–other), else the lower
     /// shape index. A few flops: called when the broad phase first reports a pair.
-    pub fn pair(&self, a: usize, b: usize) -> Option<PairPlan> {
+    pub(crate) fn pair(&self, a: usize, b: usize) -> Option<PairPlan> {
         if !self.can_meet(a, b) {
             return None;
         }
@@ -451,7 +451,7 @@ impl ContactPlan {
     /// Id of the candidate pair of shapes `a`, `b` (either order): its index in
     /// [`Self::candidate_pairs`] (the order of the contact signals); `None` if they cannot
     /// meet. O(|a − b|): for events and results, not the root functions.
-    pub fn pair_id(&self, a: usize, b: usize) -> Option<usize> {
+    pub(crate) fn pair_id(&self, a: usize, b: usize) -> Option<usize> {
         if !self.can_meet(a, b) {
             return None;
         }
@@ -461,7 +461,7 @@ impl ContactPlan {
 
     /// The candidate pair with id `id` (see [`Self::pair_id`]), `None` for `id ≥ n_pairs`.
     /// O(log N + N).
-    pub fn pair_by_id(&self, id: usize) -> Option<PairPlan> {
+    pub(crate) fn pair_by_id(&self, id: usize) -> Option<PairPlan> {
         if id >= self.n_pairs {
             return None;
         }
@@ -476,7 +476,7 @@ impl ContactPlan {
     /// All candidate pairs, shape pairs in lexicographic order of their lower and higher
     /// index (the order of the contact signals). O(N²) in time; for build-time checks and
     /// result queries, never the simulation.
-    pub fn candidate_pairs(&self) -> impl Iterator<Item = PairPlan> + '_ {
+    pub(crate) fn candidate_pairs(&self) -> impl Iterator<Item = PairPlan> + '_ {
         let n = self.shapes.len();
         (0..n).flat_map(move |a| (a + 1..n).filter_map(move |b| self.pair(a, b)))
     }
@@ -546,7 +546,7 @@ fn volume_shape(
 impl ContactPlan {
     /// Scratch buffers of the polytope overlaps of this plan, sized for its largest polytopes
     /// (so that the residual allocates nothing).
-    pub fn overlap_scratch(&self) -> OverlapScratch {
+    pub(crate) fn overlap_scratch(&self) -> OverlapScratch {
         let mut scratch = OverlapScratch::default();
         let largest = self
             .shapes

@@ -5,7 +5,7 @@ use crate::scene::ContactProfile;
 /// Regularised absolute value [same unit as `v`]: `|v|` for `|v| ≥ v_min`, otherwise the C²
 /// polynomial `|v|²/v_min · (1 − |v|/(3 v_min)) + v_min/3` (minimum `v_min/3` at 0).
 #[inline]
-pub fn reg(v: f64, v_min: f64) -> f64 {
+pub(super) fn reg(v: f64, v_min: f64) -> f64 {
     let a = v.abs();
     if a >= v_min {
         a
@@ -17,7 +17,7 @@ pub fn reg(v: f64, v_min: f64) -> f64 {
 /// Slope `d reg(v)/d|v|` [-] of [`reg`] at `|v|` (1 above `v_min`, `2|v|/v_min − |v|²/v_min²`
 /// below; 0 at 0).
 #[inline]
-pub fn reg_slope(v: f64, v_min: f64) -> f64 {
+pub(super) fn reg_slope(v: f64, v_min: f64) -> f64 {
     let a = v.abs();
     if a >= v_min {
         1.0
@@ -27,7 +27,7 @@ pub fn reg_slope(v: f64, v_min: f64) -> f64 {
 }
 
 /// Half-width of the band of [`soft_clamp`] [-].
-pub const CLAMP_BAND: f64 = 1e-4;
+pub(crate) const CLAMP_BAND: f64 = 1e-4;
 
 /// `max(0, x)` made C¹ over `|x| < CLAMP_BAND` by the parabola `(x + b)²/(4b)`: the damping
 /// factor `1 + d·δ̇` of the normal force. Why: a contact whose bodies separate at `1/d` (1 mm/s
@@ -38,7 +38,7 @@ pub const CLAMP_BAND: f64 = 1e-4;
 /// at most `f_el·b/4` larger than the clamp's; the extra impulse is of order `b²` (with
 /// b = 1e-3 an exact-restitution rebound at cor 0.1 came out 0.10001, with 1e-4 exact to 1e-9).
 #[inline]
-pub fn soft_clamp(x: f64) -> f64 {
+pub(super) fn soft_clamp(x: f64) -> f64 {
     let b = CLAMP_BAND;
     if x >= b {
         x
@@ -52,7 +52,7 @@ pub fn soft_clamp(x: f64) -> f64 {
 /// Slope `d soft_clamp(x)/dx` [-] of [`soft_clamp`]: 1 above the band, 0 below, `(x + b)/(2b)`
 /// inside (the branch [`soft_clamp`] evaluates at its ends).
 #[inline]
-pub fn soft_clamp_slope(x: f64) -> f64 {
+pub(super) fn soft_clamp_slope(x: f64) -> f64 {
     let b = CLAMP_BAND;
     if x >= b {
         1.0
@@ -67,7 +67,13 @@ pub fn soft_clamp_slope(x: f64) -> f64 {
 /// `dd_minus` [m/s]: `Paper2019` and `Volume`: `cor + (cor_min − cor)·exp(ln(0.01)·|δ̇⁻|/v_min)`;
 /// `Modia3DLater`: 0 when `|δ̇⁻| ≤ v_min`, else `cor`.
 #[inline]
-pub fn cor_reg(profile: ContactProfile, cor: f64, cor_min: f64, dd_minus: f64, v_min: f64) -> f64 {
+pub(super) fn cor_reg(
+    profile: ContactProfile,
+    cor: f64,
+    cor_min: f64,
+    dd_minus: f64,
+    v_min: f64,
+) -> f64 {
     match profile {
         ContactProfile::Paper2019 | ContactProfile::Volume => {
             cor + (cor_min - cor) * (0.01f64.ln() * dd_minus.abs() / v_min).exp()
@@ -85,7 +91,7 @@ pub fn cor_reg(profile: ContactProfile, cor: f64, cor_min: f64, dd_minus: f64, v
 /// Damping factor `d` [s/m] fixed at contact start:
 /// `min(d_max, 8 (1 − cor_reg) / (5 · cor_reg · reg(δ̇⁻, v_min)))` (`d_max` when `cor_reg = 0`).
 #[inline]
-pub fn damping_factor(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f64 {
+pub(super) fn damping_factor(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f64 {
     if cor_reg <= 0.0 {
         return d_max;
     }
@@ -97,7 +103,7 @@ pub fn damping_factor(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f6
 /// `cor_reg` ([`super::restitution::chi_for_restitution`]): `min(d_max, χ(cor_reg) / reg(δ̇⁻,
 /// v_min))` (`d_max` when `cor_reg = 0`).
 #[inline]
-pub fn damping_factor_exact(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f64 {
+pub(super) fn damping_factor_exact(cor_reg: f64, dd_minus: f64, v_min: f64, d_max: f64) -> f64 {
     let chi = super::restitution::chi_for_restitution(cor_reg);
     (chi / reg(dd_minus, v_min)).min(d_max)
 }

@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 
 /// Forces of one pair, all resolved in world.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PairResponse {
+pub(crate) struct PairResponse {
     /// Penetration depth `δ = max(0, −δ_signed)` \[m\].
     pub penetration: f64,
     /// Penetration velocity `δ̇` [m/s] (> 0 while approaching).
@@ -31,7 +31,7 @@ pub struct PairResponse {
 
 impl PairResponse {
     /// No contact: everything zero.
-    pub const ZERO: PairResponse = PairResponse {
+    pub(crate) const ZERO: PairResponse = PairResponse {
         penetration: 0.0,
         penetration_velocity: 0.0,
         f_n: 0.0,
@@ -65,7 +65,7 @@ impl PairResponse {
 // straight into the pair's state instead of through a copy.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub fn pair_response(
+pub(super) fn pair_response(
     cp: &ContactPlan,
     pp: &PairPlan,
     d: f64,
@@ -152,7 +152,7 @@ fn capped(torque: Vector3<f64>, cap: f64) -> Vector3<f64> {
 /// A volume-law pair's geometry: the overlap of its sharp shapes (area vector from shape a to
 /// shape b) and, for a cylinder or cone, the unit axis of that body of revolution.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct VolumeGeometry {
+pub(crate) struct VolumeGeometry {
     /// The overlap.
     pub overlap: Overlap,
     /// Unit axis of the pair's cylinder or cone, resolved in world; zero for two polytopes.
@@ -163,7 +163,7 @@ pub struct VolumeGeometry {
 
 impl VolumeGeometry {
     /// No overlap.
-    pub const NONE: VolumeGeometry = VolumeGeometry {
+    pub(crate) const NONE: VolumeGeometry = VolumeGeometry {
         overlap: Overlap::NONE,
         axis: Vector3::new(0.0, 0.0, 0.0),
         axis_on_b: false,
@@ -172,13 +172,13 @@ impl VolumeGeometry {
 
 /// Damping ratio of the contact modes of a volume-law contact that started slowly, and the
 /// window speed it fades with (docs/contact-model.md §3.2, "Resting contacts").
-pub const RESTING_DAMPING_RATIO: f64 = 1.0;
+pub(super) const RESTING_DAMPING_RATIO: f64 = 1.0;
 
 /// The resting-damping coefficient `2·ζ_rest·√m` \[kg^½\] of a volume-law contact between
 /// bodies of masses `m_a`, `m_b` \[kg\] (infinite for a shape fixed to the world), `m` their
 /// reduced mass (translation only) and `ζ_rest` = [`RESTING_DAMPING_RATIO`]. The law's window
 /// `ψ` keeps it to motions slower than `v_min`, so impacts keep the restitution of `d`.
-pub fn resting_damping(m_a: f64, m_b: f64) -> f64 {
+pub(super) fn resting_damping(m_a: f64, m_b: f64) -> f64 {
     let m = if m_a.is_infinite() {
         m_b
     } else if m_b.is_infinite() {
@@ -220,7 +220,7 @@ pub fn resting_damping(m_a: f64, m_b: f64) -> f64 {
 /// body 1 the opposite.
 #[inline]
 #[allow(clippy::too_many_arguments)]
-pub fn volume_response(
+pub(super) fn volume_response(
     cp: &ContactPlan,
     pp: &PairPlan,
     d: f64,

@@ -25,7 +25,7 @@
 /// the root in `(0, 1/e)` of `g(χ) = χ − ln(1 + χ) + χe + ln(1 − χe)` (positive near 0, → −∞ at
 /// 1/e), by bisection in `u = χe` to machine precision (60 halvings; contact starts only).
 /// `e ≥ 1` gives 0, `e ≤ 0` gives `+∞` (the caller's `d_max` caps it).
-pub fn chi_for_restitution(e: f64) -> f64 {
+pub(super) fn chi_for_restitution(e: f64) -> f64 {
     if e >= 1.0 {
         return 0.0;
     }

@@ -35,7 +35,7 @@ struct GuardBody {
 
 /// What the guard needs of a contact plan.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct StepGuard {
+pub(crate) struct StepGuard {
     /// Every moving body with a collision shape.
     bodies: Vec<GuardBody>,
 }

@@ -673,7 +673,7 @@ impl ContactColumns<'_> {
 
     /// Adds the pair-local quotients of every pair in the contact set that touches an
     /// analytic block; `ws` holds the placements and velocities at `args.y` and is left so.
-    pub fn add(
+    pub(super) fn add(
         &self,
         ws: &mut Workspace,
         args: &JacobianArgs<'_>,

@@ -24,7 +24,7 @@ mod jacobian;
 /// cube sliding down an incline 1 m from the origin: rtol 1e-8 took 287 steps untightened and
 /// reached 1,000,000 steps tightened to 4.6e-11; tightened to 1e-9 it took 72,829; rtol 1e-6
 /// tightened to 1e-8 took 287 (docs/contact-model.md §3.2).
-pub const VOLUME_CONTACT_RTOL_FLOOR: f64 = 1e-8;
+pub(crate) const VOLUME_CONTACT_RTOL_FLOOR: f64 = 1e-8;
 
 /// The share of the tightening factor κ a body in a volume-law contact gets (below the floor
 /// of [`VOLUME_CONTACT_RTOL_FLOOR`]). κ was calibrated on a steel ball's Hertz impacts; on a
@@ -32,7 +32,7 @@ pub const VOLUME_CONTACT_RTOL_FLOOR: f64 = 1e-8;
 /// within 0.01–0.18·rtol at the full κ and within 0.06–0.27·rtol at 0.3·κ over rtol
 /// 1e-3…1e-6, both inside the 3·rtol of `tests/contact_times.rs` (κ/100: up to 24·rtol), and
 /// `falling_boxes` took 14,684 steps instead of 17,410.
-pub const VOLUME_TIGHTENING_SHARE: f64 = 0.3;
+pub(crate) const VOLUME_TIGHTENING_SHARE: f64 = 0.3;
 
 /// The tightest relative tolerance the contact tightening asks of a body in a point-law
 /// contact whose narrow phase is iterative for some poses (MPR: the pairs that are not
@@ -51,7 +51,7 @@ pub const ITERATIVE_CONTACT_RTOL_FLOOR: f64 = 1e-8;
 
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]
-pub struct MultibodyDae {
+pub(crate) struct MultibodyDae {
     plan: Arc<Plan>,
     /// The collision pipeline, `None` without candidate pairs.
     contact_plan: Option<Arc<ContactPlan>>,
@@ -90,9 +90,9 @@ pub struct MultibodyDae {
     /// Trees whose Jacobian columns the DAE computes itself (`dae/jacobian.rs`), as last
     /// reported by `jacobian_structure`.
     analytic: Vec<bool>,
-    /// Free bodies get analytic columns (off with the environment variable
-    /// `MODIA3D_DQ_JACOBIAN=1`, read when the DAE is built: every block by difference
-    /// quotients, as before `dae/jacobian.rs`, for comparisons).
+    /// Free bodies and hinge trees get the DAE's own columns (default; off with
+    /// `SimOptions::analytic_jacobian`, set before the solver is created: every block by
+    /// difference quotients, as before `dae/jacobian.rs`, for comparisons).
     analytic_enabled: bool,
     /// The body each position coordinate places (the body of its joint), for
     /// [`DaeSystem::quotient_residual`].
@@ -212,7 +212,7 @@ impl TreeBlocks {
 impl MultibodyDae {
     /// The DAE of `plan` with the collision pipeline `contact` (`None` without candidate
     /// pairs).
-    pub fn new(plan: Arc<Plan>, contact: Option<Arc<ContactPlan>>) -> Self {
+    pub(crate) fn new(plan: Arc<Plan>, contact: Option<Arc<ContactPlan>>) -> Self {
         let ws = Workspace::new(&plan);
         let contact_plan = contact;
         let contact = contact_plan.as_deref().map(ContactState::new);
@@ -269,7 +269,7 @@ impl MultibodyDae {
             contact_tightening: 1.0,
             blocks,
             analytic: vec![],
-            analytic_enabled: std::env::var_os("MODIA3D_DQ_JACOBIAN").is_none_or(|v| v != "1"),
+            analytic_enabled: true,
         }
     }
     /// Tightens the error test of the bodies in contact (in the contact set) by `factor`
@@ -279,26 +279,32 @@ impl MultibodyDae {
     /// after a repeated error-test failure: `Simulation::relax_contact_tightening`).
     /// Sets the run's relative tolerance `rtol`, which bounds the tightening of the bodies in a
     /// volume-law contact (see [`VOLUME_CONTACT_RTOL_FLOOR`]).
-    pub fn set_tolerance(&mut self, rtol: f64) {
+    pub(crate) fn set_tolerance(&mut self, rtol: f64) {
         self.volume_tightening_cap = (rtol / VOLUME_CONTACT_RTOL_FLOOR).max(1.0);
         self.iterative_tightening_cap = (rtol / ITERATIVE_CONTACT_RTOL_FLOOR).max(1.0);
     }
-    pub fn set_contact_tightening(&mut self, factor: f64) {
+    /// Computes the Jacobian columns of free bodies and hinge trees itself (`on`, the default)
+    /// or leaves every block to the solver's coloured difference quotients: see
+    /// [`crate::SimOptions::analytic_jacobian`]. Set before the solver is created.
+    pub(crate) fn set_analytic_jacobian(&mut self, on: bool) {
+        self.analytic_enabled = on;
+    }
+    pub(crate) fn set_contact_tightening(&mut self, factor: f64) {
         self.contact_tightening = factor.max(1.0);
     }
     /// The tightening factor of the error test of the bodies in contact [-] (1 = off).
-    pub fn contact_tightening(&self) -> f64 {
+    pub(crate) fn contact_tightening(&self) -> f64 {
         self.contact_tightening
     }
     /// The plan.
-    pub fn plan(&self) -> &Plan {
+    pub(crate) fn plan(&self) -> &Plan {
         &self.plan
     }
     /// The largest step \[s\] after which no collision shape can have passed through another
     /// unseen, at the body velocities and accelerations of the last evaluation
     /// (`contact/step_guard.rs`); `None` without candidate pairs or when nothing that can
     /// collide moves.
-    pub fn max_safe_step(&self) -> Option<f64> {
+    pub(crate) fn max_safe_step(&self) -> Option<f64> {
         self.guard_limit().map(|(h, _)| h)
     }
     /// [`Self::max_safe_step`] with the body that sets it (`StepGuard::limit`).
@@ -316,11 +322,11 @@ impl MultibodyDae {
         self.ws.vel.iter().map(|m| (m.v.norm(), m.w.norm()))
     }
     /// Sets input values (len `Plan::n_inputs`).
-    pub fn inputs_mut(&mut self) -> &mut [f64] {
+    pub(crate) fn inputs_mut(&mut self) -> &mut [f64] {
         &mut self.ws.inputs
     }
     /// The compiled contact pipeline, if the scene has collision pairs.
-    pub fn contact_plan(&self) -> Option<&ContactPlan> {
+    pub(crate) fn contact_plan(&self) -> Option<&ContactPlan> {
         self.contact_plan.as_deref()
     }
     /// The workspace (body poses and velocities of the last residual evaluation).
@@ -328,15 +334,15 @@ impl MultibodyDae {
         &self.ws
     }
     /// The contact set, if the scene has collision pairs.
-    pub fn contact(&self) -> Option<&ContactState> {
+    pub(crate) fn contact(&self) -> Option<&ContactState> {
         self.contact.as_ref()
     }
     /// Number of root functions (2 with collision pairs, else 0).
-    pub fn num_roots_public(&self) -> usize {
+    pub(crate) fn num_roots_public(&self) -> usize {
         self.num_roots()
     }
     /// Names (`"a|b"`) of the pairs that started and ended at the last event.
-    pub fn event_pairs(&self) -> (Vec<String>, Vec<String>) {
+    pub(crate) fn event_pairs(&self) -> (Vec<String>, Vec<String>) {
         let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) else {
             return (vec![], vec![]);
         };
@@ -349,14 +355,14 @@ impl MultibodyDae {
         (names(&cs.started), names(&cs.ended))
     }
     /// Takes the first contact error met while evaluating root functions.
-    pub fn take_root_error(&mut self) -> Option<ContactError> {
+    pub(crate) fn take_root_error(&mut self) -> Option<ContactError> {
         self.root_error.take()
     }
 
     /// Event mode (docs/contact-model.md §4) at time `t` \[s\] and state `y`: recomputes every `z_AB`, rebuilds
     /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
     /// nothing without collision pairs.
-    pub fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
+    pub(crate) fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
         let plan = &*self.plan;
         let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
             return Ok(false);
@@ -370,7 +376,7 @@ impl MultibodyDae {
 
     /// Continuous mode at `(t, y)`: updates the geometry and forces of the pairs in the set
     /// (for output points). Does nothing without collision pairs.
-    pub fn update_contacts(&mut self, t: f64, y: &[f64]) -> Result<(), ContactError> {
+    pub(crate) fn update_contacts(&mut self, t: f64, y: &[f64]) -> Result<(), ContactError> {
         let plan = &*self.plan;
         let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
             return Ok(());
@@ -385,7 +391,7 @@ impl MultibodyDae {
     /// user force law panics or returns a non-finite wrench. With closed loops `y` is first
     /// projected onto the constraints (positions and velocities, `loops::project`) and its
     /// multipliers are set (`λ` consistent, `μ = 0`).
-    pub fn consistent_derivative(
+    pub(crate) fn consistent_derivative(
         &mut self,
         t: f64,
         y: &mut [f64],
@@ -436,14 +442,14 @@ impl MultibodyDae {
 
     /// Takes the first failure of a user force law since the last call (see
     /// [`Workspace::fault`]).
-    pub fn take_user_fault(&mut self) -> Option<UserFault> {
+    pub(crate) fn take_user_fault(&mut self) -> Option<UserFault> {
         self.ws.fault.take()
     }
 }
 
 /// Why [`MultibodyDae::consistent_derivative`] found no derivative.
 #[derive(Clone, Debug, PartialEq)]
-pub enum DerivativeError {
+pub(crate) enum DerivativeError {
     /// The mass matrix of the free coordinates is singular.
     Singular,
     /// The collision stage failed.

@@ -57,7 +57,7 @@ impl UserFault {
 }
 
 /// The text of a panic payload (`&str` or `String`; otherwise a placeholder).
-pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
     payload
         .downcast_ref::<&str>()
         .map(|s| s.to_string())
@@ -68,7 +68,7 @@ pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
 /// Adds a force `force` \[N\] acting at the world point `point` \[m\] and a pure torque `torque`
 /// [N·m], all resolved in world, to body `b` (nothing for the world).
 #[inline]
-pub fn add_world_wrench(
+pub(crate) fn add_world_wrench(
     ws: &mut Workspace,
     b: Option<BodyId>,
     point: &Vector3<f64>,
@@ -85,7 +85,7 @@ pub fn add_world_wrench(
 /// a spatial force on body `b` about its origin, resolved in the body frame (what
 /// [`add_world_wrench`] adds to `ws.f_ext`).
 #[inline]
-pub fn world_wrench_in_body(
+pub(crate) fn world_wrench_in_body(
     ws: &Workspace,
     b: BodyId,
     point: &Vector3<f64>,
@@ -101,7 +101,7 @@ pub fn world_wrench_in_body(
 }
 
 /// The motion of object `o` at the current workspace state.
-pub fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
+pub(crate) fn object_motion(plan: &Plan, ws: &Workspace, o: usize) -> ObjectMotion {
     let x = object_in_world(plan, ws, ObjectId(o));
     let (v, w) = point_velocity(ws, plan.objects[o].body, &x.pos);
     ObjectMotion {
@@ -196,7 +196,7 @@ pub(crate) struct BushingState {
 }
 
 /// `|cos β|` below which the large-angle bushing formulation counts as singular.
-pub const BUSHING_GIMBAL_LOCK: f64 = 1e-6;
+pub(crate) const BUSHING_GIMBAL_LOCK: f64 = 1e-6;
 
 /// [`BushingState`] of a bushing between objects `obj1` and `obj2`; also returns obj2's
 /// origin and obj1's rotation (to apply the wrench).
@@ -301,7 +301,7 @@ fn record(ws: &mut Workspace, fault: impl FnOnce() -> UserFault) {
 }
 
 /// Clears and fills `ws.f_ext` and `ws.tau_applied` at time `t` \[s\].
-pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
+pub(crate) fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64]) {
     ws.f_ext.fill(Force::default());
     ws.tau_applied.fill(0.0);
     for e in 0..plan.scene.forces.len() {
@@ -333,7 +333,14 @@ pub fn applied_forces(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f
 /// Adds force element `e`'s (index in the scene's force elements) wrenches at time `t` \[s\] to
 /// `ws.f_ext` and `ws.tau_applied`; a failure of its law is recorded in `ws.fault`.
 #[inline]
-pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f64], e: usize) {
+pub(crate) fn apply_element(
+    plan: &Plan,
+    ws: &mut Workspace,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    e: usize,
+) {
     element_wrenches(plan, ws, t, q, v, e, &mut |ws, o, point, force, torque| {
         add_world_wrench(ws, plan.objects[o].body, point, force, torque)
     });
@@ -345,7 +352,7 @@ pub fn apply_element(plan: &Plan, ws: &mut Workspace, t: f64, q: &[f64], v: &[f6
 /// failure of its law to `ws.fault`. [`apply_element`] adds the wrenches to the objects' bodies;
 /// the joint loads (`dynamics/loads.rs`) need them per object, to cut a body between its parts.
 #[inline]
-pub fn element_wrenches(
+pub(crate) fn element_wrenches(
     plan: &Plan,
     ws: &mut Workspace,
     t: f64,

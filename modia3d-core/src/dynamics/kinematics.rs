@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 
 /// Computes `ws.x`, `ws.world`, `ws.vj`, `ws.vel` (and `ws.cj` of joints whose motion
 /// subspace depends on `q`) from `q`, `v`; each joint's kind gives its transform and motion.
-pub fn position_velocity(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) {
+pub(crate) fn position_velocity(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) {
     place_bodies(plan, ws, plan.bodies.iter().enumerate(), q, v);
 }
 
@@ -58,7 +58,7 @@ fn place_bodies<'p>(
 /// workspace (`x`, `world`, `vel`, `vj`, `cj`), kept to be restored: the state of a Jacobian's
 /// point, for its difference quotients ([`touched_position_velocity`]).
 #[derive(Clone, Debug)]
-pub struct BodyStates {
+pub(crate) struct BodyStates {
     x: Vec<Transform>,
     xj: Vec<Transform>,
     world: Vec<Transform>,
@@ -69,7 +69,7 @@ pub struct BodyStates {
 
 impl BodyStates {
     /// Storage for `plan`'s bodies (allocates; the values are set by [`BodyStates::save`]).
-    pub fn new(plan: &Plan) -> Self {
+    pub(crate) fn new(plan: &Plan) -> Self {
         let nb = plan.bodies.len();
         BodyStates {
             x: vec![Transform::default(); nb],
@@ -82,7 +82,7 @@ impl BodyStates {
     }
 
     /// Keeps the workspace's placements and velocities. Allocation-free.
-    pub fn save(&mut self, ws: &Workspace) {
+    pub(crate) fn save(&mut self, ws: &Workspace) {
         for i in 0..self.x.len() {
             self.x[i] = ws.x[i];
             self.xj[i] = ws.xj[i];
@@ -99,7 +99,7 @@ impl BodyStates {
 /// flagged too): those bodies are placed as [`position_velocity`] places them (the same
 /// operations, so the same bits), every other body's entries are restored from `base`.
 /// Allocation-free.
-pub fn touched_position_velocity(
+pub(crate) fn touched_position_velocity(
     plan: &Plan,
     ws: &mut Workspace,
     base: &BodyStates,
@@ -124,7 +124,7 @@ pub fn touched_position_velocity(
 
 /// Body `b` and its ancestors, root first: the bodies [`chain_position_velocity`] places.
 /// For results, not the hot path (allocates).
-pub fn ancestor_chain(plan: &Plan, b: Option<BodyId>) -> Vec<BodyId> {
+pub(crate) fn ancestor_chain(plan: &Plan, b: Option<BodyId>) -> Vec<BodyId> {
     let mut chain = Vec::new();
     let mut at = b;
     while let Some(i) = at {
@@ -139,7 +139,7 @@ pub fn ancestor_chain(plan: &Plan, b: Option<BodyId>) -> Vec<BodyId> {
 /// operations for those bodies, so their placements and velocities are the same to the last
 /// bit, at the cost of the chain instead of the whole scene. The other bodies' entries in the
 /// workspace are left as they were.
-pub fn chain_position_velocity(
+pub(crate) fn chain_position_velocity(
     plan: &Plan,
     ws: &mut Workspace,
     chain: &[BodyId],
@@ -151,7 +151,7 @@ pub fn chain_position_velocity(
 }
 
 /// Kinematic residual `q̇ − q̇(q, v)` into `res` (len nq), joint by joint.
-pub fn position_residual(plan: &Plan, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
+pub(crate) fn position_residual(plan: &Plan, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
     for j in &plan.joints {
         let (qr, vr) = (
             j.q_offset..j.q_offset + j.coord.nq(),
@@ -164,14 +164,14 @@ pub fn position_residual(plan: &Plan, q: &[f64], v: &[f64], qd: &[f64], res: &mu
 
 /// `q̇(q, v)` into `qd` (len nq): the derivative of the positions implied by the velocities.
 /// Allocates; for initial values and restarts only.
-pub fn position_derivative(plan: &Plan, q: &[f64], v: &[f64], qd: &mut [f64]) {
+pub(crate) fn position_derivative(plan: &Plan, q: &[f64], v: &[f64], qd: &mut [f64]) {
     position_residual(plan, q, v, &vec![0.0; plan.nq], qd);
     qd.iter_mut().for_each(|x| *x = -*x);
 }
 
 /// Placement of object `o` in world at the current workspace state.
 #[inline]
-pub fn object_in_world(plan: &Plan, ws: &Workspace, o: ObjectId) -> Transform {
+pub(crate) fn object_in_world(plan: &Plan, ws: &Workspace, o: ObjectId) -> Transform {
     let op = &plan.objects[o];
     match op.body {
         Some(b) => ws.world[b].then(&op.in_body),
@@ -182,7 +182,7 @@ pub fn object_in_world(plan: &Plan, ws: &Workspace, o: ObjectId) -> Transform {
 /// Velocity [m/s] and angular velocity [rad/s], both resolved in world, of the material point
 /// `p` (given in world \[m\]) of body `b` (`None` = world: at rest).
 #[inline]
-pub fn point_velocity(
+pub(crate) fn point_velocity(
     ws: &Workspace,
     b: Option<BodyId>,
     p: &Vector3<f64>,

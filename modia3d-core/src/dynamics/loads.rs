@@ -46,7 +46,7 @@ use nalgebra::{Matrix3, Vector3};
 /// A contact wrench on one object, all resolved in world: `force` \[N\] acting at `point` \[m\]
 /// and a pure `torque` [N·m].
 #[derive(Clone, Copy, Debug)]
-pub struct ObjectWrench {
+pub(crate) struct ObjectWrench {
     /// The object it acts on.
     pub object: ObjectId,
     /// Point of application, world \[m\].
@@ -59,7 +59,7 @@ pub struct ObjectWrench {
 
 /// Why the loads at a state could not be computed.
 #[derive(Clone, Debug, PartialEq)]
-pub enum LoadError {
+pub(crate) enum LoadError {
     /// The mass matrix is singular at the state: no accelerations.
     Singular,
     /// A user force law failed at the state.
@@ -70,7 +70,7 @@ pub enum LoadError {
 /// [N·m] about obj2's origin, both resolved in world; `obj1_rot` and `obj2_rot` turn obj1's and
 /// obj2's frames into world.
 #[derive(Clone, Copy, Debug)]
-pub struct LinkWrench {
+pub(crate) struct LinkWrench {
     /// Force on obj2, resolved in world \[N\].
     pub force: Vector3<f64>,
     /// Torque on obj2 about obj2's origin, resolved in world [N·m].
@@ -83,7 +83,7 @@ pub struct LinkWrench {
 
 /// A rigid link between two objects of one body (or of the world's cluster).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum RigidLink {
+pub(crate) enum RigidLink {
     /// A `Fix` joint of the tree's merging (index in `ValidScene::joints`).
     Fix(usize),
     /// The parent link of this object to its parent.
@@ -93,7 +93,7 @@ pub enum RigidLink {
 /// Runs the load pass at `(t, q, v)` with multipliers `lambda` (`Plan::loops.m()` of them) and
 /// the contact wrenches `contacts`: afterwards `ws` holds positions, velocities, accelerations
 /// (`ws.acc`, gravity's base acceleration included) and joint forces (`ws.f`).
-pub fn load_pass(
+pub(crate) fn load_pass(
     plan: &Plan,
     ws: &mut Workspace,
     (t, q, v): (f64, &[f64], &[f64]),
@@ -136,7 +136,7 @@ fn moment_about(
 }
 
 /// Tree joint `j`'s wrench on obj2 after [`load_pass`].
-pub fn tree_joint_wrench(plan: &Plan, ws: &Workspace, j: JointId) -> LinkWrench {
+pub(crate) fn tree_joint_wrench(plan: &Plan, ws: &Workspace, j: JointId) -> LinkWrench {
     let jp = &plan.joints[j];
     let sj = &plan.scene.joints[jp.scene_joint];
     let b = jp.body;
@@ -158,7 +158,7 @@ pub fn tree_joint_wrench(plan: &Plan, ws: &Workspace, j: JointId) -> LinkWrench 
 }
 
 /// The two objects of a rigid link, obj1 (the parent side) first.
-pub fn link_ends(plan: &Plan, link: RigidLink) -> Option<(usize, usize)> {
+pub(crate) fn link_ends(plan: &Plan, link: RigidLink) -> Option<(usize, usize)> {
     let scene = &plan.scene;
     match link {
         RigidLink::Fix(sj) => {
@@ -205,7 +205,7 @@ fn obj2_side(plan: &Plan, link: RigidLink) -> Option<Vec<bool>> {
 
 /// The wrench of rigid link `link` on obj2's side after [`load_pass`] at the same state
 /// (`(t, q, v)`, `lambda`, `contacts`: the pass's); `None` if `link` is no rigid link.
-pub fn rigid_link_wrench(
+pub(crate) fn rigid_link_wrench(
     plan: &Plan,
     ws: &Workspace,
     link: RigidLink,

@@ -100,19 +100,19 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 /// chosen before it, in the pivoted Gram–Schmidt of [`rank_rows`] and [`choose_dependent`]:
 /// exact redundancy leaves round-off (~1e-16 of the row norm); a genuine constraint near a
 /// singular configuration is larger than 1e-8 of the others except within ~1e-8 rad of it.
-pub const RANK_TOLERANCE: f64 = 1e-8;
+pub(crate) const RANK_TOLERANCE: f64 = 1e-8;
 
 /// Largest constraint residual (\[m\] for translations, \[1\] for rotations) an assembled loop may
 /// keep: Newton's method reaches round-off (~1e-15 for metre-sized links); 1e-9 leaves room for
 /// links of kilometres and is far below any mis-fit a user would make.
-pub const CLOSE_TOLERANCE: f64 = 1e-9;
+pub(crate) const CLOSE_TOLERANCE: f64 = 1e-9;
 
 /// Largest number of Newton iterations of an assembly.
 const MAX_NEWTON: usize = 60;
 
 /// A cut joint: both ends (body and placement in it) and its rows.
 #[derive(Clone, Debug)]
-pub struct CutPlan {
+pub(crate) struct CutPlan {
     /// The joint's name.
     pub name: String,
     /// Index in `ValidScene::joints`.
@@ -135,7 +135,7 @@ pub struct CutPlan {
 
 /// The loops of a plan: cut joints and the rows kept after redundancy removal.
 #[derive(Clone, Debug, Default)]
-pub struct LoopPlan {
+pub(crate) struct LoopPlan {
     /// Cut joints in the order the tree search met them.
     pub cuts: Vec<CutPlan>,
     /// Kept rows as (cut, row within the cut), in order: the layout of `λ` and `μ`.
@@ -148,24 +148,24 @@ pub struct LoopPlan {
 
 impl LoopPlan {
     /// Number of kept rows `m` (the lengths of `λ` and `μ`).
-    pub fn m(&self) -> usize {
+    pub(crate) fn m(&self) -> usize {
         self.kept.len()
     }
     /// True without cut joints.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.cuts.is_empty()
     }
 }
 
 /// The rows a joint kind locks when it is cut (each kind says which, in `joints/`).
-pub fn rows_of(kind: &ValidJointKind) -> Vec<Row> {
+pub(crate) fn rows_of(kind: &ValidJointKind) -> Vec<Row> {
     kind.locked_rows()
 }
 
 /// The cut joints of a validated scene, placed in their bodies: `in_ref` is each object's
 /// placement in its cluster's reference frame and `cluster_body` the body of each cluster
 /// (both from the plan's layout).
-pub fn cut_plans(
+pub(crate) fn cut_plans(
     scene: &ValidScene,
     in_ref: &[Transform],
     cluster_body: &[Option<BodyId>],
@@ -341,7 +341,7 @@ const MAX_JOINT_NV: usize = 6;
 /// Scratch of the loop rows at one state: allocated once per DAE, so the residual allocates
 /// nothing.
 #[derive(Clone, Debug)]
-pub struct LoopWork {
+pub(crate) struct LoopWork {
     /// `g` of every kept row.
     pub g: Vec<f64>,
     /// `G v` of every kept row.
@@ -358,7 +358,7 @@ pub struct LoopWork {
 
 impl LoopWork {
     /// Scratch for `plan`.
-    pub fn new(plan: &Plan) -> Self {
+    pub(crate) fn new(plan: &Plan) -> Self {
         let m = plan.loops.m();
         LoopWork {
             g: vec![0.0; m],
@@ -372,7 +372,7 @@ impl LoopWork {
 
     /// Evaluates every kept row at the workspace state (after
     /// [`position_velocity`]): `g`, `G v`, and the row vectors.
-    pub fn evaluate(&mut self, plan: &Plan, ws: &Workspace) {
+    pub(crate) fn evaluate(&mut self, plan: &Plan, ws: &Workspace) {
         let lp = &plan.loops;
         for (c, cut) in lp.cuts.iter().enumerate() {
             let f2 = frame(ws, cut.body2, &cut.in_body2);
@@ -417,7 +417,7 @@ impl LoopWork {
     }
 
     /// `self.w = v + Gᵀ μ` (after [`LoopWork::evaluate`]).
-    pub fn stabilised_velocity(
+    pub(crate) fn stabilised_velocity(
         &mut self,
         plan: &Plan,
         ws: &Workspace,
@@ -444,7 +444,7 @@ impl LoopWork {
     /// Adds the constraint wrenches of multipliers `lambda` to `ws.f_ext` (after
     /// [`LoopWork::evaluate`]): on obj2 the force `Σ λ B` at its origin and the torque `Σ λ A`,
     /// the opposite on obj1 at the same point. Inverse dynamics then contains `−Gᵀ λ`.
-    pub fn apply_forces(&self, plan: &Plan, ws: &mut Workspace, lambda: &[f64]) {
+    pub(crate) fn apply_forces(&self, plan: &Plan, ws: &mut Workspace, lambda: &[f64]) {
         let lp = &plan.loops;
         for (c, cut) in lp.cuts.iter().enumerate() {
             let (t, f) = self.cut_sum(lp, c, lambda);
@@ -524,7 +524,7 @@ fn rank_rows(gm: &DMatrix<f64>) -> Vec<usize> {
 /// the coordinate of the joint declared last is taken, so joints declared first (the drive, by
 /// habit) stay independent when that costs at most a factor 4 in conditioning; prescribed
 /// coordinates (acceleration inputs) are taken only when nothing else remains.
-pub fn choose_dependent(plan: &Plan, gm: &DMatrix<f64>) -> Vec<usize> {
+pub(crate) fn choose_dependent(plan: &Plan, gm: &DMatrix<f64>) -> Vec<usize> {
     let nv = gm.ncols();
     let mut rest: Vec<DVector<f64>> = (0..nv).map(|k| gm.column(k).into_owned()).collect();
     let scale = rest.iter().map(|r| r.norm()).fold(0.0, f64::max);
@@ -619,7 +619,7 @@ fn failure(lp: &LoopPlan, rows: &[(usize, usize)], g: &DVector<f64>) -> LoopFail
 /// guess, where `G` restricted to them is nearly singular, still reach the loop), then
 /// `G v = 0` for the dependent velocities. Returns the dependent velocity coordinates.
 /// Allocates; initial values and restarts only.
-pub fn project(
+pub(crate) fn project(
     plan: &Plan,
     ws: &mut Workspace,
     q: &mut [f64],
@@ -694,7 +694,7 @@ pub fn project(
 /// Build-time assembly: chooses the kept (independent) rows at `q0`, projects `q0` and `v0` onto
 /// the constraints and records the independent coordinates. Logs the dropped rows and the
 /// independent coordinates (`tracing::info!`).
-pub fn assemble_initial(plan: &mut Plan) -> Result<(), SceneError> {
+pub(crate) fn assemble_initial(plan: &mut Plan) -> Result<(), SceneError> {
     if plan.loops.is_empty() {
         return Ok(());
     }
@@ -738,7 +738,7 @@ pub fn assemble_initial(plan: &mut Plan) -> Result<(), SceneError> {
 
 /// Names of velocity coordinates: the joint's scalar coordinate (`crank.phi`, `slide.s`), else
 /// its velocity signal with an index (`ball.w[1]` for a quaternion kind).
-pub fn independent_names(plan: &Plan, coords: &[usize]) -> Vec<String> {
+pub(crate) fn independent_names(plan: &Plan, coords: &[usize]) -> Vec<String> {
     coords
         .iter()
         .filter_map(|&k| {
@@ -769,7 +769,7 @@ pub fn independent_names(plan: &Plan, coords: &[usize]) -> Vec<String> {
 /// straight line `q ± h q̇` (the even error terms, the quaternions' norm drift among them,
 /// cancel; the remaining error is O(h²) ≈ 1e-10 relative with `h |q̇| = 1e-5`). Only for the
 /// consistent accelerations at restarts, which IDA's corrector refines anyway.
-pub fn gdot_v(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) -> DVector<f64> {
+pub(crate) fn gdot_v(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) -> DVector<f64> {
     let lp = &plan.loops;
     let mut qd = vec![0.0; plan.nq];
     position_derivative(plan, q, v, &mut qd);
@@ -790,7 +790,7 @@ pub fn gdot_v(plan: &Plan, ws: &mut Workspace, q: &[f64], v: &[f64]) -> DVector<
 }
 
 /// The dense `G` (kept rows) at `q`. Allocates.
-pub fn constraint_jacobian(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatrix<f64> {
+pub(crate) fn constraint_jacobian(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatrix<f64> {
     position_velocity(plan, ws, q, &vec![0.0; plan.nv]);
     dense_rows(plan, ws, q, &plan.loops.kept).1
 }
@@ -798,7 +798,7 @@ pub fn constraint_jacobian(plan: &Plan, ws: &mut Workspace, q: &[f64]) -> DMatri
 /// Force \[N\] on obj2 and torque [N·m] on obj2 of cut `c` for its multipliers (kept rows of the
 /// cut, in order), both resolved in obj1's frame, at the workspace state; the force acts at
 /// obj2's origin, obj1 feels the opposite.
-pub fn cut_wrench(
+pub(crate) fn cut_wrench(
     plan: &Plan,
     ws: &Workspace,
     c: usize,
@@ -810,7 +810,7 @@ pub fn cut_wrench(
 
 /// [`cut_wrench`] resolved in world: force \[N\] and torque [N·m] on obj2 (the force acting at
 /// obj2's origin), with obj1's and obj2's frames placed in world at the workspace state.
-pub fn cut_wrench_world(
+pub(crate) fn cut_wrench_world(
     plan: &Plan,
     ws: &Workspace,
     c: usize,
@@ -837,7 +837,7 @@ pub fn cut_wrench_world(
 /// coordinates are unknown, the prescribed ones enter the right-hand sides). `blocks` are the
 /// tree blocks of `M` ([`super::mass_matrix::tree_mass_matrices`]), `rhs` = `τ − C` per velocity
 /// coordinate. `None` if the system is singular.
-pub fn kkt_accelerations(
+pub(crate) fn kkt_accelerations(
     plan: &Plan,
     ws: &mut Workspace,
     q: &[f64],

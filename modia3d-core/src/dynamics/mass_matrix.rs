@@ -15,7 +15,7 @@ use nalgebra::{DMatrix, Vector3};
 /// `τ = M v̇`, and `M` is block diagonal over the trees, so one call with a unit acceleration in
 /// the `c`-th coordinate of every tree at once yields column `c` of every block: the cost is
 /// (largest tree's coordinates) inverse-dynamics calls, not `nv`.
-pub fn tree_mass_matrices(
+pub(crate) fn tree_mass_matrices(
     plan: &Plan,
     ws: &mut Workspace,
     q: &[f64],
@@ -67,7 +67,7 @@ const PIVOT_TOLERANCE: f64 = 1e-12;
 /// 0.2 m steel block, or the rotations of a free 3 µm sphere, whose entries are 1e-13 of the
 /// others, are not singular; a massless body, a point mass on a rotation through it or a
 /// coordinate that only duplicates others is).
-pub fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
+pub(crate) fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
     let n = m.nrows();
     for k in 0..n {
         let own = m[(k, k)];
@@ -94,7 +94,7 @@ pub fn cholesky_in_place(m: &mut DMatrix<f64>) -> Result<(), usize> {
 /// The block `m` of tree `group` (see [`tree_mass_matrices`]) restricted to the coordinates
 /// that are not prescribed: their positions in `group`, and its Cholesky factor, or the global
 /// velocity index of the first pivot that is not clearly positive.
-pub fn free_cholesky(
+pub(crate) fn free_cholesky(
     plan: &Plan,
     group: &[usize],
     m: &DMatrix<f64>,
@@ -115,7 +115,7 @@ pub fn free_cholesky(
 /// (the workspace then holds positions and velocities at `q`, `v`). With closed loops the
 /// constraint multipliers `λ` come with them (`dynamics/loops.rs`, KKT system); empty without.
 /// `None` if `M` (or the KKT matrix) is singular.
-pub fn consistent_accelerations_with(
+pub(crate) fn consistent_accelerations_with(
     plan: &Plan,
     ws: &mut Workspace,
     t: f64,
@@ -130,7 +130,7 @@ pub fn consistent_accelerations_with(
 /// forces that `extra` adds (the multipliers `λ` known, e.g. stored by a run): `M v̇ = τ_applied
 /// − C` per joint tree, no KKT system. For the joint loads of a result (`dynamics/loads.rs`),
 /// which must agree with the cut joints' forces of the same `λ`.
-pub fn accelerations_given_loop_forces(
+pub(crate) fn accelerations_given_loop_forces(
     plan: &Plan,
     ws: &mut Workspace,
     t: f64,
@@ -319,7 +319,7 @@ fn row_operated_accelerations(
 /// Returns the global velocity index of the coordinate the latter names then (a row that
 /// vanishes is the coordinate without inertia of its own: a massless link's, not the load's
 /// it carries).
-pub fn singular_coordinate(
+pub(crate) fn singular_coordinate(
     plan: &Plan,
     ws: &Workspace,
     q: &[f64],

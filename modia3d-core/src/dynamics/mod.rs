@@ -3,24 +3,24 @@
 //! forces, recursive Newton–Euler inverse dynamics. Touches scene data (read-only) and its own
 //! workspace.
 
-pub mod forces;
-pub mod ids;
-pub mod kinematics;
-pub mod loads;
-pub mod loops;
-pub mod mass_matrix;
-pub mod plan;
-pub mod rnea;
+pub(crate) mod forces;
+pub(crate) mod ids;
+pub(crate) mod kinematics;
+pub(crate) mod loads;
+pub(crate) mod loops;
+pub(crate) mod mass_matrix;
+pub(crate) mod plan;
+pub(crate) mod rnea;
 
-pub use ids::{BodyId, IdVec, ObjectId};
-pub use plan::{InputTarget, ObjectPlan, Plan};
+pub(crate) use ids::{BodyId, IdVec, ObjectId};
+pub(crate) use plan::{InputTarget, ObjectPlan, Plan};
 
 use crate::spatial::{Force, Motion, Transform};
 
 /// Mutable per-body scratch of the recursive algorithms; allocated once per plan, so the
 /// residual allocates nothing.
 #[derive(Clone, Debug)]
-pub struct Workspace {
+pub(crate) struct Workspace {
     /// Body frame placed in its parent body's frame (world for root bodies).
     pub x: IdVec<BodyId, Transform>,
     /// The joint's own transform `X_J(q)` (`x` without the joint's tree placement): the
@@ -54,7 +54,7 @@ pub struct Workspace {
 
 impl Workspace {
     /// Scratch sized for `plan`.
-    pub fn new(plan: &Plan) -> Self {
+    pub(crate) fn new(plan: &Plan) -> Self {
         let nb = plan.bodies.len();
         Workspace {
             x: vec![Transform::default(); nb].into(),

@@ -5,14 +5,14 @@
 //! states. Touches only scene data.
 
 use super::ids::{BodyId, IdVec, JointId, ObjectId};
-pub use crate::joints::JointCoord;
+pub(crate) use crate::joints::JointCoord;
 use crate::scene::{GravityField, SceneError, SceneErrors, ValidInputKind, ValidScene};
 use crate::spatial::{Inertia, Transform};
 use nalgebra::{Isometry3, Vector3};
 
 /// A moving body: the objects rigidly attached to each other, moved by one joint.
 #[derive(Clone, Debug)]
-pub struct BodyPlan {
+pub(crate) struct BodyPlan {
     /// Parent body; `None` = the world.
     pub parent: Option<BodyId>,
     /// Its joint.
@@ -25,7 +25,7 @@ pub struct BodyPlan {
 
 /// A joint of the tree (Fix joints are merged away).
 #[derive(Clone, Debug)]
-pub struct JointPlan {
+pub(crate) struct JointPlan {
     /// Name.
     pub name: String,
     /// Index in `ValidScene::joints`.
@@ -50,7 +50,7 @@ pub struct JointPlan {
 
 /// Where a scene object sits.
 #[derive(Clone, Debug)]
-pub struct ObjectPlan {
+pub(crate) struct ObjectPlan {
     /// Name.
     pub name: String,
     /// The moving body it belongs to; `None` = fixed to the world.
@@ -61,7 +61,7 @@ pub struct ObjectPlan {
 
 /// What an input drives, with plan indices.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum InputTarget {
+pub(crate) enum InputTarget {
     /// Generalised force on a scalar coordinate of tree joint `joint` (1 value).
     JointForce {
         /// The tree joint.
@@ -85,7 +85,7 @@ pub enum InputTarget {
 
 /// An input and its place in the input value vector.
 #[derive(Clone, Debug, PartialEq)]
-pub struct InputPlan {
+pub(crate) struct InputPlan {
     /// Name.
     pub name: String,
     /// What it drives.
@@ -99,7 +99,7 @@ pub struct InputPlan {
 /// The immutable compiled scene: bodies in topological order (parents first), joints, state
 /// layout `y = [q; v]`, initial values and force elements.
 #[derive(Clone, Debug)]
-pub struct Plan {
+pub(crate) struct Plan {
     /// Moving bodies, parents before children.
     pub bodies: IdVec<BodyId, BodyPlan>,
     /// Tree joints, `joints[bodies[i].joint]` moves body i.
@@ -333,7 +333,7 @@ impl Plan {
     /// already checked: bodies and joints in tree order, object placements, state layout,
     /// combined mass properties, inputs. Layout only: it cannot fail. The mass-matrix
     /// positivity check ([`Plan::check_inertia`]) needs the finished plan and runs after it.
-    pub fn compile(scene: ValidScene) -> Plan {
+    pub(crate) fn compile(scene: ValidScene) -> Plan {
         let in_ref = placements(&scene);
         let TreeLayout {
             mut bodies,
@@ -454,7 +454,7 @@ impl Plan {
     }
 
     /// The object with this name.
-    pub fn object_index(&self, name: &str) -> Option<ObjectId> {
+    pub(crate) fn object_index(&self, name: &str) -> Option<ObjectId> {
         self.objects
             .iter()
             .position(|o| o.name == name)
@@ -462,7 +462,7 @@ impl Plan {
     }
 
     /// The tree joint with this name.
-    pub fn joint_index(&self, name: &str) -> Option<JointId> {
+    pub(crate) fn joint_index(&self, name: &str) -> Option<JointId> {
         self.joints.iter().position(|j| j.name == name).map(JointId)
     }
 
@@ -470,7 +470,7 @@ impl Plan {
     /// i.e. per body whose parent is the world), and the number of trees. `M(q)` is block
     /// diagonal over the trees, and the rows of one tree depend on another's state only through
     /// forces between them (spring-dampers, forces of other stages).
-    pub fn trees(&self) -> (Vec<usize>, usize) {
+    pub(crate) fn trees(&self) -> (Vec<usize>, usize) {
         let mut tree = vec![0; self.bodies.len()];
         let mut n = 0;
         // Bodies come parents first, so a parent's tree is known when its children are reached.
@@ -487,7 +487,7 @@ impl Plan {
     }
 
     /// Velocity indices of each joint tree (see [`Plan::trees`]), ascending.
-    pub fn velocity_groups(&self) -> Vec<Vec<usize>> {
+    pub(crate) fn velocity_groups(&self) -> Vec<Vec<usize>> {
         let (tree, n) = self.trees();
         let mut groups = vec![vec![]; n];
         for j in &self.joints {
@@ -500,7 +500,7 @@ impl Plan {
     }
 
     /// Initial state `y0 = [q0; v0]`.
-    pub fn y0(&self) -> Vec<f64> {
+    pub(crate) fn y0(&self) -> Vec<f64> {
         [self.q0.as_slice(), self.v0.as_slice()].concat()
     }
 }

@@ -10,7 +10,7 @@ use nalgebra::Vector3;
 /// Fills `tau` (len nv) with the joint forces for accelerations `vd` at positions `q` (the
 /// ones `kinematics::position_velocity` was called with); `gravity` resolved in world [m/s²].
 /// External body forces are taken from `ws.f_ext`.
-pub fn inverse_dynamics(
+pub(crate) fn inverse_dynamics(
     plan: &Plan,
     ws: &mut Workspace,
     q: &[f64],
@@ -41,7 +41,7 @@ pub fn inverse_dynamics(
 /// must be flagged too): their rows of `tau` get the same bits as without, the other rows are
 /// left as they were. For the quotient residuals of the Jacobian, whose perturbation changes
 /// the rows of a few trees only.
-pub fn residual_dynamics(
+pub(crate) fn residual_dynamics(
     plan: &Plan,
     ws: &mut Workspace,
     (q, vd): (&[f64], &[f64]),

@@ -38,11 +38,11 @@ impl CollisionShape {
     /// non-positive dimensions and for degenerate convex hulls.
     pub fn with_smoothing(shape: &Shape, smoothing_radius: f64) -> Result<Self, GeometryError> {
         for (name, value) in shape.dimensions() {
-            let ok = value.is_finite() && (value > 0.0 || (name == "top_diameter" && value == 0.0));
-            if !ok {
+            if !(value.is_finite() && value > 0.0) {
                 return Err(GeometryError::InvalidDimension { name, value });
             }
         }
+        // The one length that may be 0 (a pointed cone); `dimensions` leaves it out.
         if let Shape::Cone { top_diameter, .. } = shape {
             if !(top_diameter.is_finite() && *top_diameter >= 0.0) {
                 return Err(GeometryError::InvalidDimension {

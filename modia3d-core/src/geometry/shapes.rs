@@ -224,8 +224,9 @@ impl Shape {
         }
     }
 
-    /// Every length parameter with its name, for validation (must be finite and > 0, except a
-    /// cone's top diameter, which may be 0).
+    /// Every length parameter that must be finite and > 0, with its name, for validation. A
+    /// cone's top diameter, which may be 0, is not among them: the validators check it
+    /// themselves (`≥ 0`).
     pub fn dimensions(&self) -> Vec<(&'static str, f64)> {
         match self {
             Shape::Sphere { diameter } => vec![("diameter", *diameter)],

@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 
 /// A validated Cylindrical joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// Unit axis, resolved in obj1.
     pub axis: Vector3<f64>,
     /// Initial angle \[rad\].
@@ -27,7 +27,7 @@ pub struct Valid {
 
 /// A Cylindrical joint in the tree.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord {
+pub(crate) struct Coord {
     /// Unit axis (already negated when traversed from obj2 to obj1).
     pub axis: Vector3<f64>,
 }

@@ -13,11 +13,11 @@ use nalgebra::Vector3;
 
 /// A validated Fix joint: nothing to validate.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid;
+pub(crate) struct Valid;
 
 /// A Fix joint in the tree: none (uninhabited).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Coord {}
+pub(crate) enum Coord {}
 
 /// No parameters, no coordinates; rigid.
 pub(crate) const FACTS: Facts = Facts {

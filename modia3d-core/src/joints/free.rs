@@ -42,7 +42,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 /// A validated FreeMotion joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// Initial position, resolved in obj1 \[m\].
     pub r: Vector3<f64>,
     /// Initial orientation relative to obj1.
@@ -58,7 +58,7 @@ pub struct Valid {
 /// ([rad/s], [m/s]), both resolved in obj1 (then `v = ṙ`) or both in obj2 (the module docs
 /// say which the plan picks and why).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord {
+pub(crate) struct Coord {
     /// The velocities are resolved in obj1 (else in obj2).
     pub in_obj1: bool,
 }

@@ -227,7 +227,7 @@ macro_rules! kinds {
 
         /// A validated joint kind (unit axes, a unit quaternion): each kind's `Valid`.
         #[derive(Clone, Debug, PartialEq)]
-        pub enum ValidJointKind {
+        pub(crate) enum ValidJointKind {
             $(
                 #[doc = concat!("`", stringify!($name), "` (`joints/", stringify!($file), ".rs`).")]
                 $name($file::Valid),
@@ -238,7 +238,7 @@ macro_rules! kinds {
         /// coincides with obj1's frame at zero coordinates and is the child body's frame): each
         /// kind's `Coord` (a Fix joint's is uninhabited: it is never in the tree).
         #[derive(Clone, Copy, Debug, PartialEq)]
-        pub enum JointCoord {
+        pub(crate) enum JointCoord {
             $(
                 #[doc = concat!("`", stringify!($name), "` (`joints/", stringify!($file), ".rs`).")]
                 $name($file::Coord),
@@ -332,7 +332,7 @@ macro_rules! kinds {
             }
             /// Whether `S` depends on `q` (then the bias `c_J = Ṡ q̇` is not zero).
             #[inline]
-            pub fn has_bias(&self) -> bool {
+            pub(crate) fn has_bias(&self) -> bool {
                 match self {
                     $(JointCoord::$name(c) => c.has_bias(),)*
                 }
@@ -357,7 +357,7 @@ macro_rules! kinds {
             /// caller (the results' chain kinematics) the compiler stopped inlining it into the
             /// hot path's `position_velocity`, +8 % instructions per call there.
             #[inline(always)]
-            pub fn transform(&self, q: &[f64]) -> Transform {
+            pub(crate) fn transform(&self, q: &[f64]) -> Transform {
                 match self {
                     $(JointCoord::$name(c) => c.transform(q),)*
                 }
@@ -366,7 +366,7 @@ macro_rules! kinds {
             /// velocities (or accelerations: `S(q) v̇`). Always inlined, as
             /// [`Self::transform`].
             #[inline(always)]
-            pub fn motion(&self, q: &[f64], v: &[f64]) -> Motion {
+            pub(crate) fn motion(&self, q: &[f64], v: &[f64]) -> Motion {
                 match self {
                     $(JointCoord::$name(c) => c.motion(q, v),)*
                 }
@@ -376,7 +376,7 @@ macro_rules! kinds {
             /// forming the rotation from the quaternion a second time (the kinematics' hot
             /// path).
             #[inline(always)]
-            pub fn motion_at(&self, xj: &Transform, q: &[f64], v: &[f64]) -> Motion {
+            pub(crate) fn motion_at(&self, xj: &Transform, q: &[f64], v: &[f64]) -> Motion {
                 match self {
                     $(JointCoord::$name(c) => c.motion_at(xj, q, v),)*
                 }
@@ -385,7 +385,7 @@ macro_rules! kinds {
             /// kinds whose `S` is constant ([`Self::has_bias`]). `s_v` is the joint velocity
             /// `S(q) v` ([`Self::motion`]), which the free joint's bias is formed from.
             #[inline]
-            pub fn bias(&self, q: &[f64], v: &[f64], s_v: &Motion) -> Motion {
+            pub(crate) fn bias(&self, q: &[f64], v: &[f64], s_v: &Motion) -> Motion {
                 match self {
                     $(JointCoord::$name(c) => c.bias(q, v, s_v),)*
                 }
@@ -393,7 +393,7 @@ macro_rules! kinds {
             /// [`Self::project`] with the joint transform `xj = X_J(q)` at hand (as
             /// [`Self::motion_at`]).
             #[inline(always)]
-            pub fn project_at(&self, xj: &Transform, q: &[f64], f: &Force, tau: &mut [f64]) {
+            pub(crate) fn project_at(&self, xj: &Transform, q: &[f64], f: &Force, tau: &mut [f64]) {
                 match self {
                     $(JointCoord::$name(c) => c.project_at(xj, q, f, tau),)*
                 }
@@ -401,7 +401,7 @@ macro_rules! kinds {
             /// The generalised forces `Sᵀ f` of a spatial force `f` transmitted by the joint
             /// (resolved in the child frame) into `tau` (the joint's `nv` entries).
             #[inline]
-            pub fn project(&self, q: &[f64], f: &Force, tau: &mut [f64]) {
+            pub(crate) fn project(&self, q: &[f64], f: &Force, tau: &mut [f64]) {
                 match self {
                     $(JointCoord::$name(c) => c.project(q, f, tau),)*
                 }
@@ -409,7 +409,7 @@ macro_rules! kinds {
             /// The kinematic residual `q̇ − q̇(q, v)` of the joint into `res` (its `nq`
             /// entries).
             #[inline]
-            pub fn position_residual(&self, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
+            pub(crate) fn position_residual(&self, q: &[f64], v: &[f64], qd: &[f64], res: &mut [f64]) {
                 match self {
                     $(JointCoord::$name(c) => c.position_residual(q, v, qd, res),)*
                 }
@@ -457,12 +457,12 @@ impl ValidJointKind {
 impl JointCoord {
     /// Number of position coordinates.
     #[inline]
-    pub fn nq(&self) -> usize {
+    pub(crate) fn nq(&self) -> usize {
         self.facts().nq
     }
     /// Number of velocity coordinates.
     #[inline]
-    pub fn nv(&self) -> usize {
+    pub(crate) fn nv(&self) -> usize {
         self.facts().nv
     }
     /// Its signals (`"<joint>.<name>"`), in state order.

@@ -16,7 +16,7 @@ use nalgebra::Vector3;
 
 /// A validated Planar joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// Unit normal, resolved in obj1.
     pub normal: Vector3<f64>,
     /// Initial positions \[m\] (resolved in obj1) and angle \[rad\].
@@ -36,7 +36,7 @@ pub struct Valid {
 /// A Planar joint in the tree: translations `x`, `y` along `e1`, `e2` (resolved in obj1) and
 /// rotation `phi` about `normal`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord {
+pub(crate) struct Coord {
     /// Unit normal of the plane.
     pub normal: Vector3<f64>,
     /// First in-plane axis.
@@ -177,7 +177,7 @@ pub(crate) const FACTS: Facts = Facts {
 /// axis that follows `normal`'s largest component cyclically (x → y → z → x), made
 /// perpendicular to `normal`; `e2 = normal × e1`. So a normal `z` gives `(x, y)`, `x` gives
 /// `(y, z)` and `y` gives `(z, x)`.
-pub fn plane_axes(normal: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+pub(crate) fn plane_axes(normal: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
     let k = normal.iamax();
     let a = Vector3::ith((k + 1) % 3, 1.0);
     let e1 = (a - normal * normal.dot(&a)).normalize();

@@ -13,7 +13,7 @@ use nalgebra::Vector3;
 
 /// A validated Prismatic joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// Unit axis, resolved in obj1.
     pub axis: Vector3<f64>,
     /// Initial position \[m\].
@@ -24,7 +24,7 @@ pub struct Valid {
 
 /// A Prismatic joint in the tree.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord {
+pub(crate) struct Coord {
     /// Unit axis (already negated when traversed from obj2 to obj1).
     pub axis: Vector3<f64>,
 }

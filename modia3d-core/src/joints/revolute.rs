@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 
 /// A validated Revolute joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// Unit axis, resolved in obj1.
     pub axis: Vector3<f64>,
     /// Initial angle \[rad\].
@@ -22,7 +22,7 @@ pub struct Valid {
 
 /// A Revolute joint in the tree.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord {
+pub(crate) struct Coord {
     /// Unit axis (already negated when the joint is traversed from obj2 to obj1).
     pub axis: Vector3<f64>,
 }

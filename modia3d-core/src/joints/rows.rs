@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 /// One scalar constraint of a cut joint (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Row {
+pub(crate) enum Row {
     /// `e·p = 0`: no translation of obj2's origin along `e` (unit, resolved in obj1).
     Translation {
         /// Locked direction, resolved in obj1.

@@ -13,7 +13,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 
 /// A validated Spherical joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// Initial orientation relative to obj1.
     pub rot: UnitQuaternion<f64>,
     /// Initial angular velocity, resolved in obj2 [rad/s].
@@ -22,7 +22,7 @@ pub struct Valid {
 
 /// A Spherical joint in the tree: a quaternion (4) and `ω` resolved in obj2 (3, [rad/s]).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord;
+pub(crate) struct Coord;
 
 /// Signals: `q` (quaternion of obj2 relative to obj1), `w` [rad/s] (resolved in obj2).
 pub(crate) const SIGNALS: &[SignalSpec] = &[

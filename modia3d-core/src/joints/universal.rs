@@ -15,7 +15,7 @@ use nalgebra::Vector3;
 
 /// A validated Universal joint: unit, exactly perpendicular axes.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Valid {
+pub(crate) struct Valid {
     /// First axis (fixed in obj1), unit.
     pub axis1: Vector3<f64>,
     /// Second axis (fixed in obj2), unit, perpendicular to `axis1`.
@@ -32,7 +32,7 @@ pub struct Valid {
 
 /// A Universal joint in the tree: unit, perpendicular axes resolved in the joint frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Coord {
+pub(crate) struct Coord {
     /// First axis, fixed in obj1.
     pub axis1: Vector3<f64>,
     /// Second axis, fixed in obj2.

@@ -118,7 +118,7 @@ pub(crate) struct PhaseBook {
 
 impl PhaseBook {
     /// A book for `pairs` candidate pairs.
-    pub fn new(pairs: usize) -> Self {
+    pub(crate) fn new(pairs: usize) -> Self {
         PhaseBook {
             phases: vec![],
             open: vec![None; pairs],
@@ -126,7 +126,7 @@ impl PhaseBook {
     }
 
     /// True if pair `p` has an open phase.
-    pub fn is_open(&self, p: usize) -> bool {
+    pub(crate) fn is_open(&self, p: usize) -> bool {
         matches!(self.open.get(p), Some(Some(_)))
     }
 
@@ -137,7 +137,7 @@ impl PhaseBook {
 
     /// Opens and closes phases after an event at `t` \[s\] (or at the start of the run) from the
     /// contact set's `started`/`ended` lists (pair ids) and their speeds; `name(p)` gives pair `p`'s name.
-    pub fn event(&mut self, t: f64, cs: &ContactState, name: impl Fn(usize) -> String) {
+    pub(crate) fn event(&mut self, t: f64, cs: &ContactState, name: impl Fn(usize) -> String) {
         for (&p, &dd) in cs.ended.iter().zip(&cs.ended_speed) {
             let p = p as usize;
             let exit = -dd;
@@ -171,7 +171,7 @@ impl PhaseBook {
     }
 
     /// Adds `weight` \[s\] times pair `p`'s forces `(f_n, f_t)` (on `b`, world) to its impulses.
-    pub fn add_impulse(
+    pub(crate) fn add_impulse(
         &mut self,
         p: usize,
         weight: f64,
@@ -187,7 +187,7 @@ impl PhaseBook {
     }
 
     /// Pair `p`'s maxima so far: (penetration \[m\], normal force \[N\]).
-    pub fn maxima(&self, p: usize) -> Option<(f64, f64)> {
+    pub(crate) fn maxima(&self, p: usize) -> Option<(f64, f64)> {
         let k = (*self.open.get(p)?)?;
         self.phases
             .get(k)
@@ -195,7 +195,7 @@ impl PhaseBook {
     }
 
     /// Takes a sample of pair `p` at `t` \[s\] into its maxima.
-    pub fn sample_max(&mut self, p: usize, t: f64, penetration: f64, f_n: f64) {
+    pub(crate) fn sample_max(&mut self, p: usize, t: f64, penetration: f64, f_n: f64) {
         if let Some(ph) = self.open_phase(p) {
             ph.max_penetration = ph.max_penetration.max(penetration);
             if f_n > ph.max_normal_force {

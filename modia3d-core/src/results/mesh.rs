@@ -28,7 +28,7 @@ pub(crate) struct TriMesh {
 
 impl TriMesh {
     /// Adds triangle `a, b, c`, turned to face away from `centre`; skips degenerate ones.
-    pub fn push(
+    pub(super) fn push(
         &mut self,
         a: Vector3<f64>,
         b: Vector3<f64>,
@@ -54,7 +54,7 @@ impl TriMesh {
 
     /// Axis-aligned bounds `(min, max)` of the vertices, or `None` for an empty mesh.
     #[cfg(test)]
-    pub fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+    pub(super) fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let mut it = self.positions.iter();
         let first = *it.next()?;
         Some(it.fold((first, first), |(mut lo, mut hi), p| {

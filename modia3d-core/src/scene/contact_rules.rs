@@ -13,7 +13,7 @@ use super::validate::{SceneError, ValidScene};
 /// mechanical connection (Revolute, Prismatic, Spherical, Universal, Cylindrical, Planar). A
 /// FreeMotion is no mechanical connection: it never excludes a pair.
 #[derive(Clone, Debug)]
-pub struct CollisionFilter {
+pub(crate) struct CollisionFilter {
     /// Rigid body (a representative object index) of every object.
     body: Vec<usize>,
     /// Body pairs joined by a joint that forbids collisions, with the joint's index.
@@ -22,7 +22,7 @@ pub struct CollisionFilter {
 
 impl CollisionFilter {
     /// The filter of a validated scene.
-    pub fn new(scene: &ValidScene) -> Self {
+    pub(crate) fn new(scene: &ValidScene) -> Self {
         // Rigid bodies = the topology's clusters (parent links and Fix joints merged).
         let body = scene.topology.cluster.clone();
         let excluded = scene
@@ -39,13 +39,13 @@ impl CollisionFilter {
     }
 
     /// Whether objects `a` and `b` (indices into `ValidScene::objects`) can touch.
-    pub fn can_meet(&self, a: usize, b: usize) -> bool {
+    pub(crate) fn can_meet(&self, a: usize, b: usize) -> bool {
         self.body[a] != self.body[b] && self.excluded_by(a, b).is_none()
     }
 
     /// The joint (index into `ValidScene::joints`) with `can_collide = false` that keeps
     /// objects `a` and `b` apart, if any.
-    pub fn excluded_by(&self, a: usize, b: usize) -> Option<usize> {
+    pub(crate) fn excluded_by(&self, a: usize, b: usize) -> Option<usize> {
         let (ba, bb) = (self.body[a], self.body[b]);
         self.excluded
             .iter()
@@ -57,7 +57,7 @@ impl CollisionFilter {
 /// The objects that take part in collision handling: collision solids with a shape, a contact
 /// material and its elasticity (the others are validation errors), in declaration order; none
 /// when the scene's `contact_detection` is off.
-pub fn colliding_objects(scene: &ValidScene) -> Vec<usize> {
+pub(crate) fn colliding_objects(scene: &ValidScene) -> Vec<usize> {
     if !scene.options.contact_detection {
         return vec![];
     }
@@ -82,7 +82,7 @@ pub fn colliding_objects(scene: &ValidScene) -> Vec<usize> {
 /// palette defines; once per material pair, naming the first two objects that need it (in
 /// declaration order). A pair averaged from its self-pairs (`SceneOptions::average_missing_pairs`)
 /// is not an error but is warned about here, once per material pair.
-pub fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
+pub(super) fn missing_contact_pairs(scene: &ValidScene) -> Vec<SceneError> {
     let objects = colliding_objects(scene);
     let filter = CollisionFilter::new(scene);
     let material = |i: usize| {

@@ -21,7 +21,7 @@ use std::collections::{HashMap, VecDeque};
 
 /// A joint of the spanning tree, in breadth-first order from the world (parents first).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TreeEdge {
+pub(crate) struct TreeEdge {
     /// Index into `ValidScene::joints`.
     pub joint: usize,
     /// Cluster (see [`Topology::cluster`]) on the world side of the joint.
@@ -36,7 +36,7 @@ pub struct TreeEdge {
 
 /// The scene's topology: rigid clusters and the spanning joint tree.
 #[derive(Clone, Debug, PartialEq, Default)]
-pub struct Topology {
+pub(crate) struct Topology {
     /// Cluster of each object, named by a representative object index; two objects are
     /// rigidly attached exactly when their clusters are equal.
     pub cluster: Vec<usize>,
@@ -50,7 +50,7 @@ pub struct Topology {
 
 /// A joint that closes a kinematic loop, kept out of the tree (see the module docs).
 #[derive(Clone, Debug, PartialEq)]
-pub struct CutEdge {
+pub(crate) struct CutEdge {
     /// Index into `ValidScene::joints`.
     pub joint: usize,
     /// The joints of its loop (indices into `ValidScene::joints`): the cut joint first, then the

@@ -223,7 +223,7 @@ pub enum SlowCause {
 /// [`SlowCause::LinearLawAtTouch`] when its penetration is at most this many narrow-phase
 /// stopping lengths: the depth is known only to about one of them, so Newton's iterates, whose
 /// corrections at the collapsed steps are of that order, fall on both sides of the kink.
-pub const KINK_BAND: f64 = 1e3;
+pub(super) const KINK_BAND: f64 = 1e3;
 
 /// The contact of the set under the paper's linear law ([`SlowCause::LinearLawAtTouch`]) that
 /// sits at its touch, with the shortest period if several, provided the last step `h_last`
@@ -268,7 +268,7 @@ pub(crate) fn linear_law_at_touch(
 
 /// [`SlowCause::StiffFriction`] explains the steps when its time constant is at most this many
 /// last steps (the steps of a collapse sit at a few time constants: 18 in the cylinder above).
-pub const FRICTION_RATIO: f64 = 10.0;
+pub(super) const FRICTION_RATIO: f64 = 10.0;
 
 /// The tests of [`SlowCause::NarrowPhaseNoise`]: (move \[m\], second difference of the normal
 /// \[rad\], of the signed distance \[m\]) above which a narrow phase counts as not smooth. A
@@ -278,7 +278,7 @@ pub const FRICTION_RATIO: f64 = 10.0;
 /// showed 4e-11 rad at 1e-9 m at one pose, but 3.6e-5 rad and 4.3e-7 m at 1e-7 m). The depth's
 /// bounds (1e-10 m, 1e-8 m) stay above the narrow phase's own tolerance (`mpr_tolerance` ≤ 1e-9
 /// relative to the shapes' size, ≤ 1e-9 m for a 1 m shape).
-pub const ROUGHNESS_TESTS: [(f64, f64, f64); 2] = [(1e-9, 1e-8, 1e-10), (1e-7, 1e-5, 1e-8)];
+pub(super) const ROUGHNESS_TESTS: [(f64, f64, f64); 2] = [(1e-9, 1e-8, 1e-10), (1e-7, 1e-5, 1e-8)];
 
 /// The contact of the set whose narrow phase is roughest (see [`SlowCause::NarrowPhaseNoise`])
 /// if it is rough at all; its force weighs the jumps (`normal_jump·f_n`).
@@ -398,27 +398,27 @@ pub(crate) fn stiff_friction(
 
 /// Penetration, as a fraction of the thinner shape's smallest extent, above which a contact
 /// counts as deep for [`SlowCause::DeepContact`].
-pub const DEEP_CONTACT: f64 = 0.5;
+pub(super) const DEEP_CONTACT: f64 = 0.5;
 
 /// `M_ii·(M⁻¹)_ii` above which the mass matrix counts as ill-conditioned for
 /// [`SlowCause::IllConditioned`]: the difference-quotient Jacobian's relative error (~1e-8,
 /// √ε) times this is 1 % of the coordinate's effective inertia.
-pub const ILL_CONDITIONED: f64 = 1e6;
+pub(super) const ILL_CONDITIONED: f64 = 1e6;
 
 /// A spin explains the steps when the body turns once within this many of them: IDA's error
 /// test on a rotation at order 5 allows a turn per step of about `rtol^(1/6)` rad, so some 30
 /// steps per turn at rtol 1e-4 and 200 at 1e-9 (in random scenes a 1.3e3 rad/s body at 1,000
 /// steps per turn was held by Newton failures, not by its rotation).
-pub const SPIN_RATIO: f64 = 300.0;
+pub(super) const SPIN_RATIO: f64 = 300.0;
 
 /// The tunnelling guard limits the steps when the last step is at least this fraction of the
 /// guard's step (IDA grows a step by at most 2x, so a step held by a cap sits between ½ and
 /// 1 of it).
-pub const GUARD_LIMITED: f64 = 0.5;
+pub(super) const GUARD_LIMITED: f64 = 0.5;
 
 /// A stiff element explains the steps only when its period is within this many of them (a
 /// resolved oscillation takes some tens of steps per period).
-pub const COLLAPSE_RATIO: f64 = 1000.0;
+pub(super) const COLLAPSE_RATIO: f64 = 1000.0;
 
 /// `cause` (from [`stiffest`]) unless the steps do not follow from it: the element's period is
 /// more than [`COLLAPSE_RATIO`] last steps `h_last` \[s\], or it would fit the budget step

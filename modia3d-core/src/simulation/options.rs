@@ -55,6 +55,18 @@ pub struct SimOptions {
     /// Newton's method fails to converge (default true). Newton's convergence, not the
     /// accuracy, depends on it; false = new difference quotients every time (for comparison).
     pub jacobian_reuse: bool,
+    /// With the coloured Jacobian: the DAE computes the columns of the joint trees it can
+    /// differentiate itself — a free body with its contacts, a tree of hinges — and the solver
+    /// forms only the rest by coloured difference quotients (default true). False = every
+    /// block by the coloured quotients, as before those columns existed (for comparison:
+    /// `tests/jacobian_analytic.rs`, `examples/drag_billiards.rs`, `examples/hinge_chain.rs`);
+    /// Newton's convergence, not the accuracy, depends on it.
+    pub analytic_jacobian: bool,
+    /// With the coloured Jacobian: factor every component of the iteration matrix densely
+    /// (true) instead of choosing dense or block-sparse per component by its estimated cost
+    /// (false, the default; for comparison: `examples/ball_pit.rs`). The results agree to
+    /// rounding; only the time differs.
+    pub dense_lu: bool,
     /// Work budget: IDA steps over the whole run, every restart included (default
     /// [`DEFAULT_MAX_STEPS`]; `None` = unlimited). Reaching it ends the run with
     /// [`SimErrorKind::WorkBudget`](crate::SimErrorKind::WorkBudget), whose diagnosis names the limiting cause.
@@ -118,6 +130,8 @@ impl SimOptions {
             progress: true,
             structured_jacobian: true,
             jacobian_reuse: true,
+            analytic_jacobian: true,
+            dense_lu: false,
             max_steps: Some(DEFAULT_MAX_STEPS),
             max_wall_time: None,
             contact_tightening: DEFAULT_CONTACT_TIGHTENING,
@@ -171,6 +185,19 @@ impl SimOptions {
     /// default) or anew (see [`SimOptions::jacobian_reuse`]).
     pub fn jacobian_reuse(mut self, on: bool) -> Self {
         self.jacobian_reuse = on;
+        self
+    }
+    /// Lets the DAE compute the Jacobian columns of free bodies and hinge trees (true, the
+    /// default) or leaves every block to coloured difference quotients (see
+    /// [`SimOptions::analytic_jacobian`]).
+    pub fn analytic_jacobian(mut self, on: bool) -> Self {
+        self.analytic_jacobian = on;
+        self
+    }
+    /// Factors every component of the iteration matrix densely (true) or as its cost chooses
+    /// (false, the default; see [`SimOptions::dense_lu`]).
+    pub fn dense_lu(mut self, on: bool) -> Self {
+        self.dense_lu = on;
         self
     }
     /// Records per-pair contact signals (`"<a>|<b>.f_n"`, … see

@@ -243,6 +243,7 @@ impl Simulation {
         description: String,
     ) -> Result<(), SimErrorKind> {
         let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        dae.set_analytic_jacobian(self.opts.analytic_jacobian);
         dae.set_contact_tightening(self.opts.effective_contact_tightening());
         dae.set_tolerance(self.opts.rtol);
         let old_inputs = self.ida.system_mut().inputs_mut().to_vec();

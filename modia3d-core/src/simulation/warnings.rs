@@ -12,14 +12,14 @@ use crate::scene::SizeSlip;
 use crate::scene::{colliding_objects, CollisionFilter};
 
 /// A body this many times heavier or lighter than the median of the others.
-pub const MASS_RATIO: f64 = 1e6;
+pub(super) const MASS_RATIO: f64 = 1e6;
 /// Chattering: this many contact-set changes of one pair ...
-pub const CHATTER_WARN_EVENTS: usize = 20;
+pub(super) const CHATTER_WARN_EVENTS: usize = 20;
 /// ... within this fraction of the run's duration.
-pub const CHATTER_WARN_SPAN: f64 = 1e-3;
+pub(super) const CHATTER_WARN_SPAN: f64 = 1e-3;
 
 /// At most this many warnings are printed in full by [`report`]; the rest are counted.
-pub const REPORTED_WARNINGS: usize = 5;
+pub(super) const REPORTED_WARNINGS: usize = 5;
 
 /// The text printed to standard error for the warnings `new` a run found (see
 /// `SimOptions::quiet`): a header with their number and how to silence it, then each

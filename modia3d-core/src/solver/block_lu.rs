@@ -127,10 +127,9 @@ struct OrderScratch {
 }
 
 impl BlockLu {
-    /// A block LU that chooses dense or block-sparse per component, or (`MODIA3D_DENSE_LU=1`,
-    /// read here, for comparisons) factors every component densely.
-    pub fn new() -> Self {
-        let dense = std::env::var_os("MODIA3D_DENSE_LU").is_some_and(|v| v == "1");
+    /// A block LU that chooses dense or block-sparse per component, or (`dense`:
+    /// `IdaOptions::dense_lu`, for comparisons) factors every component densely.
+    pub(super) fn new(dense: bool) -> Self {
         BlockLu {
             gain: dense.then_some(f64::INFINITY),
             ..Default::default()
@@ -140,7 +139,7 @@ impl BlockLu {
     /// Lays out zeroed blocks for the components of `col` (n unknowns). `rebuilt`: the colouring
     /// changed since the last layout (else only the entries are zeroed, and the ordering, the
     /// choice of dense or sparse and a dense fallback are kept).
-    pub fn layout(&mut self, col: &Colouring, n: usize, rebuilt: bool) {
+    pub(super) fn layout(&mut self, col: &Colouring, n: usize, rebuilt: bool) {
         if !rebuilt && self.laid_n == Some(n) {
             self.lu.fill(0.0);
             for sc in &mut self.sparse[..self.n_sparse] {
@@ -267,7 +266,7 @@ impl BlockLu {
     /// Sets entry (`i`, `j`) of the matrix; both unknowns must be in one component (entries
     /// between components are zero by construction).
     #[inline]
-    pub fn set(&mut self, i: usize, j: usize, value: f64) {
+    pub(super) fn set(&mut self, i: usize, j: usize, value: f64) {
         if let Some(e) = self.slot(i, j) {
             *e = value;
         }
@@ -277,7 +276,7 @@ impl BlockLu {
     /// consecutive in one of its blocks (as a run of one block's unknowns is), so the run is one
     /// slice of a stored column.
     #[inline]
-    pub fn add_run(&mut self, i0: usize, j: usize, values: &[f64]) {
+    pub(super) fn add_run(&mut self, i0: usize, j: usize, values: &[f64]) {
         let k = self.comp[j];
         for t in 0..values.len() {
             debug_assert_eq!(
@@ -316,7 +315,7 @@ impl BlockLu {
 
     /// The entries as laid out and written (call before [`Self::factor`]), into `out`: the
     /// dense components, then the block-sparse ones, in storage order.
-    pub fn entries(&self, out: &mut Vec<f64>) {
+    pub(super) fn entries(&self, out: &mut Vec<f64>) {
         out.clear();
         out.extend_from_slice(&self.lu);
         for sc in &self.sparse[..self.n_sparse] {
@@ -326,7 +325,7 @@ impl BlockLu {
 
     /// Sets the entries to `a + s·b`, both taken by [`Self::entries`] in the current layout.
     /// `false` (nothing written) if their lengths do not match the layout.
-    pub fn set_entries(&mut self, a: &[f64], b: &[f64], s: f64) -> bool {
+    pub(super) fn set_entries(&mut self, a: &[f64], b: &[f64], s: f64) -> bool {
         let total = self.lu.len()
             + self.sparse[..self.n_sparse]
                 .iter()
@@ -353,7 +352,7 @@ impl BlockLu {
 
     /// Factors every component in place. Returns the global index of the first zero pivot if a
     /// component is singular.
-    pub fn factor(&mut self) -> Result<(), usize> {
+    pub(super) fn factor(&mut self) -> Result<(), usize> {
         for k in 0..self.off.len() {
             let idx = &self.index[self.start[k]..self.start[k + 1]];
             let m = idx.len();
@@ -370,7 +369,7 @@ impl BlockLu {
     }
 
     /// Solves `A x = b` in place (`x` holds `b` on entry) with the factors of [`Self::factor`].
-    pub fn solve(&mut self, x: &mut [f64]) {
+    pub(super) fn solve(&mut self, x: &mut [f64]) {
         for k in 0..self.off.len() {
             let idx = &self.index[self.start[k]..self.start[k + 1]];
             let m = idx.len();

@@ -70,7 +70,7 @@ fn bucket(
 impl Colouring {
     /// A colouring of `structure`, not yet updated.
     #[cfg(test)]
-    pub fn with_structure(structure: BlockStructure) -> Self {
+    pub(super) fn with_structure(structure: BlockStructure) -> Self {
         Colouring {
             structure,
             ..Default::default()
@@ -80,7 +80,7 @@ impl Colouring {
     /// Takes `self.next` as the structure and rebuilds the colouring if it differs from the
     /// current one (or none was built yet). Returns whether it rebuilt. Allocation-free once
     /// the buffers have grown.
-    pub fn refresh(&mut self, n: usize) -> Result<bool, String> {
+    pub(super) fn refresh(&mut self, n: usize) -> Result<bool, String> {
         if self.ready && self.next == self.structure {
             return Ok(false);
         }
@@ -91,7 +91,7 @@ impl Colouring {
 
     /// Rebuilds the compressed blocks, the adjacency and the colouring from `self.structure`
     /// for a system of `n` unknowns. Errors name what is inconsistent.
-    pub fn update(&mut self, n: usize) -> Result<(), String> {
+    pub(super) fn update(&mut self, n: usize) -> Result<(), String> {
         self.ready = false;
         let s = &self.structure;
         let nb = s.n_blocks;
@@ -223,54 +223,54 @@ impl Colouring {
     }
 
     /// Number of connected components.
-    pub fn n_components(&self) -> usize {
+    pub(super) fn n_components(&self) -> usize {
         self.comp_start.len().saturating_sub(1)
     }
     /// Unknowns of connected component `k`, ascending.
-    pub fn component(&self, k: usize) -> &[usize] {
+    pub(super) fn component(&self, k: usize) -> &[usize] {
         &self.comp_members[self.comp_start[k]..self.comp_start[k + 1]]
     }
 
     /// Number of blocks.
-    pub fn n_blocks(&self) -> usize {
+    pub(super) fn n_blocks(&self) -> usize {
         self.structure.n_blocks
     }
     /// Connected component of block `b`.
-    pub fn component_of_block(&self, b: usize) -> usize {
+    pub(super) fn component_of_block(&self, b: usize) -> usize {
         self.comp_of[b]
     }
 
     /// Number of colours.
-    pub fn n_colours(&self) -> usize {
+    pub(super) fn n_colours(&self) -> usize {
         self.colour_width.len()
     }
     /// Largest block size of colour `c` (= residual evaluations it costs).
-    pub fn width(&self, c: usize) -> usize {
+    pub(super) fn width(&self, c: usize) -> usize {
         self.colour_width[c]
     }
     /// Block `b` is filled by the system ([`BlockStructure::analytic`]).
-    pub fn is_analytic(&self, b: usize) -> bool {
+    pub(super) fn is_analytic(&self, b: usize) -> bool {
         self.structure.analytic.get(b).copied().unwrap_or(false)
     }
     /// Some block is filled by the system.
-    pub fn any_analytic(&self) -> bool {
+    pub(super) fn any_analytic(&self) -> bool {
         self.structure.analytic.iter().any(|&a| a)
     }
     /// Residual evaluations per Jacobian.
     #[cfg(test)]
-    pub fn cost(&self) -> usize {
+    pub(super) fn cost(&self) -> usize {
         self.colour_width.iter().sum()
     }
     /// Blocks of colour `c`.
-    pub fn blocks_of_colour(&self, c: usize) -> &[usize] {
+    pub(super) fn blocks_of_colour(&self, c: usize) -> &[usize] {
         &self.by_colour[self.colour_start[c]..self.colour_start[c + 1]]
     }
     /// Unknowns (= residual rows) of block `b`.
-    pub fn members(&self, b: usize) -> &[usize] {
+    pub(super) fn members(&self, b: usize) -> &[usize] {
         &self.members[self.member_start[b]..self.member_start[b + 1]]
     }
     /// Blocks coupled with block `b` (may repeat).
-    pub fn neighbours(&self, b: usize) -> &[usize] {
+    pub(super) fn neighbours(&self, b: usize) -> &[usize] {
         &self.adj[self.adj_start[b]..self.adj_start[b + 1]]
     }
 }

@@ -122,7 +122,7 @@ struct ErrorSink {
 ///
 /// Owns the SUNDIALS context, the solution vectors, the dense matrix and linear solver, and the
 /// IDA memory; dropping it frees all of them. Statistics accumulate over [`Ida::reinit`].
-pub struct Ida<S: DaeSystem> {
+pub(crate) struct Ida<S: DaeSystem> {
     ctx: sys::SUNContext,
     mem: *mut c_void,
     /// Current solution y (also the output vector of IDASolve).
@@ -158,7 +158,7 @@ impl<S: DaeSystem> Ida<S> {
     /// The initial values need not be consistent if [`Ida::calc_ic_ya_ydp`] or
     /// [`Ida::calc_ic_y`] is called before the first [`Ida::solve`]. Invalid arguments return
     /// [`IdaError::BadArgument`] (the system is dropped).
-    pub fn new(
+    pub(crate) fn new(
         system: S,
         t0: f64,
         y0: &[f64],
@@ -184,7 +184,7 @@ impl<S: DaeSystem> Ida<S> {
             zero_size: Vec::new(),
             rtol: 0.0,
             ewt_factor: Vec::new(),
-            block_lu: BlockLu::new(),
+            block_lu: BlockLu::new(opts.dense_lu),
             jac_parts: JacobianParts::default(),
         }));
         let sink = Box::into_raw(Box::<ErrorSink>::default());
@@ -459,19 +459,19 @@ impl<S: DaeSystem> Ida<S> {
     /// components of y and all of y' so that F = 0 at the current time. `t_out1` \[s\] is the
     /// first output time (it sets the direction and scale of the search). Afterwards
     /// [`Ida::y`]/[`Ida::yp`] hold the consistent values.
-    pub fn calc_ic_ya_ydp(&mut self, t_out1: f64) -> Result<(), IdaError> {
+    pub(crate) fn calc_ic_ya_ydp(&mut self, t_out1: f64) -> Result<(), IdaError> {
         self.calc_ic(sys::IDA_YA_YDP_INIT, t_out1)
     }
 
     /// `IDACalcIC(IDA_Y_INIT)`: computes all of y given y' at the current time; `t_out1` \[s\] as
     /// for [`Ida::calc_ic_ya_ydp`].
-    pub fn calc_ic_y(&mut self, t_out1: f64) -> Result<(), IdaError> {
+    pub(crate) fn calc_ic_y(&mut self, t_out1: f64) -> Result<(), IdaError> {
         self.calc_ic(sys::IDA_Y_INIT, t_out1)
     }
 
     /// Sets a time \[s\] past which IDA must not step (`IDASetStopTime`); `solve` then returns
     /// [`SolveStatus::StopTime`] there. The stop time is cleared once it is reached.
-    pub fn set_stop_time(&mut self, t_stop: f64) -> Result<(), IdaError> {
+    pub(crate) fn set_stop_time(&mut self, t_stop: f64) -> Result<(), IdaError> {
         check_finite("t_stop", t_stop)?;
         self.begin_call();
         // SAFETY: mem is valid.
@@ -480,7 +480,7 @@ impl<S: DaeSystem> Ida<S> {
     }
 
     /// Removes the stop time (`IDAClearStopTime`).
-    pub fn clear_stop_time(&mut self) -> Result<(), IdaError> {
+    pub(crate) fn clear_stop_time(&mut self) -> Result<(), IdaError> {
         self.begin_call();
         // SAFETY: mem is valid.
         let rc = unsafe { sys::IDAClearStopTime(self.mem) };
@@ -488,7 +488,7 @@ impl<S: DaeSystem> Ida<S> {
     }
 
     /// Sets the largest step size \[s\] (`None` = unlimited).
-    pub fn set_max_step(&mut self, h: Option<f64>) -> Result<(), IdaError> {
+    pub(crate) fn set_max_step(&mut self, h: Option<f64>) -> Result<(), IdaError> {
         let h = match h {
             Some(h) if h.is_finite() && h > 0.0 => h,
             Some(h) => {
@@ -508,7 +508,7 @@ impl<S: DaeSystem> Ida<S> {
     /// interpolated solution at `t_out`, unless a root or the stop time comes first; with
     /// `one_step` it returns after one internal step (`IDA_ONE_STEP`). The solution is then in
     /// [`Ida::y`]/[`Ida::yp`] at [`Ida::t`].
-    pub fn solve(&mut self, t_out: f64, one_step: bool) -> Result<SolveStatus, IdaError> {
+    pub(crate) fn solve(&mut self, t_out: f64, one_step: bool) -> Result<SolveStatus, IdaError> {
         check_finite("t_out", t_out)?;
         self.begin_call();
         let itask = if one_step {
@@ -540,7 +540,7 @@ impl<S: DaeSystem> Ida<S> {
     /// `out` and returns `(t_n, q)`, `q` the order used. The polynomial has degree `q`, so these
     /// `q + 1` terms reproduce it exactly on `[t_n − h_u, t_n]` (dense output at the solver's
     /// order).
-    pub fn taylor(&mut self, out: &mut Vec<f64>) -> Result<(f64, usize), IdaError> {
+    pub(crate) fn taylor(&mut self, out: &mut Vec<f64>) -> Result<(f64, usize), IdaError> {
         self.begin_call();
         let (mut tn, mut q): (f64, c_int) = (0.0, 0);
         // SAFETY: mem is valid; the out-pointers are valid locals.
@@ -569,7 +569,7 @@ impl<S: DaeSystem> Ida<S> {
     /// k = 0), written into `out` (length n): as accurate as the steps, and free of any effect on
     /// them. `t` must lie within the last step, `[t_n − h_u, t_n]` (IDA checks: otherwise
     /// `IDA_BAD_T` as an error naming the interval).
-    pub fn interpolate(&mut self, t: f64, out: &mut [f64]) -> Result<(), IdaError> {
+    pub(crate) fn interpolate(&mut self, t: f64, out: &mut [f64]) -> Result<(), IdaError> {
         check_finite("t", t)?;
         if out.len() != self.n {
             return Err(bad(format!(
@@ -591,7 +591,7 @@ impl<S: DaeSystem> Ida<S> {
 
     /// Re-initialises after an event (`IDAReInit`) at time `t` \[s\] with new y and y' (length n).
     /// Keeps the options, root functions and linear solver; statistics keep accumulating.
-    pub fn reinit(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), IdaError> {
+    pub(crate) fn reinit(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<(), IdaError> {
         check_finite("t", t)?;
         check_state("y", y, self.n)?;
         check_state("yp", yp, self.n)?;
@@ -619,7 +619,7 @@ impl<S: DaeSystem> Ida<S> {
     /// (`IDAGetEstLocalErrors` × `IDAGetErrWeights`), was largest at the last step, with that
     /// weighted error (≈ 1 at the limit of the error test); `None` before the first step.
     /// Allocates (two vectors): for diagnoses, not for the hot path.
-    pub fn limiting_component(&mut self) -> Option<(usize, f64)> {
+    pub(crate) fn limiting_component(&mut self) -> Option<(usize, f64)> {
         if self.mem.is_null() || self.n == 0 {
             return None;
         }
@@ -662,27 +662,27 @@ impl<S: DaeSystem> Ida<S> {
     }
 
     /// Time \[s\] of the current [`Ida::y`] and [`Ida::yp`].
-    pub fn t(&self) -> f64 {
+    pub(crate) fn t(&self) -> f64 {
         self.t
     }
 
     /// Current solution y (length n): the initial values, or the result of the last
     /// `solve`/`calc_ic_*`/`reinit`.
-    pub fn y(&self) -> &[f64] {
+    pub(crate) fn y(&self) -> &[f64] {
         // SAFETY: y is a valid serial vector of length n, written only by IDA calls that need
         // `&mut self`.
         unsafe { slice::from_raw_parts(sys::N_VGetArrayPointer(self.y), self.n) }
     }
 
     /// Current derivative y' (length n), as for [`Ida::y`].
-    pub fn yp(&self) -> &[f64] {
+    pub(crate) fn yp(&self) -> &[f64] {
         // SAFETY: as for y().
         unsafe { slice::from_raw_parts(sys::N_VGetArrayPointer(self.yp), self.n) }
     }
 
     /// After [`SolveStatus::Root`]: for each root function, +1 if it crossed zero upwards, -1
     /// downwards, 0 if it did not cross (`IDAGetRootInfo`). All 0 otherwise.
-    pub fn root_info(&self) -> &[i32] {
+    pub(crate) fn root_info(&self) -> &[i32] {
         &self.root_info
     }
 
@@ -721,7 +721,7 @@ impl<S: DaeSystem> Ida<S> {
     /// The step size \[s\] IDA will attempt next (`IDAGetCurrentStep`): after a failed step,
     /// the reduced size it failed at or will retry with (the `h` of its error message), where
     /// [`IdaStats::last_step`] is still the last step it took. `None` before IDA is set up.
-    pub fn current_step(&self) -> Option<f64> {
+    pub(crate) fn current_step(&self) -> Option<f64> {
         if self.mem.is_null() {
             return None;
         }
@@ -732,22 +732,22 @@ impl<S: DaeSystem> Ida<S> {
     }
 
     /// Statistics of the whole run, accumulated across [`Ida::reinit`].
-    pub fn stats(&self) -> IdaStats {
+    pub(crate) fn stats(&self) -> IdaStats {
         self.base_stats + self.segment_stats()
     }
 
     /// The system.
-    pub fn system(&self) -> &S {
+    pub(crate) fn system(&self) -> &S {
         &self.state_ref().system
     }
 
     /// The system, mutably (e.g. to change a parameter before [`Ida::reinit`]).
-    pub fn system_mut(&mut self) -> &mut S {
+    pub(crate) fn system_mut(&mut self) -> &mut S {
         &mut self.state_mut().system
     }
 
     /// Frees the SUNDIALS objects and returns the system.
-    pub fn into_system(mut self) -> S {
+    pub(crate) fn into_system(mut self) -> S {
         self.free_ffi();
         let state = std::mem::replace(&mut self.state, ptr::null_mut());
         // SAFETY: state came from Box::into_raw and is taken exactly once (nulled above, so Drop

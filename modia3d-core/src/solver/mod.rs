@@ -46,14 +46,14 @@ mod stats;
 mod tests;
 
 pub use error::IdaError;
-pub use ida::Ida;
-pub use options::{Atol, IdaOptions};
+pub(crate) use ida::Ida;
+pub(crate) use options::{Atol, IdaOptions};
 pub use stats::IdaStats;
 
 /// A DAE `F(t, y, y') = 0` with optional root (zero-crossing) functions.
 ///
 /// Units of `t`, `y` and `y'` are the system's own; in modia3d `t` is always in seconds \[s\].
-pub trait DaeSystem {
+pub(crate) trait DaeSystem {
     /// Number of unknowns n.
     fn len(&self) -> usize;
 
@@ -171,7 +171,7 @@ pub trait DaeSystem {
 }
 
 /// Receives the columns of [`DaeSystem::jacobian`] in runs of consecutive rows.
-pub trait JacobianSink {
+pub(crate) trait JacobianSink {
     /// Adds `values[k]` to entry (`i0 + k`, `j`) of the iteration matrix; the rows
     /// `i0..i0 + values.len()` must be unknowns of one block (a block's unknowns need not be
     /// consecutive, but each run must be).
@@ -189,7 +189,7 @@ impl<F: FnMut(usize, usize, f64)> JacobianSink for F {
 
 /// The point at which [`DaeSystem::jacobian`] is asked for its columns.
 #[derive(Clone, Copy, Debug)]
-pub struct JacobianArgs<'a> {
+pub(crate) struct JacobianArgs<'a> {
     /// Time \[s\].
     pub t: f64,
     /// IDA's coefficient `c_j` \[1/s\] of `∂F/∂y'` in the iteration matrix.
@@ -208,7 +208,7 @@ impl JacobianArgs<'_> {
     /// The difference-quotient increment of unknown `j` (the rule of the solver's own
     /// quotients, see [`dq_increment`]).
     #[inline]
-    pub fn increment(&self, j: usize) -> f64 {
+    pub(crate) fn increment(&self, j: usize) -> f64 {
         dq_increment(self.y[j], self.yp[j], self.h, self.zero_size[j])
     }
 }
@@ -219,7 +219,7 @@ impl JacobianArgs<'_> {
 /// `y_j + inc` is exact. Why this rule and not IDA's: `solver/ida/linear.rs`
 /// (`jacobian_callback`).
 #[inline]
-pub fn dq_increment(yj: f64, ypj: f64, h: f64, zero_size: f64) -> f64 {
+pub(crate) fn dq_increment(yj: f64, ypj: f64, h: f64, zero_size: f64) -> f64 {
     let srur = f64::EPSILON.sqrt();
     let mut inc = (srur * (h * ypj).abs().max(zero_size)).max(DQ_FLOOR * yj.abs());
     if h * ypj < 0.0 {
@@ -232,7 +232,7 @@ pub fn dq_increment(yj: f64, ypj: f64, h: f64, zero_size: f64) -> f64 {
 /// kept), never below the rounding floor of [`dq_increment`] (`1e3·ε·|y_j|`), and rounded so
 /// that `y_j + inc` is exact.
 #[inline]
-pub fn capped_increment(inc: f64, cap: f64, yj: f64) -> f64 {
+pub(crate) fn capped_increment(inc: f64, cap: f64, yj: f64) -> f64 {
     let size = inc.abs().min(cap).max(DQ_FLOOR * yj.abs());
     (yj + size.copysign(inc)) - yj
 }
@@ -251,7 +251,7 @@ const DQ_FLOOR: f64 = 1e3 * f64::EPSILON;
 /// (Curtis, Powell & Reid 1974). In a multibody DAE the blocks are the independent joint trees
 /// and the couplings are the contacts and force elements between them.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct BlockStructure {
+pub(crate) struct BlockStructure {
     /// Block of each unknown, length n; blocks are numbered `0..n_blocks`.
     pub block_of: Vec<usize>,
     /// Number of blocks.
@@ -267,7 +267,7 @@ pub struct BlockStructure {
 
 /// How a [`DaeSystem::residual`] evaluation failed.
 #[derive(thiserror::Error, Debug, Clone, PartialEq)]
-pub enum ResidualError {
+pub(crate) enum ResidualError {
     /// The residual cannot be evaluated at this point (e.g. outside a model's domain); IDA
     /// retries the step with a smaller step size.
     #[error("recoverable residual error: IDA should retry with a smaller step")]
@@ -279,7 +279,7 @@ pub enum ResidualError {
 
 /// What [`Ida::solve`] reached.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SolveStatus {
+pub(crate) enum SolveStatus {
     /// The requested output time (or, in one-step mode, the end of one internal step) was
     /// reached; `t` \[s\] is the time of [`Ida::y`] (IDA_SUCCESS).
     Reached {
@@ -300,7 +300,7 @@ pub enum SolveStatus {
 
 impl SolveStatus {
     /// Time of the returned solution \[s\], whatever the status.
-    pub fn t(&self) -> f64 {
+    pub(crate) fn t(&self) -> f64 {
         match *self {
             SolveStatus::Reached { t } | SolveStatus::StopTime { t } | SolveStatus::Root { t } => t,
         }

@@ -7,7 +7,7 @@
 ///
 /// In the units of the corresponding component of `y`.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Atol {
+pub(crate) enum Atol {
     /// The same absolute tolerance for every component (must be > 0).
     Scalar(f64),
     /// One absolute tolerance per component (length n, every entry > 0).
@@ -23,7 +23,7 @@ impl Default for Atol {
 /// Options for [`super::Ida::new`]. Build with `IdaOptions::default()` and the builder methods,
 /// or set the public fields directly.
 #[derive(Clone, Debug, PartialEq)]
-pub struct IdaOptions {
+pub(crate) struct IdaOptions {
     /// Relative tolerance (dimensionless, > 0). Default 1e-6.
     pub rtol: f64,
     /// Absolute tolerance. Default `Atol::Scalar(1e-8)`.
@@ -57,6 +57,9 @@ pub struct IdaOptions {
     /// iteration matrix for a new `c_j` from the last difference-quotient matrix's parts
     /// until Newton's method fails to converge (default true).
     pub jacobian_reuse: bool,
+    /// With the coloured Jacobian: factor every component of the iteration matrix densely
+    /// instead of choosing dense or block-sparse per component (default false).
+    pub dense_lu: bool,
 }
 
 impl Default for IdaOptions {
@@ -74,55 +77,56 @@ impl Default for IdaOptions {
             max_order: None,
             structured_jacobian: true,
             jacobian_reuse: true,
+            dense_lu: false,
         }
     }
 }
 
 impl IdaOptions {
     /// Sets the relative tolerance (dimensionless).
-    pub fn rtol(mut self, rtol: f64) -> Self {
+    pub(crate) fn rtol(mut self, rtol: f64) -> Self {
         self.rtol = rtol;
         self
     }
 
     /// Sets one absolute tolerance for all components.
-    pub fn atol(mut self, atol: f64) -> Self {
+    pub(crate) fn atol(mut self, atol: f64) -> Self {
         self.atol = Atol::Scalar(atol);
         self
     }
 
     /// Sets one absolute tolerance per component (length n).
-    pub fn atol_vector(mut self, atol: Vec<f64>) -> Self {
+    pub(crate) fn atol_vector(mut self, atol: Vec<f64>) -> Self {
         self.atol = Atol::Vector(atol);
         self
     }
 
     /// Sets the largest step size \[s\] (`None` = unlimited).
-    pub fn max_step(mut self, max_step: Option<f64>) -> Self {
+    pub(crate) fn max_step(mut self, max_step: Option<f64>) -> Self {
         self.max_step = max_step;
         self
     }
 
     /// Sets the largest number of internal steps per `solve` call.
-    pub fn max_num_steps(mut self, max_num_steps: usize) -> Self {
+    pub(crate) fn max_num_steps(mut self, max_num_steps: usize) -> Self {
         self.max_num_steps = max_num_steps;
         self
     }
 
     /// Marks components as differential (`true`) or algebraic (`false`); length n.
-    pub fn differential(mut self, differential: Vec<bool>) -> Self {
+    pub(crate) fn differential(mut self, differential: Vec<bool>) -> Self {
         self.differential = Some(differential);
         self
     }
 
     /// Sets the root crossing directions (+1 up, -1 down, 0 both), one per root function.
-    pub fn root_directions(mut self, directions: Vec<i32>) -> Self {
+    pub(crate) fn root_directions(mut self, directions: Vec<i32>) -> Self {
         self.root_directions = Some(directions);
         self
     }
 
     /// Sets the first step size to try \[s\].
-    pub fn init_step(mut self, h: Option<f64>) -> Self {
+    pub(crate) fn init_step(mut self, h: Option<f64>) -> Self {
         self.init_step = h;
         self
     }

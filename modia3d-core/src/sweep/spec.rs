@@ -252,7 +252,7 @@ const USAGE: &str = "usage:
       prints the number of points.";
 
 /// Environment variables that job-array schedulers set to the task's index.
-pub const SHARD_INDEX_VARS: [&str; 4] = [
+pub(super) const SHARD_INDEX_VARS: [&str; 4] = [
     "HQ_TASK_ID",
     "SLURM_ARRAY_TASK_ID",
     "PBS_ARRAY_INDEX",

@@ -13,7 +13,7 @@ use std::cell::Cell;
 
 /// Counts `alloc` and `realloc` calls of the current thread, then forwards to the system
 /// allocator.
-pub struct Counting;
+pub(crate) struct Counting;
 
 thread_local! {
     // `const` initialisation: reading it never allocates (no lazy init inside the allocator).
@@ -26,7 +26,7 @@ fn count() {
 }
 
 /// Allocations made so far by the calling thread.
-pub fn allocs() -> usize {
+pub(crate) fn allocs() -> usize {
     THREAD_ALLOCS.with(|c| c.get())
 }
 

@@ -23,7 +23,7 @@ use syn::spanned::Spanned;
 use syn::{Expr, Lit};
 
 /// Errors of a block, each with its slot (the order in which they are reported).
-pub struct Errors {
+pub(crate) struct Errors {
     list: Vec<(u32, syn::Error)>,
     next: u32,
 }
@@ -36,25 +36,25 @@ impl Errors {
         }
     }
     /// A fresh slot: errors found later about this place sort here.
-    pub fn slot(&mut self) -> u32 {
+    pub(crate) fn slot(&mut self) -> u32 {
         self.next += 1;
         self.next
     }
     /// Adds an error in the next slot.
-    pub fn push(&mut self, e: syn::Error) {
+    pub(crate) fn push(&mut self, e: syn::Error) {
         let s = self.slot();
         self.list.push((s, e));
     }
     /// Adds an error in a given slot.
-    pub fn push_at(&mut self, slot: u32, e: syn::Error) {
+    pub(crate) fn push_at(&mut self, slot: u32, e: syn::Error) {
         self.list.push((slot, e));
     }
     /// Whether any error was found.
-    pub fn any(&self) -> bool {
+    pub(crate) fn any(&self) -> bool {
         !self.list.is_empty()
     }
     /// All errors combined in slot order, or `None`.
-    pub fn combined(mut self) -> Option<syn::Error> {
+    pub(crate) fn combined(mut self) -> Option<syn::Error> {
         self.list.sort_by_key(|(s, _)| *s);
         let mut acc = None;
         for (_, e) in self.list {
@@ -65,7 +65,7 @@ impl Errors {
 }
 
 /// Checks a block and lowers it; the errors found (not yet those of the core's scene rules).
-pub fn check(def: &ModelDef) -> (Ir, Errors) {
+pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
     let mut c = Checker {
         errors: Errors::new(),
         kinds: HashMap::new(),
@@ -232,7 +232,7 @@ fn lit_vec3(e: &Expr) -> Option<[f64; 3]> {
 }
 
 /// The tokens of an expression as the user wrote them, without spaces (`-0.1`).
-pub fn compact(e: &Expr) -> String {
+pub(crate) fn compact(e: &Expr) -> String {
     e.to_token_stream().to_string().replace(' ', "")
 }
 

@@ -14,7 +14,7 @@ use quote::{format_ident, quote, quote_spanned};
 use syn::Expr;
 
 /// The statement that adds one component to the scene.
-pub fn item(it: &Item) -> TokenStream {
+pub(super) fn item(it: &Item) -> TokenStream {
     let scene = local("scene");
     let attach = local("parent");
     let obj = local("object");
@@ -216,7 +216,7 @@ fn assembly(
 }
 
 /// `let _: ObjectPath = __modia3d_Arm::tip;` — rustc checks the path on the user's tokens.
-pub fn path_check(c: &PathCheck) -> TokenStream {
+pub(super) fn path_check(c: &PathCheck) -> TokenStream {
     let rest = &c.rest;
     let module = paths_module_at(&c.ty, rest[0].span());
     let marker = if c.joint {

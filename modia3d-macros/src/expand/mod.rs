@@ -49,7 +49,7 @@ fn paths_module_at(ty: &syn::Path, span: Span) -> TokenStream {
 }
 
 /// Generates the model's type and impls.
-pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
+pub(crate) fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
     let name = &def.name;
     let vis = &def.vis;
     let attrs = &def.attrs;
@@ -173,7 +173,7 @@ pub fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
 /// What a block with errors expands to besides its errors: the type, its `Default` and stubs of
 /// its methods, so that code using the model does not add follow-up errors (the crate does not
 /// compile anyway, the stubs never run).
-pub fn fallback(def: &ModelDef) -> TokenStream {
+pub(crate) fn fallback(def: &ModelDef) -> TokenStream {
     let name = &def.name;
     let vis = &def.vis;
     let attrs = &def.attrs;

@@ -73,7 +73,7 @@ pub(crate) fn is_stand_in(name: &str) -> bool {
 }
 
 /// Runs the core's scene rules on the block and adds their errors, mapped to spans.
-pub fn check(def: &ModelDef, ir: &Ir, errors: &mut Errors) {
+pub(crate) fn check(def: &ModelDef, ir: &Ir, errors: &mut Errors) {
     let mut p = Probe::default();
     p.build(ir);
     let macro_errors = errors.any();

@@ -42,7 +42,7 @@ fn assemble(
 }
 
 /// Sphere `a` against sphere `b`. Coinciding centres: normal +z (arbitrary, documented).
-pub fn sphere_sphere(
+pub(super) fn sphere_sphere(
     a: &CollisionShape,
     pose_a: &Isometry3<f64>,
     b: &CollisionShape,
@@ -144,7 +144,7 @@ fn closest_on_core(core: &CoreShape, p: &Point3<f64>) -> (Point3<f64>, f64, Vect
 
 /// Sphere `a` against a box, cylinder, capsule or sphere `b` (closest point of `b`'s core to
 /// the sphere centre). Exact, smooth outside the core's medial axis.
-pub fn sphere_core(
+pub(super) fn sphere_core(
     a: &CollisionShape,
     pose_a: &Isometry3<f64>,
     b: &CollisionShape,
@@ -161,7 +161,7 @@ pub fn sphere_core(
 /// Capsule `a` against capsule `b`: closest points of the two core segments (Ericson,
 /// Real-Time Collision Detection §5.1.9). Intersecting segments: normal along the cross product
 /// of their directions (parallel: any perpendicular) — a documented arbitrary choice.
-pub fn capsule_capsule(
+pub(super) fn capsule_capsule(
     a: &CollisionShape,
     pose_a: &Isometry3<f64>,
     b: &CollisionShape,
@@ -249,7 +249,7 @@ pub fn capsule_capsule(
 /// rad between poses 1e-9 m apart, and IDA's steps collapsed under it (random scenes,
 /// BENCHMARKS.md "Random scenes"); here the normal is the face's and the depth is as smooth in
 /// the pose as b's support map.
-pub fn box_face(
+pub(super) fn box_face(
     a: &CollisionShape,
     pose_a: &Isometry3<f64>,
     b: &CollisionShape,

@@ -21,7 +21,7 @@ mod objects;
 mod options;
 
 /// The resolved joint kinds are defined with the kinds themselves (`joints/mod.rs`).
-pub use crate::joints::ValidJointKind;
+pub(crate) use crate::joints::ValidJointKind;
 pub(crate) use error::Checker;
 pub use error::{did_you_mean, LoopReach, SceneError, SceneErrors, SizeSlip};
 
@@ -34,7 +34,7 @@ use std::collections::HashMap;
 
 /// Mass properties of a solid, resolved in its object's frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MassProps {
+pub(crate) struct MassProps {
     /// Mass \[kg\].
     pub mass: f64,
     /// Centre of mass, resolved in the object frame \[m\].
@@ -45,7 +45,7 @@ pub struct MassProps {
 
 /// A resolved solid.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ValidSolid {
+pub(crate) struct ValidSolid {
     /// Geometry, if any.
     pub shape: Option<Shape>,
     /// Name of the solid material, if named.
@@ -72,7 +72,7 @@ pub struct ValidSolid {
 
 /// A resolved object.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ValidObject {
+pub(crate) struct ValidObject {
     /// Name.
     pub name: String,
     /// Index of the parent object.
@@ -87,7 +87,7 @@ pub struct ValidObject {
 
 /// A resolved joint.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ValidJoint {
+pub(crate) struct ValidJoint {
     /// Name.
     pub name: String,
     /// Index of obj1.
@@ -104,7 +104,7 @@ pub struct ValidJoint {
 
 /// A resolved force element.
 #[derive(Clone, Debug)]
-pub enum ValidForce {
+pub(crate) enum ValidForce {
     /// Spring-damper between two object origins.
     SpringDamper {
         /// Name (signals).
@@ -168,7 +168,7 @@ pub enum ValidForce {
 impl ValidForce {
     /// The two objects whose motions this element's force depends on and acts on, when they
     /// may differ (spring-dampers, bushings, vectors resolved in another object).
-    pub fn coupled_objects(&self) -> Option<(usize, usize)> {
+    pub(crate) fn coupled_objects(&self) -> Option<(usize, usize)> {
         match self {
             ValidForce::SpringDamper { obj1, obj2, .. }
             | ValidForce::Bushing { obj1, obj2, .. } => Some((*obj1, *obj2)),
@@ -181,7 +181,7 @@ impl ValidForce {
         }
     }
     /// The element's name for signals and messages, if it has one.
-    pub fn name(&self) -> Option<&str> {
+    pub(crate) fn name(&self) -> Option<&str> {
         match self {
             ValidForce::SpringDamper { name, .. } => Some(name),
             ValidForce::Bushing { spec, .. } => Some(&spec.name),
@@ -193,7 +193,7 @@ impl ValidForce {
 
 /// A checked scene: names resolved, values in range, topology a tree rooted at the world.
 #[derive(Clone, Debug)]
-pub struct ValidScene {
+pub(crate) struct ValidScene {
     /// Objects, in declaration order.
     pub objects: Vec<ValidObject>,
     /// Joints, in declaration order (Fix joints included).
@@ -214,7 +214,7 @@ pub struct ValidScene {
 
 /// A resolved input.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ValidInput {
+pub(crate) struct ValidInput {
     /// Name.
     pub name: String,
     /// What it drives, with indices into `ValidScene::joints` / `objects`.
@@ -223,7 +223,7 @@ pub struct ValidInput {
 
 /// What a resolved input drives.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ValidInputKind {
+pub(crate) enum ValidInputKind {
     /// Generalised force on a scalar coordinate of a joint (index into `ValidScene::joints`,
     /// index of the coordinate among the kind's scalar coordinates).
     JointForce(usize, usize),
@@ -238,7 +238,7 @@ impl ValidScene {
     /// user definition, else the built-in palette.
     /// With `SceneOptions::average_missing_pairs`, a pair defined in neither is the mean of
     /// the two self-pairs ([`averaged_contact_pair`](Self::averaged_contact_pair)).
-    pub fn contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
+    pub(crate) fn contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
         self.defined_contact_pair(a, b)
             .or_else(|| self.averaged_contact_pair(a, b))
     }
@@ -255,7 +255,7 @@ impl ValidScene {
 
     /// The mean of the self-pairs `a|a` and `b|b` when `a|b` is not defined, both self-pairs
     /// are and `SceneOptions::average_missing_pairs` is on; `None` otherwise.
-    pub fn averaged_contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
+    pub(crate) fn averaged_contact_pair(&self, a: &str, b: &str) -> Option<ContactPairMaterial> {
         if !self.options.average_missing_pairs || self.defined_contact_pair(a, b).is_some() {
             return None;
         }
