@@ -47,7 +47,7 @@ pub(crate) const VOLUME_TIGHTENING_SHARE: f64 = 0.3;
 /// but coarsens the contact times of these pairs at rtol 1e-6 tenfold, and loosening below
 /// the asked rtol (a factor < 1) rescued none of seven more runs at rtol ≤ 1.6e-8. Sphere
 /// pairs with a closed form keep the full tightening, bit for bit.
-pub const ITERATIVE_CONTACT_RTOL_FLOOR: f64 = 1e-8;
+pub(crate) const ITERATIVE_CONTACT_RTOL_FLOOR: f64 = 1e-8;
 
 /// The multibody DAE of a plan and its contact plan, with its scratch workspace and contact set.
 #[derive(Clone, Debug)]

@@ -69,15 +69,16 @@ fn peak_of(time: &[f64], values: &[f64]) -> (f64, f64) {
     else {
         return (f64::NAN, f64::NAN);
     };
-    if k == 0 || k + 1 >= values.len() || k + 1 >= time.len() {
-        return (time.get(k).copied().unwrap_or(f64::NAN), v);
-    }
-    match parabola_max(
-        [time[k - 1], time[k], time[k + 1]],
-        [values[k - 1], v, values[k + 1]],
-    ) {
+    let at = |k: usize| time.get(k).copied().unwrap_or(f64::NAN);
+    let (Some(&[t0, t1, t2]), Some(&[v0, _, v2])) = (
+        k.checked_sub(1).and_then(|i| time.get(i..i + 3)),
+        k.checked_sub(1).and_then(|i| values.get(i..i + 3)),
+    ) else {
+        return (at(k), v);
+    };
+    match parabola_max([t0, t1, t2], [v0, v, v2]) {
         Some((t, p)) if p >= v => (t, p),
-        _ => (time[k], v),
+        _ => (t1, v),
     }
 }
 
@@ -381,7 +382,7 @@ impl SimulationResult {
             let mags: Vec<f64> = (0..self.time.len())
                 .map(|k| {
                     s.at(k)
-                        .map_or(f64::NAN, |v| Vector3::new(v[0], v[1], v[2]).norm())
+                        .map_or(f64::NAN, |v| v.iter().map(|x| x * x).sum::<f64>().sqrt())
                 })
                 .collect();
             Ok(peak_of(&self.time, &mags))

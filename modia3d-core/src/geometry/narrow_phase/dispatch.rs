@@ -66,7 +66,7 @@ pub fn signed_distance_method(
 /// poses (the ellipsoid on a box off the box's faces), whose normal jitters by 1e-6–1e-5 rad
 /// between poses 1e-9 m apart (`simulation/diagnosis.rs`, `ROUGHNESS_TESTS`): the DAE does
 /// not ask their bodies' error test for more than that carries
-/// ([`crate::dae::ITERATIVE_CONTACT_RTOL_FLOOR`]).
+/// (`ITERATIVE_CONTACT_RTOL_FLOOR` in `dae/mod.rs`).
 pub fn exact(a: K, b: K) -> bool {
     matches!(
         (a, b),
