@@ -221,11 +221,11 @@ pub mod prelude {
     pub use modia3d_core::{
         Action, ActionError, ActionKind, Axis, BodyInfo, ContactPairInfo, ContactPairMaterial,
         ContactPhase, ContactProfile, Event, Feature, ForceElement, ForceFn, FreeRotation, Input,
-        InputError, InputKind, Joint, JointKind, LoopInfo, MassSpec, MaterialPalette, MaterialRef,
-        MeshCollision, Model, Object3D, ObjectMotion, PlotFormat, PlotOptions, ResultError,
-        Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Shape, Signal, SimError,
-        SimErrorKind, SimOptions, SimStats, SimWarning, Simulation, SimulationResult, Solid,
-        SolidMaterial, Wrench,
+        InputError, InputKind, Joint, JointKind, JointLimit, LoopInfo, MassSpec, MaterialPalette,
+        MaterialRef, MeshCollision, Model, Object3D, ObjectMotion, PlotFormat, PlotOptions,
+        ResultError, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Shape, Signal,
+        SimError, SimErrorKind, SimOptions, SimStats, SimWarning, Simulation, SimulationResult,
+        Solid, SolidMaterial, Wrench,
     };
     pub use modia3d_core::{Bushing, GravityField, Law, VectorLaw};
     pub use modia3d_macros::model;

@@ -70,6 +70,9 @@ pub(super) struct HingeTrees {
     /// that coordinate ([N/m or N·m/rad], [N·s/m or N·m·s/rad]).
     stiffness: Vec<f64>,
     damping: Vec<f64>,
+    /// Per velocity index: the derivatives `(∂/∂q, ∂/∂q̇)` of the joint limits' rows at the
+    /// Jacobian's point (`LimitState::row_derivatives`); empty without limits.
+    pub limit_kd: Vec<(f64, f64)>,
     /// Per body: whether the current column's tangent reaches it in the forward pass, then
     /// in the backward pass whether it carries a force tangent.
     reached: Vec<bool>,
@@ -178,6 +181,7 @@ impl HingeTrees {
             live,
             stiffness,
             damping,
+            limit_kd: vec![],
             reached: vec![false; nb],
             dvel: vec![Motion::zero(); nb],
             dacc: vec![Motion::zero(); nb],
@@ -244,6 +248,9 @@ impl HingeTrees {
             j.coord.project(&ZERO[..j.coord.nq()], &df, &mut dr[..nv]);
             if i == k {
                 dr[c] += self.stiffness[vi + c] * dq + self.damping[vi + c] * dv;
+                if let Some(&(kq, kv)) = self.limit_kd.get(vi + c) {
+                    dr[c] += kq * dq + kv * dv;
+                }
             }
             self.column[vi..vi + nv].copy_from_slice(&dr[..nv]);
             if let Some(p) = b.parent {
@@ -508,6 +515,10 @@ impl MultibodyDae {
             }
             _ => None,
         };
+        if let Some(l) = self.limits.as_deref() {
+            ht.limit_kd.fill((0.0, 0.0));
+            l.state.row_derivatives(&l.plan, q, v, &mut ht.limit_kd);
+        }
         rnea::residual_dynamics(
             plan,
             ws,

@@ -211,6 +211,27 @@ pub(crate) fn unit_rotation(
     }
 }
 
+/// A builder field read as a number ([`JointKind::initial_number`]): `f64`s are, axes and
+/// rotations are not.
+trait Number {
+    fn number(&self) -> Option<f64>;
+}
+impl Number for f64 {
+    fn number(&self) -> Option<f64> {
+        Some(*self)
+    }
+}
+impl Number for Vector3<f64> {
+    fn number(&self) -> Option<f64> {
+        None
+    }
+}
+impl Number for FreeRotation {
+    fn number(&self) -> Option<f64> {
+        None
+    }
+}
+
 /// Generates, from the table of kinds (`Variant { builder fields } => file`), the enums over
 /// kinds and every dispatch: each a `match` with one arm per kind, no wildcard.
 macro_rules! kinds {
@@ -254,6 +275,18 @@ macro_rules! kinds {
             pub(crate) fn facts(&self) -> &'static Facts {
                 match self {
                     $(JointKind::$name { .. } => &$file::FACTS,)*
+                }
+            }
+            /// The value of the number parameter `key` (a scalar coordinate's initial value:
+            /// the variant's field of that name); `None` for another key.
+            pub(crate) fn initial_number(&self, key: &str) -> Option<f64> {
+                match self {
+                    $(JointKind::$name { $($field),* } => {
+                        $(if stringify!($field) == key {
+                            return Number::number($field);
+                        })*
+                        None
+                    })*
                 }
             }
         }

@@ -285,6 +285,13 @@ pub struct SimulationResult {
     phases: Option<PhaseBook>,
     /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
     multipliers: Vec<f64>,
+    /// The joint limits' force signals (name, unit), one per limited coordinate
+    /// (`contact/limits.rs`); empty without limits.
+    limit_signals: Vec<(String, &'static str)>,
+    /// Their values, `limit_signals.len()` per time point.
+    limit_forces: Vec<f64>,
+    /// The names of the joint limits' stops (`"<joint>.<coordinate>.lower"`, `".upper"`).
+    limit_stops: Vec<String>,
     /// With `SimOptions::dense_output`: IDA's interpolating polynomial of every step.
     dense: DenseOutput,
     /// The finished segments of a run with structure changes (`None` without; `segments.rs`).
@@ -427,6 +434,9 @@ impl SimulationResult {
             contacts: None,
             phases: None,
             multipliers: vec![],
+            limit_signals: vec![],
+            limit_forces: vec![],
+            limit_stops: vec![],
             dense: DenseOutput::default(),
             segments: None,
             tree_loads: std::sync::OnceLock::new(),
@@ -512,6 +522,46 @@ impl SimulationResult {
         }
     }
 
+    /// Records the force signals of the joint limits `lp` and, with `phases`, their stops'
+    /// contact phases (ids after the collision pairs').
+    pub(crate) fn enable_limits(&mut self, lp: &crate::contact::LimitPlan, phases: bool) {
+        self.limit_signals = lp.limits.iter().map(|l| (l.name.clone(), l.unit)).collect();
+        self.limit_stops = lp.stops.iter().map(|s| s.name.clone()).collect();
+        if phases {
+            let pairs = self.model.contact.as_ref().map_or(0, |cp| cp.n_pairs);
+            self.phases
+                .get_or_insert_with(|| PhaseBook::new(pairs))
+                .grow(pairs + lp.stops.len());
+        }
+    }
+
+    /// Appends the joint limits' forces of one time point (nothing without limits).
+    pub(crate) fn push_limit_forces(&mut self, f: &[f64]) {
+        if !self.limit_signals.is_empty() {
+            self.limit_forces.extend_from_slice(f);
+        }
+    }
+
+    /// `<joint>.limit_f` (or `.limit_f_<coordinate>`): a joint limit's generalised force.
+    fn limit_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let n = self.limit_signals.len();
+        let k = self
+            .limit_signals
+            .iter()
+            .position(|(name, _)| name.split_once('.') == Some((owner, field)))?;
+        Some(Signal {
+            name: format!("{owner}.{field}"),
+            unit: self.limit_signals[k].1,
+            dim: 1,
+            data: self
+                .limit_forces
+                .iter()
+                .skip(k)
+                .step_by(n)
+                .copied()
+                .collect(),
+        })
+    }
     pub(crate) fn phases(&self) -> Option<&PhaseBook> {
         self.phases.as_ref()
     }
@@ -522,17 +572,33 @@ impl SimulationResult {
 
     /// Opens and closes contact phases after an event at `t` \[s\] (or the initial contact set).
     pub(crate) fn phase_event(&mut self, dae: &crate::dae::MultibodyDae, t: f64) {
+        if let (Some(book), Some((lp, ls))) = (self.phases.as_mut(), dae.limits()) {
+            let base = self.model.contact.as_ref().map_or(0, |cp| cp.n_pairs);
+            let (started, ended) = (
+                (&ls.started[..], &ls.started_speed[..]),
+                (&ls.ended[..], &ls.ended_speed[..]),
+            );
+            book.event(t, started, ended, base, |id| {
+                lp.stops[id - base].name.clone()
+            });
+        }
         let (Some(book), Some(cs), Some(cp)) =
             (self.phases.as_mut(), dae.contact(), dae.contact_plan())
         else {
             return;
         };
         let scene = &self.model.plan.scene;
-        book.event(t, cs, |id| {
-            cp.pair_by_id(id)
-                .map(|pp| cp.pair_name(scene, &pp))
-                .unwrap_or_default()
-        });
+        book.event(
+            t,
+            (&cs.started, &cs.started_speed),
+            (&cs.ended, &cs.ended_speed),
+            0,
+            |id| {
+                cp.pair_by_id(id)
+                    .map(|pp| cp.pair_name(scene, &pp))
+                    .unwrap_or_default()
+            },
+        );
     }
 
     /// Every contact phase of the run in the order the phases started: per pair and stretch
@@ -541,11 +607,14 @@ impl SimulationResult {
     /// on the solver's steps (not the output grid; see [`ContactPhase`] for the sign
     /// convention). Needs [`SimOptions::contact_results`](crate::SimOptions::contact_results);
     /// without it an error names the option. A scene without collision pairs has none.
+    /// The stops of joint limits have phases too, named `"<joint>.<coordinate>.lower"` or
+    /// `".upper"`: speeds in the coordinate's unit per second, forces and impulses
+    /// generalised (\[N·m\], \[N·m·s\] for an angle), penetration in its unit, vector impulses zero.
     pub fn contacts(&self) -> Result<&[ContactPhase], ResultError> {
         match (&self.phases, &self.model.contact) {
             (Some(book), _) => Ok(&book.phases),
-            (None, None) => Ok(&[]),
-            (None, Some(_)) => Err(ResultError::ContactResultsOff {
+            (None, None) if self.limit_stops.is_empty() => Ok(&[]),
+            (None, _) => Err(ResultError::ContactResultsOff {
                 what: "contacts()".into(),
             }),
         }
@@ -555,6 +624,10 @@ impl SimulationResult {
     /// reversed order the vector impulses are those on the first-named object (see
     /// [`ContactPhase`]).
     pub fn contact_phases(&self, pair: &str) -> Result<Vec<ContactPhase>, ResultError> {
+        if self.limit_stops.iter().any(|s| s == pair) {
+            let phases = self.contacts()?.iter().filter(|ph| ph.pair == pair);
+            return Ok(phases.cloned().collect());
+        }
         let (stored, reversed) = self.resolve_pair(pair).ok_or_else(|| {
             let names = self.contact_pairs();
             let mut known = names.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
@@ -801,6 +874,7 @@ impl SimulationResult {
             }
         }
         names.extend(self.load_signal_names());
+        names.extend(self.limit_signals.iter().map(|(n, _)| n.clone()));
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
                 names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
@@ -867,6 +941,7 @@ impl SimulationResult {
         let full = match full
             .or_else(|| self.contact_signal(owner, field))
             .or_else(|| self.loop_signal(owner, field))
+            .or_else(|| self.limit_signal(owner, field))
         {
             Some(s) => Some(s),
             None => self.load_signal(owner, field).transpose()?,

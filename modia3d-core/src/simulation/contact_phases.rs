@@ -141,6 +141,20 @@ impl Simulation {
                 *slot = Sample::default();
             }
         }
+        // Stops of joint limits (ids after the pairs', listed after them).
+        if let Some((_, ls)) = self.ida.system().limits() {
+            let base = self.stop_base();
+            for (&id, row) in active.iter().zip(rows.iter_mut()) {
+                if let (Some(s), Some(slot)) = (id.checked_sub(base), row.get_mut(column)) {
+                    *slot = Sample {
+                        pen: ls.penetration[s],
+                        f_n: ls.f_n[s],
+                        normal: Vector3::zeros(),
+                        f_t: Vector3::zeros(),
+                    };
+                }
+            }
+        }
         let Some(cs) = self.ida.system().contact() else {
             return;
         };
@@ -164,8 +178,18 @@ impl Simulation {
         }
     }
 
+    /// The id of the joint limits' first stop in the phase book (after the pairs').
+    fn stop_base(&self) -> usize {
+        self.ida.system().contact_plan().map_or(0, |cp| cp.n_pairs)
+    }
+
     /// Penetration \[m\] and normal force \[N\] of pair `id` at the last evaluation.
     fn pair_sample(&self, id: usize) -> (f64, f64) {
+        if let (Some(s), Some((_, ls))) =
+            (id.checked_sub(self.stop_base()), self.ida.system().limits())
+        {
+            return (ls.penetration[s], ls.f_n[s]);
+        }
         self.ida
             .system()
             .contact()
@@ -189,6 +213,11 @@ impl Simulation {
                     .map(|(id, _, _)| id)
                     .filter(|&p| book.is_open(p)),
             );
+        }
+        if let Some((_, ls)) = self.ida.system().limits() {
+            let base = self.stop_base();
+            sc.active
+                .extend(ls.active().map(|s| base + s).filter(|&p| book.is_open(p)));
         }
         // Interpolation is defined on the last step only, [t_n − h_u, t_n].
         let t_a = t_a.max(t_b - self.ida.stats().last_step);
