@@ -80,7 +80,8 @@ pub use geometry::{
     Axis, MeshCollision, Shape, ShapeKindSpec, ShapeParam, ShapeValue, ShapeValues, SHAPE_KINDS,
 };
 pub use joints::{
-    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue, JOINT_KINDS,
+    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, LimitKeys, ParamValue,
+    JOINT_KINDS,
 };
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};

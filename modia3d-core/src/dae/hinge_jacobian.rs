@@ -810,6 +810,57 @@ mod tests {
         }
     }
 
+    /// The same with joint limits in contact (`contact/limits.rs`): [`branched`] with stops on
+    /// `ja`'s angle, `jb`'s offset and both of `je`'s coordinates, every one pressed 1e-3 into
+    /// its stop at the Jacobian's point and entered at an event with random rates (so each
+    /// has its damping `d` and the damping's derivative counts), the rest as in
+    /// [`hinge_tree_columns_match_central_differences`]: the stops' rows are exact
+    /// (`LimitState::row_derivatives`), the same tolerance holds.
+    #[test]
+    fn hinge_tree_columns_with_limits_match_central_differences() {
+        let mut scene = branched();
+        for j in &mut scene.joints {
+            let l = |c: Option<&str>, k: f64| {
+                let l = crate::JointLimit::range(-0.3, 0.3).stiffness(k).cor(0.6);
+                match c {
+                    Some(c) => l.on(c),
+                    None => l,
+                }
+            };
+            match j.name.as_str() {
+                "ja" => j.limits.push(l(None, 400.0)),
+                "jb" => j.limits.push(l(None, 2e3)),
+                "je" => j.limits.extend([l(Some("phi"), 50.0), l(Some("s"), 900.0)]),
+                _ => {}
+            }
+        }
+        let model = scene.build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let mut s = BlockStructure::default();
+        assert!(dae.jacobian_structure(&mut s));
+        assert_eq!(s.analytic, vec![true]);
+        let plan = dae.plan().clone();
+        let mut u = crate::test_rng::uniform(11);
+        for trial in 0..4 {
+            let mut y = vec![0.0; n];
+            for j in &plan.joints {
+                for c in j.coord.coordinates() {
+                    // Past the upper stop on even trials, below the lower one on odd.
+                    let side = if trial % 2 == 0 { 1.0 } else { -1.0 };
+                    y[j.q_offset + c.q] = side * (0.3 + 1e-3);
+                    y[plan.nq + j.v_offset + c.v] = 2.0 * u();
+                }
+            }
+            dae.handle_event(0.0, &y).unwrap();
+            let yp: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
+            let what = format!("limits, trial {trial}");
+            let worst =
+                exact_against_central(&mut dae, (&y, &yp), (2.5e3, 1e-6), (1e-5, 1e-6), &what);
+            eprintln!("{what}: worst relative error {worst:e}");
+        }
+    }
+
     /// The tangent passes allocate nothing once warmed up (the crate's test binary counts
     /// this thread's allocations): 100 Jacobians of [`branched`], and of [`pressed`] (its
     /// contacts' pair-local quotients).

@@ -34,7 +34,9 @@ pub(crate) mod spec;
 pub(crate) mod spherical;
 pub(crate) mod universal;
 
-pub use spec::{AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue};
+pub use spec::{
+    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, LimitKeys, ParamValue,
+};
 
 #[cfg(feature = "solver")]
 use crate::joints::rows::Row;
@@ -565,6 +567,7 @@ mod tests {
             assert!(nv <= f.nv, "{name}: velocities of the signals");
             for c in f.spec.coordinates {
                 assert!(c.q < f.nq && c.v < f.nv, "{name}: coordinate {}", c.name);
+                assert_eq!(c.limit_keys.range, format!("{}_limits", c.name), "{name}");
                 let turns = f.turning.iter().any(|&(i, r)| i == c.q && r == 1.0);
                 let shifts = f.shifting.contains(&c.q);
                 assert_eq!(turns, c.unit == "rad", "{name}: {}", c.name);

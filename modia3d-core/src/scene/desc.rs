@@ -598,8 +598,8 @@ impl JointLimit {
     /// The coefficient of restitution of a stop that does not set one \[-\].
     pub const DEFAULT_COR: f64 = 0.5;
 
-    /// Stops at `lower` and `upper` (`lower < upper`) on the joint's only coordinate (name one
-    /// with [`Self::on`]).
+    /// Stops at `lower` and `upper` (`lower < upper`; `f64::NEG_INFINITY` / `f64::INFINITY`:
+    /// no bound on that side) on the joint's only coordinate (name one with [`Self::on`]).
     pub fn range(lower: f64, upper: f64) -> Self {
         JointLimit {
             coordinate: None,

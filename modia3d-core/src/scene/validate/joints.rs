@@ -104,8 +104,13 @@ fn limits(c: &mut Checker, j: &Joint) -> Vec<ValidLimit> {
         }
         let before = c.errors.len();
         let what = |side: &str| format!("joint `{}`: {side} limit of `{name}` [{unit}]", j.name);
-        for (side, b) in [("lower", l.lower), ("upper", l.upper)] {
-            if let Some(b) = b {
+        // `−∞` below and `+∞` above mean no bound (`model!`'s `[lower, f64::INFINITY]`).
+        let open = [f64::NEG_INFINITY, f64::INFINITY];
+        for ((side, b), none) in [("lower", l.lower), ("upper", l.upper)]
+            .into_iter()
+            .zip(open)
+        {
+            if let Some(b) = b.filter(|&b| b != none) {
                 c.finite(|| what(side), &[b]);
             }
         }
