@@ -14,7 +14,7 @@
 //! With `limits` (`cargo run --release --example hinge_chain limits [runs]`), the joint limits'
 //! table (BENCHMARKS.md "Joint limits"): the 2- and 7-link chains without limits, with limits
 //! they never reach (±10 rad: two root functions, no event) and with limits they hit (each
-//! joint's range [−0.35, 0.35 + 0.1·i] rad around its start angle, default stiffness,
+//! joint's range [0.1 + 0.1·i, 0.35 + 0.1·i] rad around its start angle 0.3 + 0.1·i, default stiffness,
 //! cor 0.5), with the events and stop contacts per run.
 
 use modia3d::prelude::*;
@@ -107,12 +107,13 @@ fn limits_table(runs: usize) -> Result<(), Box<dyn std::error::Error>> {
         for (label, range) in [
             ("none", None),
             ("±10 rad, never reached", Some((-10.0, 10.0, 0.0))),
-            ("hit", Some((-0.35, 0.35, 0.1))),
+            ("hit", Some((0.1, 0.35, 0.1))),
         ] {
             let mut scene = chain(n);
             if let Some((lo, hi, step)) = range {
                 for (i, j) in scene.joints.iter_mut().enumerate() {
-                    *j = j.clone().limits(lo, hi + step * i as f64);
+                    let shift = step * i as f64;
+                    *j = j.clone().limits(lo + shift, hi + shift);
                 }
             }
             let model = scene.build()?;

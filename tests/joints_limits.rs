@@ -191,7 +191,11 @@ fn arm_resting_on_its_stop_carries_its_weight() {
         )
         .unwrap();
     let last = res.events.last().unwrap().t;
-    println!("{} events, the last at {last} s", res.events.len());
+    println!(
+        "{} events, the last at {last} s; {} steps",
+        res.events.len(),
+        res.stats.solver.steps
+    );
     assert!(last < 1.5, "events until {last} s");
     let f = res.signal("hinge.limit_f").unwrap();
     let f_end = *f.values().last().unwrap();

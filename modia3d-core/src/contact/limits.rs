@@ -164,10 +164,10 @@ pub struct LimitState {
     /// Per stop: damping factor `d` [s/rad or s/m] fixed at its start.
     d: Vec<f64>,
     /// Per stop: penetration `δ` \[rad or m\] and force magnitude `k·δ·soft_clamp(…)` at the
-    /// last evaluation of the stops in contact (zero for the others).
-    pub penetration: Vec<f64>,
+    /// last evaluation of the stops in contact (zero for the others; [`Self::sample`]).
+    penetration: Vec<f64>,
     /// See `penetration`.
-    pub f_n: Vec<f64>,
+    f_n: Vec<f64>,
     /// Stops in contact, in stop order.
     active: Vec<u32>,
     /// Stops that entered the contact set at the last event.
@@ -195,6 +195,12 @@ impl LimitState {
             started_speed: Vec::with_capacity(n),
             ended_speed: Vec::with_capacity(n),
         }
+    }
+
+    /// Penetration \[rad or m\] and force magnitude \[N·m or N\] of stop `s` at the last
+    /// evaluation (zero while apart); `None` for no such stop.
+    pub fn sample(&self, s: usize) -> Option<(f64, f64)> {
+        Some((*self.penetration.get(s)?, *self.f_n.get(s)?))
     }
 
     /// The stops in contact (ids).

@@ -545,13 +545,15 @@ impl SimulationResult {
     /// `<joint>.limit_f` (or `.limit_f_<coordinate>`): a joint limit's generalised force.
     fn limit_signal(&self, owner: &str, field: &str) -> Option<Signal> {
         let n = self.limit_signals.len();
-        let k = self
+        let (k, unit) = self
             .limit_signals
             .iter()
-            .position(|(name, _)| name.split_once('.') == Some((owner, field)))?;
+            .enumerate()
+            .find(|(_, (name, _))| name.rsplit_once('.') == Some((owner, field)))
+            .map(|(k, (_, unit))| (k, *unit))?;
         Some(Signal {
             name: format!("{owner}.{field}"),
-            unit: self.limit_signals[k].1,
+            unit,
             dim: 1,
             data: self
                 .limit_forces
@@ -579,7 +581,8 @@ impl SimulationResult {
                 (&ls.ended[..], &ls.ended_speed[..]),
             );
             book.event(t, started, ended, base, |id| {
-                lp.stops[id - base].name.clone()
+                let stop = id.checked_sub(base).and_then(|s| lp.stops.get(s));
+                stop.map(|s| s.name.clone()).unwrap_or_default()
             });
         }
         let (Some(book), Some(cs), Some(cp)) =

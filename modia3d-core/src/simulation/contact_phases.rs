@@ -145,10 +145,11 @@ impl Simulation {
         if let Some((_, ls)) = self.ida.system().limits() {
             let base = self.stop_base();
             for (&id, row) in active.iter().zip(rows.iter_mut()) {
-                if let (Some(s), Some(slot)) = (id.checked_sub(base), row.get_mut(column)) {
+                let sample = id.checked_sub(base).and_then(|s| ls.sample(s));
+                if let (Some((pen, f_n)), Some(slot)) = (sample, row.get_mut(column)) {
                     *slot = Sample {
-                        pen: ls.penetration[s],
-                        f_n: ls.f_n[s],
+                        pen,
+                        f_n,
                         normal: Vector3::zeros(),
                         f_t: Vector3::zeros(),
                     };
@@ -188,7 +189,7 @@ impl Simulation {
         if let (Some(s), Some((_, ls))) =
             (id.checked_sub(self.stop_base()), self.ida.system().limits())
         {
-            return (ls.penetration[s], ls.f_n[s]);
+            return ls.sample(s).unwrap_or((0.0, 0.0));
         }
         self.ida
             .system()
