@@ -2,7 +2,7 @@
 //! initial values, unit quaternions, …) are checked by the kind's own file in `joints/`
 //! (`joints::validate_kind`), with the scene's `Checker`, in the same round as every other check. Topology (loops, two parents, connectivity) is `topology.rs`.
 
-use super::{did_you_mean, Checker, Names, SceneError, ValidJoint, ValidLimit};
+use super::{Checker, Names, SceneError, ValidJoint, ValidLimit};
 use crate::scene::desc::{Joint, JointLimit, SceneDesc, SceneOptions};
 
 /// Every joint resolved and checked, in declaration order; a joint with an error is left out
@@ -66,32 +66,9 @@ fn limits(c: &mut Checker, j: &Joint) -> Vec<ValidLimit> {
             });
             return vec![];
         }
-        let k = match &l.coordinate {
-            None if coords.len() == 1 => 0,
-            None => {
-                c.errors.push(SceneError::AmbiguousCoordinate {
-                    referrer: format!("limit of joint `{}`", j.name),
-                    kind,
-                    coordinates: coords
-                        .iter()
-                        .map(|c| format!("`{}`", c.name))
-                        .collect::<Vec<_>>()
-                        .join(", "),
-                });
-                continue;
-            }
-            Some(name) => match coords.iter().position(|x| x.name == name) {
-                Some(k) => k,
-                None => {
-                    c.errors.push(SceneError::Unknown {
-                        referrer: format!("limit of joint `{}` (a {kind} joint)", j.name),
-                        kind: "joint coordinate",
-                        name: name.clone(),
-                        hint: did_you_mean(name, coords.iter().map(|c| c.name)),
-                    });
-                    continue;
-                }
-            },
+        let referrer = format!("limit of joint `{}`", j.name);
+        let Some(k) = super::forces::coordinate_index(c, &referrer, facts, &l.coordinate) else {
+            continue;
         };
         let coord = &coords[k];
         let (name, unit) = (coord.name, coord.unit);
