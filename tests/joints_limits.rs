@@ -170,7 +170,7 @@ fn slider_between_stops_loses_energy_as_e_squared_says() {
 /// upper bound: gravity turns it to positive φ) and settles: after it does, no events, and the
 /// stop holds the weight's moment, `limit_f = −m·g·l·cos δ` with `δ` ~1e-7 rad, i.e. `m·g·l` to
 /// 1e-14: statics, to 1e-6 relative (the run's rtol 1e-8 on a state at rest, where IDA's
-/// error is the residual's).
+/// error is the residual's); so does the hinge's load signal, which includes the stop.
 #[test]
 fn arm_resting_on_its_stop_carries_its_weight() {
     let (m, l, g) = (1.0, 1.0, 9.81);
@@ -205,6 +205,18 @@ fn arm_resting_on_its_stop_carries_its_weight() {
         "stop torque {f_end}"
     );
     assert_eq!(f.unit, "N·m");
+    // The hinge's load on the arm includes the stop's torque: it holds the arm's weight, force
+    // `m·g` up and torque `−m·g·l` about y (about the arm's origin, on the axis), by statics.
+    let t = res.signal("hinge.t").unwrap();
+    let f = res.signal("hinge.f").unwrap();
+    let (t, f) = (t.last().unwrap(), f.last().unwrap());
+    println!("hinge load at rest: f = {f:?} N, t = {t:?} N·m");
+    let want = [(f, [0.0, 0.0, m * g]), (t, [0.0, -m * g * l, 0.0])];
+    for (got, want) in want {
+        for (a, b) in got.iter().zip(want) {
+            assert!((a - b).abs() < 1e-6 * m * g * l, "{got:?} vs {want:?}");
+        }
+    }
 }
 
 /// Complete elliptic integral of the first kind `K(k)` by the arithmetic-geometric mean.

@@ -60,6 +60,8 @@ pub struct LimitSignal {
     pub name: String,
     /// `"N·m"` (an angle) or `"N"` (a translation).
     pub unit: &'static str,
+    /// Index of the coordinate's velocity in `v` (the row its force enters).
+    pub v: usize,
 }
 
 /// The stops of a plan (immutable once built).
@@ -118,6 +120,7 @@ impl LimitPlan {
                         format!("{}.limit_f_{}", j.name, c.name)
                     },
                     unit: if c.unit == "rad" { "N·m" } else { "N" },
+                    v,
                 });
                 for (side, bound, sign) in [("lower", l.lower, 1.0), ("upper", l.upper, -1.0)] {
                     if bound.is_finite() {

@@ -292,6 +292,8 @@ pub struct SimulationResult {
     limit_forces: Vec<f64>,
     /// The names of the joint limits' stops (`"<joint>.<coordinate>.lower"`, `".upper"`).
     limit_stops: Vec<String>,
+    /// The velocity index of each limited coordinate (the row its force enters; for loads).
+    limit_v: Vec<usize>,
     /// With `SimOptions::dense_output`: IDA's interpolating polynomial of every step.
     dense: DenseOutput,
     /// The finished segments of a run with structure changes (`None` without; `segments.rs`).
@@ -437,6 +439,7 @@ impl SimulationResult {
             limit_signals: vec![],
             limit_forces: vec![],
             limit_stops: vec![],
+            limit_v: vec![],
             dense: DenseOutput::default(),
             segments: None,
             tree_loads: std::sync::OnceLock::new(),
@@ -527,6 +530,7 @@ impl SimulationResult {
     pub(crate) fn enable_limits(&mut self, lp: &crate::contact::LimitPlan, phases: bool) {
         self.limit_signals = lp.limits.iter().map(|l| (l.name.clone(), l.unit)).collect();
         self.limit_stops = lp.stops.iter().map(|s| s.name.clone()).collect();
+        self.limit_v = lp.limits.iter().map(|l| l.v).collect();
         if phases {
             let pairs = self.model.contact.as_ref().map_or(0, |cp| cp.n_pairs);
             self.phases
