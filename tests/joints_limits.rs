@@ -219,6 +219,54 @@ fn arm_resting_on_its_stop_carries_its_weight() {
     }
 }
 
+/// Joints with several coordinates: a Planar puck (normal z, gravity along −x) and a
+/// Cylindrical slider (axis z, gravity along −z) fall onto stops on one coordinate each (`x`,
+/// `s`) and rest there; each stop holds `m·g` (statics, 1e-6 relative as for the arm), read
+/// from the per-coordinate signals `limit_f_x`, `limit_f_s`, while the other coordinates'
+/// limits stay unreached (zero force). The planar joint's tree is no hinge tree: its stop's
+/// row entries come from the difference quotients.
+#[test]
+fn multi_coordinate_joints_rest_on_their_stops() {
+    let (m, g) = (2.0, 9.81);
+    for (kind, gravity, coords) in [
+        (JointKind::planar(3), [-g, 0.0, 0.0], ["x", "y"]),
+        (JointKind::cylindrical(3), [0.0, 0.0, -g], ["s", "phi"]),
+    ] {
+        let options = SceneOptions {
+            gravity: Vector3::from(gravity),
+            ..Default::default()
+        };
+        let mut s = SceneDesc::new();
+        s.add(Object3D::new("world").scene(options))
+            .add(Object3D::new("body").solid(point_mass(m, 1e-2)))
+            .add_joint(
+                Joint::new("j", "world", "body", kind)
+                    .limit(JointLimit::lower(-0.05).on(coords[0]))
+                    .limit(JointLimit::range(-1.0, 1.0).on(coords[1])),
+            );
+        let res = s
+            .build()
+            .unwrap()
+            .simulate(&SimOptions::new(2.0).tolerance(1e-8).progress(false))
+            .unwrap();
+        let held = res.signal(&format!("j.limit_f_{}", coords[0])).unwrap();
+        let free = res.signal(&format!("j.limit_f_{}", coords[1])).unwrap();
+        let (held, free) = (
+            *held.values().last().unwrap(),
+            free.values().last().copied(),
+        );
+        println!(
+            "stop on {} holds {held} N ({} events, the last at {} s)",
+            coords[0],
+            res.events.len(),
+            res.events.last().map_or(0.0, |e| e.t)
+        );
+        assert!((held - m * g).abs() < 1e-6 * m * g, "{held}");
+        assert_eq!(free, Some(0.0));
+        assert!(res.events.last().unwrap().t < 1.0);
+    }
+}
+
 /// Complete elliptic integral of the first kind `K(k)` by the arithmetic-geometric mean.
 fn elliptic_k(k: f64) -> f64 {
     let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
