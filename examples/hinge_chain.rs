@@ -10,6 +10,12 @@
 //! final joint angles against the same scene at rtol 1e-10. Release build:
 //!
 //!     cargo run --release --example hinge_chain [runs]
+//!
+//! With `limits` (`cargo run --release --example hinge_chain limits [runs]`), the joint limits'
+//! table (BENCHMARKS.md "Joint limits"): the 2- and 7-link chains without limits, with limits
+//! they never reach (±10 rad: two root functions, no event) and with limits they hit (each
+//! joint's range [0.1 + 0.1·i, 0.35 + 0.1·i] rad around its start angle 0.3 + 0.1·i, default stiffness,
+//! cor 0.5), with the events and stop contacts per run.
 
 use modia3d::prelude::*;
 use std::time::Instant;
@@ -97,11 +103,76 @@ fn median(mut x: Vec<f64>) -> f64 {
     x[x.len() / 2]
 }
 
+/// The joint limits' table (see the header).
+fn limits_table(runs: usize) -> Result<(), Box<dyn std::error::Error>> {
+    println!("| links | limits | Jacobian | wall [s] (median of {runs}) | steps | residuals (+ for Jacobians) | Jacobians | root functions | events | stop contacts | events per contact |");
+    println!("|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for n in [2, 7] {
+        for (label, range) in [
+            ("none", None),
+            ("±10 rad, never reached", Some((-10.0, 10.0, 0.0))),
+            ("hit", Some((0.1, 0.35, 0.1))),
+        ] {
+            let mut scene = chain(n);
+            if let Some((lo, hi, step)) = range {
+                for (i, j) in scene.joints.iter_mut().enumerate() {
+                    let shift = step * i as f64;
+                    *j = j.clone().limits(lo + shift, hi + shift);
+                }
+            }
+            let model = scene.build()?;
+            for (jac, quotients) in [("exact", false), ("quotients", true)] {
+                if range.is_none() && quotients {
+                    continue;
+                }
+                std::env::set_var("MODIA3D_DQ_JACOBIAN", if quotients { "1" } else { "0" });
+                let mut walls = vec![];
+                let mut last = None;
+                for _ in 0..runs {
+                    let t0 = Instant::now();
+                    let res = model.simulate(
+                        &SimOptions::new(1.0)
+                            .tolerance(1e-6)
+                            .interval(0.01)
+                            .contact_results(true)
+                            .progress(false),
+                    )?;
+                    walls.push(t0.elapsed().as_secs_f64());
+                    last = Some(res);
+                }
+                let res = last.expect("runs ≥ 1");
+                let (st, contacts) = (&res.stats, res.contacts()?.len());
+                let per = if contacts > 0 {
+                    format!("{:.2}", st.events as f64 / contacts as f64)
+                } else {
+                    "—".into()
+                };
+                println!(
+                    "| {n} | {label} | {jac} | {:.4} | {} | {} (+{}) | {} | {} | {} | {contacts} | {per} |",
+                    median(walls),
+                    st.solver.steps,
+                    st.solver.residual_evals,
+                    st.solver.residual_evals_for_jacobian,
+                    st.solver.jacobian_evals,
+                    st.root_functions,
+                    st.events,
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let runs: usize = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(5);
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let limits = args.first().is_some_and(|a| a == "limits");
+    if limits {
+        args.remove(0);
+    }
+    let runs: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(5);
+    if limits {
+        return limits_table(runs);
+    }
     println!("| links | rtol | Jacobian | wall [s] (median of {runs}) | steps | residuals (+ for Jacobians) | Jacobians | error [rad] |");
     println!("|---:|---:|---|---:|---:|---:|---:|---:|");
     for n in [2, 7, 20, 50] {

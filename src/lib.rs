@@ -222,7 +222,7 @@ pub mod prelude {
     pub use modia3d_core::{
         Action, ActionError, ActionKind, Axis, BodyInfo, ContactPairInfo, ContactPairMaterial,
         ContactPhase, ContactProfile, Event, Feature, ForceElement, ForceFn, FreeRotation, Input,
-        InputError, InputKind, Joint, JointKind, JointLoadPeak, LoopInfo, MassSpec,
+        InputError, InputKind, Joint, JointKind, JointLimit, JointLoadPeak, LoopInfo, MassSpec,
         MaterialPalette, MaterialRef, MeshCollision, Model, Object3D, ObjectMotion, PlotFormat,
         PlotOptions, ResultError, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions,
         Shape, Signal, SimError, SimErrorKind, SimOptions, SimStats, SimWarning, Simulation,

@@ -78,12 +78,13 @@ pub(crate) mod test_rng {
 mod counting_alloc;
 
 #[cfg(feature = "solver")]
-pub use contact::ContactError;
+pub use contact::{ContactError, DEFAULT_STOP_FREQUENCY};
 pub use geometry::{
     Axis, MeshCollision, Shape, ShapeKindSpec, ShapeParam, ShapeValue, ShapeValues, SHAPE_KINDS,
 };
 pub use joints::{
-    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue, JOINT_KINDS,
+    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, LimitKeys, ParamValue,
+    JOINT_KINDS,
 };
 #[cfg(feature = "solver")]
 pub use model::{BodyInfo, ContactPairInfo, LoopInfo, Model};
@@ -94,9 +95,9 @@ pub use results::{
 };
 pub use scene::{
     Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,
-    FreeRotation, Input, InputKind, Joint, JointKind, MassSpec, MaterialPalette, MaterialRef,
-    Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors, SceneOptions, Solid,
-    SolidMaterial, Wrench,
+    FreeRotation, Input, InputKind, Joint, JointKind, JointLimit, MassSpec, MaterialPalette,
+    MaterialRef, Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors,
+    SceneOptions, Solid, SolidMaterial, Wrench,
 };
 pub use scene::{Bushing, GravityField, Law, VectorLaw};
 #[cfg(feature = "solver")]

@@ -511,6 +511,9 @@ impl Simulation {
         };
         let root_functions = dae.num_roots_public();
         let ida_opts = ida_options(&plan, opts, y0.len(), root_functions);
+        if let Some((lp, _)) = dae.limits() {
+            result.enable_limits(lp, opts.contact_results);
+        }
         result.phase_event(&dae, t0);
         let start_warnings = warnings::start_warnings(model, dae.contact());
         for w in &start_warnings {
@@ -1167,6 +1170,9 @@ impl Simulation {
         if self.opts.contact_results {
             now.enable_contact_record();
         }
+        if let Some((lp, _)) = self.ida.system().limits() {
+            now.enable_limits(lp, false);
+        }
         record(
             self.ida.system_mut(),
             &mut now,
@@ -1200,6 +1206,9 @@ fn record(
     // Constraint multipliers of closed loops (their forces are signals).
     let m = dae.plan().loops.m();
     result.push_multipliers(y.get(n..n + m).unwrap_or(&[]));
+    if let Some(f) = dae.limit_forces(y) {
+        result.push_limit_forces(f);
+    }
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.
         let _ = dae.update_contacts(t, y);

@@ -46,6 +46,22 @@ pub(crate) struct Num {
     pub parts: Vec<Option<LitNum>>,
 }
 
+/// A joint limit as written: `<coordinate>_limits = [lower, upper]` with its optional
+/// `<coordinate>_limit_stiffness` and `<coordinate>_limit_cor`.
+#[derive(Clone, Debug)]
+pub(crate) struct LimitIr {
+    /// The coordinate (the core's table).
+    pub coordinate: &'static str,
+    /// The bounds' expressions.
+    pub lower: Expr,
+    /// See `lower`.
+    pub upper: Expr,
+    /// `<coordinate>_limit_stiffness`.
+    pub stiffness: Option<Expr>,
+    /// `<coordinate>_limit_cor`.
+    pub cor: Option<Expr>,
+}
+
 /// Where an object's or sub-assembly's parent comes from.
 #[derive(Clone, Debug)]
 pub(crate) enum Parent {
@@ -364,6 +380,8 @@ pub(crate) enum Item {
         can_collide: Option<(Expr, Option<bool>)>,
         /// `cut = …` (prefer this joint as the one that closes its loop) and its literal value.
         cut: Option<(Expr, Option<bool>)>,
+        /// Its limits (`<coordinate>_limits = [lower, upper]`, …), one per coordinate.
+        limits: Vec<LimitIr>,
     },
     /// A force element.
     Force {

@@ -176,14 +176,24 @@ pub(crate) fn joint_kind(ctor: &str) -> Option<&'static JointKindSpec> {
 }
 
 /// Keys of a joint constructor: the objects, the kind's parameters (the core's table), then
-/// `can_collide` and `cut`.
+/// `can_collide`, `cut` and the limit keys of each scalar coordinate (`phi_limits`,
+/// `phi_limit_stiffness`, `phi_limit_cor`; the table's `LimitKeys`).
 pub(crate) fn joint_keys(kind: &JointKindSpec) -> Vec<&'static str> {
     ["obj1", "obj2"]
         .into_iter()
         .chain(kind.keys())
         .chain(["can_collide", "cut"])
+        .chain(
+            kind.coordinates
+                .iter()
+                .flat_map(|c| [c.limit_keys.range, c.limit_keys.stiffness, c.limit_keys.cor]),
+        )
         .collect()
 }
+
+/// The limit suffixes of joint keys (`<coordinate>_limits`, …), for the message on a limit key
+/// whose coordinate the joint does not have.
+pub(crate) const LIMIT_SUFFIXES: &[&str] = &["_limits", "_limit_stiffness", "_limit_cor"];
 
 /// Keys that are easy to guess wrong, with the key meant.
 pub(crate) const SYNONYMS: &[(&str, &str)] = &[

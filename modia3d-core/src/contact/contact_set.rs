@@ -1126,10 +1126,18 @@ impl ContactPlan {
     /// The hysteresis levels of this plan (see [`Hysteresis`]).
     #[inline]
     pub(crate) fn hysteresis_band(&self) -> Hysteresis {
+        Hysteresis::of(self.hysteresis)
+    }
+}
+
+impl Hysteresis {
+    /// The levels for the hysteresis `ε` (`SceneOptions::hysteresis`): 0, ε, 2ε.
+    #[inline]
+    pub(crate) fn of(eps: f64) -> Hysteresis {
         Hysteresis {
             start: 0.0,
-            decide: self.hysteresis,
-            end: 2.0 * self.hysteresis,
+            decide: eps,
+            end: 2.0 * eps,
         }
     }
 }

@@ -8,9 +8,12 @@
 //! Evaluation modes ([`Mode`]): `Event` (rebuild the contact set, store `δ̇⁻`),
 //! `ZeroCrossing` (all `z_AB`, set kept), `Continuous` (only pairs in the set, for forces).
 //! A scene without candidate pairs has no `ContactPlan` at all, so none of this runs.
+//! Joint limits (`limits.rs`) are stops in joint space that share the events, root functions
+//! and restitution of the pairs; a scene without limits has no `LimitPlan`.
 
 mod contact_set;
 pub(crate) mod initial;
+mod limits;
 mod pair_jacobian;
 mod preprocess;
 mod regularise;
@@ -23,6 +26,8 @@ mod step_guard;
 pub use contact_set::ContactError;
 pub(crate) use contact_set::{ContactState, Mode, PairGeometry, PairState};
 pub(crate) use initial::initial_penetrations;
+pub(crate) use limits::{LimitPlan, LimitState};
+pub use limits::DEFAULT_STOP_FREQUENCY;
 pub(crate) use pair_jacobian::{pair_wrench_jacobian, PER_BODY};
 pub(crate) use preprocess::{ContactPlan, PairLaw};
 pub(crate) use regularise::CLAMP_BAND;

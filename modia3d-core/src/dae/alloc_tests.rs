@@ -70,6 +70,30 @@ fn residual_roots_and_events_do_not_allocate() {
     );
 }
 
+/// [`balls_on_a_table`] with an arm on a revolute joint resting on its lower stop and a
+/// slider on a prismatic joint between two stops (`contact/limits.rs`): the stops' forces,
+/// roots, events and Jacobian entries allocate nothing either.
+#[test]
+fn joint_limits_do_not_allocate() {
+    let mut s = balls_on_a_table();
+    let body = || {
+        Solid::new(Shape::Box {
+            lengths: Vector3::new(0.05, 0.05, 0.3),
+        })
+        .mass(1.0)
+    };
+    s.add(Object3D::new("arm").solid(body()))
+        .add(Object3D::new("slider").solid(body()))
+        .add_joint(Joint::new("hinge", "world", "arm", JointKind::revolute(1)).limits(0.0, 1.0))
+        .add_joint(
+            Joint::new("slide", "world", "slider", JointKind::prismatic(1))
+                .init_velocity(0.5)
+                .limits(-0.1, 0.1),
+        );
+    let g = hot_path_allocations(s);
+    assert!(g[0] < 0.0 && g[1] > 0.0, "{g:?}");
+}
+
 /// The balls of [`balls_on_a_table`] pressed 1e-7 m into their neighbours: the ball–ball
 /// pairs' exact Jacobian blocks (two moving bodies, `contact/pair_jacobian.rs`) allocate
 /// nothing either.

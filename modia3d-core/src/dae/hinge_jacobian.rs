@@ -70,6 +70,9 @@ pub(super) struct HingeTrees {
     /// that coordinate ([N/m or N·m/rad], [N·s/m or N·m·s/rad]).
     stiffness: Vec<f64>,
     damping: Vec<f64>,
+    /// Per velocity index: the derivatives `(∂/∂q, ∂/∂q̇)` of the joint limits' rows at the
+    /// Jacobian's point (`LimitState::row_derivatives`); empty without limits.
+    pub limit_kd: Vec<(f64, f64)>,
     /// Per body: whether the current column's tangent reaches it in the forward pass, then
     /// in the backward pass whether it carries a force tangent.
     reached: Vec<bool>,
@@ -178,6 +181,7 @@ impl HingeTrees {
             live,
             stiffness,
             damping,
+            limit_kd: vec![],
             reached: vec![false; nb],
             dvel: vec![Motion::zero(); nb],
             dacc: vec![Motion::zero(); nb],
@@ -244,6 +248,9 @@ impl HingeTrees {
             j.coord.project(&ZERO[..j.coord.nq()], &df, &mut dr[..nv]);
             if i == k {
                 dr[c] += self.stiffness[vi + c] * dq + self.damping[vi + c] * dv;
+                if let Some(&(kq, kv)) = self.limit_kd.get(vi + c) {
+                    dr[c] += kq * dq + kv * dv;
+                }
             }
             self.column[vi..vi + nv].copy_from_slice(&dr[..nv]);
             if let Some(p) = b.parent {
@@ -508,6 +515,10 @@ impl MultibodyDae {
             }
             _ => None,
         };
+        if let Some(l) = self.limits.as_deref() {
+            ht.limit_kd.fill((0.0, 0.0));
+            l.state.row_derivatives(&l.plan, q, v, &mut ht.limit_kd);
+        }
         rnea::residual_dynamics(
             plan,
             ws,
@@ -796,6 +807,57 @@ mod tests {
             let worst =
                 exact_against_central(&mut dae, (&y, &yp), (c_j, 1e-6), (1e-5, 1e-6), &what);
             eprintln!("trial {trial}: worst relative error {worst:e}");
+        }
+    }
+
+    /// The same with joint limits in contact (`contact/limits.rs`): [`branched`] with stops on
+    /// `ja`'s angle, `jb`'s offset and both of `je`'s coordinates, every one pressed 1e-3 into
+    /// its stop at the Jacobian's point and entered at an event with random rates (so each
+    /// has its damping `d` and the damping's derivative counts), the rest as in
+    /// [`hinge_tree_columns_match_central_differences`]: the stops' rows are exact
+    /// (`LimitState::row_derivatives`), the same tolerance holds.
+    #[test]
+    fn hinge_tree_columns_with_limits_match_central_differences() {
+        let mut scene = branched();
+        for j in &mut scene.joints {
+            let l = |c: Option<&str>, k: f64| {
+                let l = crate::JointLimit::range(-0.3, 0.3).stiffness(k).cor(0.6);
+                match c {
+                    Some(c) => l.on(c),
+                    None => l,
+                }
+            };
+            match j.name.as_str() {
+                "ja" => j.limits.push(l(None, 400.0)),
+                "jb" => j.limits.push(l(None, 2e3)),
+                "je" => j.limits.extend([l(Some("phi"), 50.0), l(Some("s"), 900.0)]),
+                _ => {}
+            }
+        }
+        let model = scene.build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let mut s = BlockStructure::default();
+        assert!(dae.jacobian_structure(&mut s));
+        assert_eq!(s.analytic, vec![true]);
+        let plan = dae.plan().clone();
+        let mut u = crate::test_rng::uniform(11);
+        for trial in 0..4 {
+            let mut y = vec![0.0; n];
+            for j in &plan.joints {
+                for c in j.coord.coordinates() {
+                    // Past the upper stop on even trials, below the lower one on odd.
+                    let side = if trial % 2 == 0 { 1.0 } else { -1.0 };
+                    y[j.q_offset + c.q] = side * (0.3 + 1e-3);
+                    y[plan.nq + j.v_offset + c.v] = 2.0 * u();
+                }
+            }
+            dae.handle_event(0.0, &y).unwrap();
+            let yp: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
+            let what = format!("limits, trial {trial}");
+            let worst =
+                exact_against_central(&mut dae, (&y, &yp), (2.5e3, 1e-6), (1e-5, 1e-6), &what);
+            eprintln!("{what}: worst relative error {worst:e}");
         }
     }
 

@@ -4,7 +4,7 @@
 //! functions of the contact set (none without collision pairs). The residual is a short list of
 //! stage calls and allocates nothing.
 
-use crate::contact::{ContactError, ContactPlan, ContactState, Mode};
+use crate::contact::{ContactError, ContactPlan, ContactState, LimitPlan, LimitState, Mode};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, BodyId, Plan, Workspace};
@@ -59,6 +59,10 @@ pub(crate) struct MultibodyDae {
     /// Scratch of the loop constraints (empty without cut joints).
     lw: LoopWork,
     contact: Option<ContactState>,
+    /// The joint limits, `None` without any (then nothing of them runs).
+    limits: Option<Box<Limits>>,
+    /// Scratch of [`Self::limit_forces`].
+    limit_out: Vec<f64>,
     /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
     /// fail); reported by the driver.
     root_error: Option<ContactError>,
@@ -124,6 +128,15 @@ pub(crate) struct MultibodyDae {
     mass: MassColumns,
     /// The hinge trees and the scratch of their exact columns (`dae/hinge_jacobian.rs`).
     hinge: hinge_jacobian::HingeTrees,
+}
+
+/// The joint limits of a plan (`contact/limits.rs`): their stops and contact state.
+#[derive(Clone, Debug)]
+pub(crate) struct Limits {
+    /// The stops (immutable).
+    pub plan: LimitPlan,
+    /// Which are in contact, their damping and last forces.
+    pub state: LimitState,
 }
 
 /// Scratch of [`DaeSystem::yp_jacobian`] (allocated with the DAE).
@@ -231,9 +244,19 @@ impl MultibodyDae {
         let nb = plan.bodies.len();
         let groups = plan.velocity_groups();
         let n_trees = blocks.as_ref().map_or(0, |b| b.fixed.n_blocks);
-        let hinge = blocks.as_ref().map_or_else(Default::default, |b| {
-            hinge_jacobian::HingeTrees::new(&plan, &b.of_body, n_trees)
+        let limits = LimitPlan::compile(&plan).map(|lp| {
+            Box::new(Limits {
+                state: LimitState::new(&lp),
+                plan: lp,
+            })
         });
+        let mut hinge: hinge_jacobian::HingeTrees =
+            blocks.as_ref().map_or_else(Default::default, |b| {
+                hinge_jacobian::HingeTrees::new(&plan, &b.of_body, n_trees)
+            });
+        if limits.is_some() {
+            hinge.limit_kd = vec![(0.0, 0.0); plan.nv];
+        }
         MultibodyDae {
             body_of_q,
             body_of_v,
@@ -259,6 +282,8 @@ impl MultibodyDae {
             ws,
             lw,
             contact,
+            limits,
+            limit_out: vec![],
             root_error: None,
             ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
             ewt_factors: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.block_of.len())),
@@ -342,17 +367,39 @@ impl MultibodyDae {
         self.num_roots()
     }
     /// Names (`"a|b"`) of the pairs that started and ended at the last event.
+    /// Stops of joint limits (`"<joint>.<coordinate>.lower"`, `".upper"`) follow the pairs.
     pub(crate) fn event_pairs(&self) -> (Vec<String>, Vec<String>) {
-        let (Some(cs), Some(cp)) = (self.contact.as_ref(), self.contact_plan.as_deref()) else {
-            return (vec![], vec![]);
+        let (mut started, mut ended) = match (self.contact.as_ref(), self.contact_plan.as_deref()) {
+            (Some(cs), Some(cp)) => {
+                let names = |v: &[u32]| -> Vec<String> {
+                    v.iter()
+                        .filter_map(|&p| cp.pair_by_id(p as usize))
+                        .map(|pp| cp.pair_name(&self.plan.scene, &pp))
+                        .collect()
+                };
+                (names(&cs.started), names(&cs.ended))
+            }
+            _ => (vec![], vec![]),
         };
-        let names = |v: &[u32]| -> Vec<String> {
-            v.iter()
-                .filter_map(|&p| cp.pair_by_id(p as usize))
-                .map(|pp| cp.pair_name(&self.plan.scene, &pp))
-                .collect()
-        };
-        (names(&cs.started), names(&cs.ended))
+        if let Some(l) = &self.limits {
+            let name = |&s: &u32| l.plan.stops[s as usize].name.clone();
+            started.extend(l.state.started.iter().map(name));
+            ended.extend(l.state.ended.iter().map(name));
+        }
+        (started, ended)
+    }
+    /// The generalised force of each limited coordinate \[N·m or N\] at `y` (the stops of
+    /// the current set), `None` without limits. For output points, not the hot path.
+    pub(crate) fn limit_forces(&mut self, y: &[f64]) -> Option<&[f64]> {
+        let l = self.limits.as_deref_mut()?;
+        let (q, v) = y.split_at(self.plan.nq);
+        l.state.evaluate(&l.plan, q, v);
+        l.state.forces(&l.plan, &mut self.limit_out);
+        Some(&self.limit_out)
+    }
+    /// The joint limits' stops and state, if the scene has limits.
+    pub(crate) fn limits(&self) -> Option<(&LimitPlan, &LimitState)> {
+        self.limits.as_deref().map(|l| (&l.plan, &l.state))
     }
     /// Takes the first contact error met while evaluating root functions.
     pub(crate) fn take_root_error(&mut self) -> Option<ContactError> {
@@ -362,22 +409,32 @@ impl MultibodyDae {
     /// Event mode (docs/contact-model.md §4) at time `t` \[s\] and state `y`: recomputes every `z_AB`, rebuilds
     /// the contact set and stores `δ̇⁻` of new contacts. Returns whether the set changed. Does
     /// nothing without collision pairs.
+    /// The stops of joint limits are decided in the same event.
     pub(crate) fn handle_event(&mut self, t: f64, y: &[f64]) -> Result<bool, ContactError> {
         let plan = &*self.plan;
-        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
-            return Ok(false);
-        };
         let (q, v) = y.split_at(plan.nq);
+        let mut stops = false;
+        if let Some(l) = self.limits.as_deref_mut() {
+            stops = l.state.event(&l.plan, q, v);
+            self.quotient_base = false;
+        }
+        let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
+            return Ok(stops);
+        };
         kinematics::position_velocity(plan, &mut self.ws, q, v);
         self.quotient_base = false;
         cs.evaluate(plan, cp, &mut self.ws, Mode::Event, t)?;
-        Ok(!cs.started.is_empty() || !cs.ended.is_empty())
+        Ok(stops || !cs.started.is_empty() || !cs.ended.is_empty())
     }
 
     /// Continuous mode at `(t, y)`: updates the geometry and forces of the pairs in the set
     /// (for output points). Does nothing without collision pairs.
     pub(crate) fn update_contacts(&mut self, t: f64, y: &[f64]) -> Result<(), ContactError> {
         let plan = &*self.plan;
+        if let Some(l) = self.limits.as_deref_mut() {
+            let (q, v) = y.split_at(plan.nq);
+            l.state.evaluate(&l.plan, &q[..plan.nq], &v[..plan.nv]);
+        }
         let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
             return Ok(());
         };
@@ -410,6 +467,8 @@ impl MultibodyDae {
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
         let contact = &mut self.contact;
         let contact_plan = self.contact_plan.as_deref();
+        let limits = &mut self.limits;
+        let (qc, vc) = (&*q, &*v);
         let mut failed = None;
         let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
             &self.plan,
@@ -422,6 +481,9 @@ impl MultibodyDae {
                     if let Err(e) = cs.evaluate(plan, cp, ws, Mode::Continuous, t) {
                         failed.get_or_insert(e);
                     }
+                }
+                if let Some(l) = limits.as_deref_mut() {
+                    l.state.apply(&l.plan, qc, vc, &mut ws.tau_applied);
                 }
             },
         );
@@ -561,19 +623,26 @@ impl DaeSystem for MultibodyDae {
     }
 
     fn num_roots(&self) -> usize {
-        if self.contact.is_some() {
+        if self.contact.is_some() || self.limits.is_some() {
             2
         } else {
             0
         }
     }
 
+    /// The stops of joint limits are folded into the same two functions (`z_1` the largest
+    /// over pairs and stops in contact, `z_2` the smallest over the others).
     fn roots(&mut self, t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) {
         let plan = &*self.plan;
+        let (q, v) = y.split_at(plan.nq);
+        let stops = self.limits.as_deref().map(|l| l.state.roots(&l.plan, q));
         let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
+            if let Some((z1, z2)) = stops {
+                g[0] = z1;
+                g[1] = z2;
+            }
             return;
         };
-        let (q, v) = y.split_at(plan.nq);
         kinematics::position_velocity(plan, &mut self.ws, q, v);
         if let Err(e) = cs.evaluate(plan, cp, &mut self.ws, Mode::ZeroCrossing, t) {
             self.root_error.get_or_insert(e);
@@ -581,6 +650,15 @@ impl DaeSystem for MultibodyDae {
         let (z1, z2) = cs.roots(cp);
         g[0] = z1;
         g[1] = z2;
+        if let Some((s1, s2)) = stops {
+            // A negative constant stands for "no pair in contact": a stop in contact decides.
+            g[0] = if cs.n_in_contact() == 0 {
+                s1
+            } else {
+                z1.max(s1)
+            };
+            g[1] = z2.min(s2);
+        }
     }
 
     /// One block per independent joint tree, coupled by spring-dampers between trees and by
@@ -914,6 +992,9 @@ impl MultibodyDae {
                 cs.evaluate(plan, cp, &mut self.ws, Mode::Continuous, t)
             }
             .map_err(|e| ResidualError::Fatal(e.to_string()))?;
+        }
+        if let Some(l) = self.limits.as_deref_mut() {
+            l.state.apply(&l.plan, q, v, &mut self.ws.tau_applied);
         }
         if m > 0 {
             // Stabilised index 2 (dynamics/loops.rs): kinematics at v + Gᵀμ, constraint

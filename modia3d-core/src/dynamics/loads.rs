@@ -90,8 +90,9 @@ pub(crate) enum RigidLink {
     Parent(usize),
 }
 
-/// Runs the load pass at `(t, q, v)` with multipliers `lambda` (`Plan::loops.m()` of them) and
-/// the contact wrenches `contacts`: afterwards `ws` holds positions, velocities, accelerations
+/// Runs the load pass at `(t, q, v)` with multipliers `lambda` (`Plan::loops.m()` of them),
+/// the contact wrenches `contacts` and the generalised forces `joint_forces` (velocity index,
+/// value: the joint limits' stops, `contact/limits.rs`): afterwards `ws` holds positions, velocities, accelerations
 /// (`ws.acc`, gravity's base acceleration included) and joint forces (`ws.f`).
 pub(crate) fn load_pass(
     plan: &Plan,
@@ -99,6 +100,7 @@ pub(crate) fn load_pass(
     (t, q, v): (f64, &[f64], &[f64]),
     lambda: &[f64],
     contacts: &[ObjectWrench],
+    joint_forces: &[(usize, f64)],
 ) -> Result<(), LoadError> {
     let mut lw = LoopWork::new(plan);
     ws.fault = None;
@@ -110,6 +112,11 @@ pub(crate) fn load_pass(
         for c in contacts {
             let body = plan.objects[c.object].body;
             add_world_wrench(ws, body, &c.point, &c.force, &c.torque);
+        }
+        for &(k, f) in joint_forces {
+            if let Some(tau) = ws.tau_applied.get_mut(k) {
+                *tau += f;
+            }
         }
     });
     if let Some(fault) = ws.fault.take() {

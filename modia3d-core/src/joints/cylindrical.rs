@@ -97,12 +97,14 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "rad",
                 q: 0,
                 v: 0,
+                limit_keys: super::spec::limit_keys!("phi"),
             },
             JointCoordinate {
                 name: "s",
                 unit: "m",
                 q: 1,
                 v: 1,
+                limit_keys: super::spec::limit_keys!("s"),
             },
         ],
         at_rest: |axis| crate::JointKind::Cylindrical {

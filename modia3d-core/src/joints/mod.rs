@@ -34,7 +34,9 @@ pub(crate) mod spec;
 pub(crate) mod spherical;
 pub(crate) mod universal;
 
-pub use spec::{AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, ParamValue};
+pub use spec::{
+    AxisOf, AxisParam, InitialParam, JointCoordinate, JointKindSpec, LimitKeys, ParamValue,
+};
 
 #[cfg(feature = "solver")]
 use crate::joints::rows::Row;
@@ -211,6 +213,27 @@ pub(crate) fn unit_rotation(
     }
 }
 
+/// A builder field read as a number ([`JointKind::initial_number`]): `f64`s are, axes and
+/// rotations are not.
+trait Number {
+    fn number(&self) -> Option<f64>;
+}
+impl Number for f64 {
+    fn number(&self) -> Option<f64> {
+        Some(*self)
+    }
+}
+impl Number for Vector3<f64> {
+    fn number(&self) -> Option<f64> {
+        None
+    }
+}
+impl Number for FreeRotation {
+    fn number(&self) -> Option<f64> {
+        None
+    }
+}
+
 /// Generates, from the table of kinds (`Variant { builder fields } => file`), the enums over
 /// kinds and every dispatch: each a `match` with one arm per kind, no wildcard.
 macro_rules! kinds {
@@ -254,6 +277,18 @@ macro_rules! kinds {
             pub(crate) fn facts(&self) -> &'static Facts {
                 match self {
                     $(JointKind::$name { .. } => &$file::FACTS,)*
+                }
+            }
+            /// The value of the number parameter `key` (a scalar coordinate's initial value:
+            /// the variant's field of that name); `None` for another key.
+            pub(crate) fn initial_number(&self, key: &str) -> Option<f64> {
+                match self {
+                    $(JointKind::$name { $($field),* } => {
+                        $(if stringify!($field) == key {
+                            return Number::number($field);
+                        })*
+                        None
+                    })*
                 }
             }
         }
@@ -532,6 +567,7 @@ mod tests {
             assert!(nv <= f.nv, "{name}: velocities of the signals");
             for c in f.spec.coordinates {
                 assert!(c.q < f.nq && c.v < f.nv, "{name}: coordinate {}", c.name);
+                assert_eq!(c.limit_keys.range, format!("{}_limits", c.name), "{name}");
                 let turns = f.turning.iter().any(|&(i, r)| i == c.q && r == 1.0);
                 let shifts = f.shifting.contains(&c.q);
                 assert_eq!(turns, c.unit == "rad", "{name}: {}", c.name);

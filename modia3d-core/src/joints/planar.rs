@@ -132,18 +132,21 @@ pub(crate) const FACTS: Facts = Facts {
                 unit: "m",
                 q: 0,
                 v: 0,
+                limit_keys: super::spec::limit_keys!("x"),
             },
             JointCoordinate {
                 name: "y",
                 unit: "m",
                 q: 1,
                 v: 1,
+                limit_keys: super::spec::limit_keys!("y"),
             },
             JointCoordinate {
                 name: "phi",
                 unit: "rad",
                 q: 2,
                 v: 2,
+                limit_keys: super::spec::limit_keys!("phi"),
             },
         ],
         at_rest: |axis| crate::JointKind::Planar {

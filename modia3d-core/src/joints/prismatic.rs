@@ -70,6 +70,7 @@ pub(crate) const FACTS: Facts = Facts {
             unit: "m",
             q: 0,
             v: 0,
+            limit_keys: super::spec::limit_keys!("s"),
         }],
         at_rest: |axis| crate::JointKind::Prismatic {
             axis: axis("axis").unwrap_or_else(Vector3::z),

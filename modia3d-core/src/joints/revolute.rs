@@ -68,6 +68,7 @@ pub(crate) const FACTS: Facts = Facts {
             unit: "rad",
             q: 0,
             v: 0,
+            limit_keys: super::spec::limit_keys!("phi"),
         }],
         at_rest: |axis| crate::JointKind::Revolute {
             axis: axis("axis").unwrap_or_else(Vector3::z),

@@ -98,4 +98,30 @@ pub struct JointCoordinate {
     pub q: usize,
     /// Offset of the velocity in the joint's `v`.
     pub v: usize,
+    /// The `model!` keys of a limit on it ([`crate::JointLimit`]).
+    pub limit_keys: LimitKeys,
 }
+
+/// The `model!` keys of a joint limit on one scalar coordinate `c` (`limit_keys!("c")` states
+/// them): `c_limits = [lower, upper]`, `c_limit_stiffness`, `c_limit_cor`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LimitKeys {
+    /// `"<c>_limits"`: `[lower, upper]` \[rad or m\] (`f64::INFINITY`: no upper bound).
+    pub range: &'static str,
+    /// `"<c>_limit_stiffness"` \[N·m/rad or N/m\].
+    pub stiffness: &'static str,
+    /// `"<c>_limit_cor"` \[-\].
+    pub cor: &'static str,
+}
+
+/// The [`LimitKeys`] of coordinate `$c` (a string literal).
+macro_rules! limit_keys {
+    ($c:literal) => {
+        $crate::joints::spec::LimitKeys {
+            range: concat!($c, "_limits"),
+            stiffness: concat!($c, "_limit_stiffness"),
+            cor: concat!($c, "_limit_cor"),
+        }
+    };
+}
+pub(crate) use limit_keys;

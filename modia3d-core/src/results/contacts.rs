@@ -4,7 +4,6 @@
 //! (`simulation/contact_phases.rs`: events, and the solver's steps by Gauss–Legendre
 //! quadrature on IDA's interpolating polynomial); this module only keeps the sums.
 
-use crate::contact::ContactState;
 use nalgebra::Vector3;
 
 /// One contact phase of a pair `"a|b"`: from the event where the pair entered the contact set
@@ -125,6 +124,13 @@ impl PhaseBook {
         }
     }
 
+    /// Room for pairs (and stops) `0..n`.
+    pub(crate) fn grow(&mut self, n: usize) {
+        if self.open.len() < n {
+            self.open.resize(n, None);
+        }
+    }
+
     /// True if pair `p` has an open phase.
     pub(crate) fn is_open(&self, p: usize) -> bool {
         matches!(self.open.get(p), Some(Some(_)))
@@ -136,10 +142,18 @@ impl PhaseBook {
     }
 
     /// Opens and closes phases after an event at `t` \[s\] (or at the start of the run) from the
-    /// contact set's `started`/`ended` lists (pair ids) and their speeds; `name(p)` gives pair `p`'s name.
-    pub(crate) fn event(&mut self, t: f64, cs: &ContactState, name: impl Fn(usize) -> String) {
-        for (&p, &dd) in cs.ended.iter().zip(&cs.ended_speed) {
-            let p = p as usize;
+    /// `started`/`ended` lists (ids, each with its penetration speed: of a contact set's pairs,
+    /// or of the joint limits' stops) offset by `base`; `name(p)` gives pair `p`'s name.
+    pub(crate) fn event(
+        &mut self,
+        t: f64,
+        (started, started_speed): (&[u32], &[f64]),
+        (ended, ended_speed): (&[u32], &[f64]),
+        base: usize,
+        name: impl Fn(usize) -> String,
+    ) {
+        for (&p, &dd) in ended.iter().zip(ended_speed) {
+            let p = base + p as usize;
             let exit = -dd;
             if let Some(ph) = self.open_phase(p) {
                 ph.end = Some(t);
@@ -149,8 +163,8 @@ impl PhaseBook {
                 *o = None;
             }
         }
-        for (&p, &impact) in cs.started.iter().zip(&cs.started_speed) {
-            let p = p as usize;
+        for (&p, &impact) in started.iter().zip(started_speed) {
+            let p = base + p as usize;
             if let Some(o) = self.open.get_mut(p) {
                 *o = Some(self.phases.len());
                 self.phases.push(ContactPhase {

@@ -151,6 +151,18 @@ impl SimulationResult {
         None
     }
 
+    /// The joint limits' generalised forces recorded at time point `k`: (velocity index,
+    /// value).
+    fn limit_forces_at(&self, k: usize) -> Vec<(usize, f64)> {
+        let n = self.limit_v.len();
+        let recorded = self.limit_forces.get(k * n..(k + 1) * n).unwrap_or(&[]);
+        self.limit_v
+            .iter()
+            .copied()
+            .zip(recorded.iter().copied())
+            .collect()
+    }
+
     /// The contact wrenches on objects recorded at time point `k` (with `contact_results`).
     fn contact_wrenches_at(&self, k: usize) -> Vec<ObjectWrench> {
         let (Some(rec), Some(cp)) = (self.contacts.as_ref(), self.model.contact.as_deref()) else {
@@ -244,8 +256,16 @@ impl SimulationResult {
                 return Some(Err(load_error(LoadError::Singular, t, &name)));
             };
             let contacts = self.contact_wrenches_at(k);
+            let stops = self.limit_forces_at(k);
             let (q, v) = y.split_at(nq);
-            match self.load_at(&mut ws, (who, i), (t, q, v), lambda, &contacts, &name)? {
+            match self.load_at(
+                &mut ws,
+                (who, i),
+                (t, q, v),
+                lambda,
+                (&contacts, &stops),
+                &name,
+            )? {
                 Ok(value) => data.extend_from_slice(value.as_slice()),
                 Err(e) => return Some(Err(e)),
             }
@@ -260,9 +280,9 @@ impl SimulationResult {
 
     /// The load signal `name` (optionally `[i]`) at `t` \[s\] from the state that IDA's
     /// interpolating polynomial gives (`SimOptions::dense_output`), as joint and object signals
-    /// are; `None` without dense output, outside it, for a scene with collision pairs (whose
-    /// contact forces are recorded at the output points only: the cubic of the output points
-    /// answers) and for other signals.
+    /// are; `None` without dense output, outside it, for a scene with collision pairs or joint
+    /// limits (whose contact and stop forces are recorded at the output points only: the cubic
+    /// of the output points answers) and for other signals.
     pub(super) fn dense_load_at(
         &self,
         name: &str,
@@ -284,8 +304,12 @@ impl SimulationResult {
         if v.len() != nv || lambda.len() != m {
             return None;
         }
+        if !self.limit_v.is_empty() {
+            // The stops' forces exist at output points only (as contact forces): the cubic.
+            return None;
+        }
         let mut ws = Workspace::new(plan);
-        let value = match self.load_at(&mut ws, (who, i), (t, q, v), lambda, &[], base)? {
+        let value = match self.load_at(&mut ws, (who, i), (t, q, v), lambda, (&[], &[]), base)? {
             Ok(value) => value,
             Err(e) => return Some(Err(e)),
         };
@@ -308,7 +332,9 @@ impl SimulationResult {
             };
             let (q, v) = y.split_at(nq);
             let contacts = self.contact_wrenches_at(k);
-            load_pass(plan, &mut ws, (t, q, v), lambda, &contacts).map_err(|e| Box::new((t, e)))?;
+            let stops = self.limit_forces_at(k);
+            load_pass(plan, &mut ws, (t, q, v), lambda, &contacts, &stops)
+                .map_err(|e| Box::new((t, e)))?;
             for j in 0..nj {
                 let w = tree_joint_wrench(plan, &ws, JointId(j));
                 for i in 0..JOINT_FIELDS.len() {
@@ -338,11 +364,11 @@ impl SimulationResult {
         (who, i): (Owner, usize),
         (t, q, v): (f64, &[f64], &[f64]),
         lambda: &[f64],
-        contacts: &[ObjectWrench],
+        (contacts, stops): (&[ObjectWrench], &[(usize, f64)]),
         name: &str,
     ) -> Option<Result<Vector3<f64>, ResultError>> {
         let plan = &*self.model.plan;
-        let wrench = load_pass(plan, ws, (t, q, v), lambda, contacts).and_then(|()| {
+        let wrench = load_pass(plan, ws, (t, q, v), lambda, contacts, stops).and_then(|()| {
             Ok(match who {
                 Owner::Tree(j) => Some(tree_joint_wrench(plan, ws, j)),
                 Owner::Link(link) => {

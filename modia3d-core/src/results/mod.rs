@@ -287,6 +287,15 @@ pub struct SimulationResult {
     phases: Option<PhaseBook>,
     /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
     multipliers: Vec<f64>,
+    /// The joint limits' force signals (name, unit), one per limited coordinate
+    /// (`contact/limits.rs`); empty without limits.
+    limit_signals: Vec<(String, &'static str)>,
+    /// Their values, `limit_signals.len()` per time point.
+    limit_forces: Vec<f64>,
+    /// The names of the joint limits' stops (`"<joint>.<coordinate>.lower"`, `".upper"`).
+    limit_stops: Vec<String>,
+    /// The velocity index of each limited coordinate (the row its force enters; for loads).
+    limit_v: Vec<usize>,
     /// With `SimOptions::dense_output`: IDA's interpolating polynomial of every step.
     dense: DenseOutput,
     /// The finished segments of a run with structure changes (`None` without; `segments.rs`).
@@ -429,6 +438,10 @@ impl SimulationResult {
             contacts: None,
             phases: None,
             multipliers: vec![],
+            limit_signals: vec![],
+            limit_forces: vec![],
+            limit_stops: vec![],
+            limit_v: vec![],
             dense: DenseOutput::default(),
             segments: None,
             tree_loads: std::sync::OnceLock::new(),
@@ -514,6 +527,49 @@ impl SimulationResult {
         }
     }
 
+    /// Records the force signals of the joint limits `lp` and, with `phases`, their stops'
+    /// contact phases (ids after the collision pairs').
+    pub(crate) fn enable_limits(&mut self, lp: &crate::contact::LimitPlan, phases: bool) {
+        self.limit_signals = lp.limits.iter().map(|l| (l.name.clone(), l.unit)).collect();
+        self.limit_stops = lp.stops.iter().map(|s| s.name.clone()).collect();
+        self.limit_v = lp.limits.iter().map(|l| l.v).collect();
+        if phases {
+            let pairs = self.model.contact.as_ref().map_or(0, |cp| cp.n_pairs);
+            self.phases
+                .get_or_insert_with(|| PhaseBook::new(pairs))
+                .grow(pairs + lp.stops.len());
+        }
+    }
+
+    /// Appends the joint limits' forces of one time point (nothing without limits).
+    pub(crate) fn push_limit_forces(&mut self, f: &[f64]) {
+        if !self.limit_signals.is_empty() {
+            self.limit_forces.extend_from_slice(f);
+        }
+    }
+
+    /// `<joint>.limit_f` (or `.limit_f_<coordinate>`): a joint limit's generalised force.
+    fn limit_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let n = self.limit_signals.len();
+        let (k, unit) = self
+            .limit_signals
+            .iter()
+            .enumerate()
+            .find(|(_, (name, _))| name.rsplit_once('.') == Some((owner, field)))
+            .map(|(k, (_, unit))| (k, *unit))?;
+        Some(Signal {
+            name: format!("{owner}.{field}"),
+            unit,
+            dim: 1,
+            data: self
+                .limit_forces
+                .iter()
+                .skip(k)
+                .step_by(n)
+                .copied()
+                .collect(),
+        })
+    }
     pub(crate) fn phases(&self) -> Option<&PhaseBook> {
         self.phases.as_ref()
     }
@@ -524,17 +580,34 @@ impl SimulationResult {
 
     /// Opens and closes contact phases after an event at `t` \[s\] (or the initial contact set).
     pub(crate) fn phase_event(&mut self, dae: &crate::dae::MultibodyDae, t: f64) {
+        if let (Some(book), Some((lp, ls))) = (self.phases.as_mut(), dae.limits()) {
+            let base = self.model.contact.as_ref().map_or(0, |cp| cp.n_pairs);
+            let (started, ended) = (
+                (&ls.started[..], &ls.started_speed[..]),
+                (&ls.ended[..], &ls.ended_speed[..]),
+            );
+            book.event(t, started, ended, base, |id| {
+                let stop = id.checked_sub(base).and_then(|s| lp.stops.get(s));
+                stop.map(|s| s.name.clone()).unwrap_or_default()
+            });
+        }
         let (Some(book), Some(cs), Some(cp)) =
             (self.phases.as_mut(), dae.contact(), dae.contact_plan())
         else {
             return;
         };
         let scene = &self.model.plan.scene;
-        book.event(t, cs, |id| {
-            cp.pair_by_id(id)
-                .map(|pp| cp.pair_name(scene, &pp))
-                .unwrap_or_default()
-        });
+        book.event(
+            t,
+            (&cs.started, &cs.started_speed),
+            (&cs.ended, &cs.ended_speed),
+            0,
+            |id| {
+                cp.pair_by_id(id)
+                    .map(|pp| cp.pair_name(scene, &pp))
+                    .unwrap_or_default()
+            },
+        );
     }
 
     /// Every contact phase of the run in the order the phases started: per pair and stretch
@@ -543,11 +616,14 @@ impl SimulationResult {
     /// on the solver's steps (not the output grid; see [`ContactPhase`] for the sign
     /// convention). Needs [`SimOptions::contact_results`](crate::SimOptions::contact_results);
     /// without it an error names the option. A scene without collision pairs has none.
+    /// The stops of joint limits have phases too, named `"<joint>.<coordinate>.lower"` or
+    /// `".upper"`: speeds in the coordinate's unit per second, forces and impulses
+    /// generalised (\[N·m\], \[N·m·s\] for an angle), penetration in its unit, vector impulses zero.
     pub fn contacts(&self) -> Result<&[ContactPhase], ResultError> {
         match (&self.phases, &self.model.contact) {
             (Some(book), _) => Ok(&book.phases),
-            (None, None) => Ok(&[]),
-            (None, Some(_)) => Err(ResultError::ContactResultsOff {
+            (None, None) if self.limit_stops.is_empty() => Ok(&[]),
+            (None, _) => Err(ResultError::ContactResultsOff {
                 what: "contacts()".into(),
             }),
         }
@@ -557,6 +633,10 @@ impl SimulationResult {
     /// reversed order the vector impulses are those on the first-named object (see
     /// [`ContactPhase`]).
     pub fn contact_phases(&self, pair: &str) -> Result<Vec<ContactPhase>, ResultError> {
+        if self.limit_stops.iter().any(|s| s == pair) {
+            let phases = self.contacts()?.iter().filter(|ph| ph.pair == pair);
+            return Ok(phases.cloned().collect());
+        }
         let (stored, reversed) = self.resolve_pair(pair).ok_or_else(|| {
             let names = self.contact_pairs();
             let mut known = names.iter().take(8).cloned().collect::<Vec<_>>().join(", ");
@@ -803,6 +883,7 @@ impl SimulationResult {
             }
         }
         names.extend(self.load_signal_names());
+        names.extend(self.limit_signals.iter().map(|(n, _)| n.clone()));
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
                 names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
@@ -870,6 +951,7 @@ impl SimulationResult {
         let full = match full
             .or_else(|| self.contact_signal(owner, field))
             .or_else(|| self.loop_signal(owner, field))
+            .or_else(|| self.limit_signal(owner, field))
         {
             Some(s) => Some(s),
             None => self.load_signal(owner, field).transpose()?,

@@ -570,6 +570,74 @@ pub struct Joint {
     /// in declaration order, and a marked joint that is needed to connect a body to the world
     /// stays in the tree.
     pub cut: bool,
+    /// Stops on its scalar coordinates (docs/joint-limits.md): compliant impacts located by
+    /// the contact events. Empty: no stop (and no cost).
+    pub limits: Vec<JointLimit>,
+}
+
+/// A stop on a scalar coordinate of a joint: a lower and/or upper bound (\[rad\] for an angle,
+/// \[m\] for a translation) at which the coordinate meets a compliant, damped spring, as a
+/// contact pair meets its surface (docs/joint-limits.md has the law, units and defaults).
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointLimit {
+    /// The coordinate (`"phi"`, `"s"`, `"phi1"`, …); `None`: the joint's only one.
+    pub coordinate: Option<String>,
+    /// Lower bound \[rad or m\]; `None`: none.
+    pub lower: Option<f64>,
+    /// Upper bound \[rad or m\]; `None`: none.
+    pub upper: Option<f64>,
+    /// Stiffness of the stop \[N·m/rad or N/m\]; `None`: the default from the coordinate's
+    /// effective inertia (docs/joint-limits.md).
+    pub stiffness: Option<f64>,
+    /// Coefficient of restitution of an impact on the stop \[-\], in \[0, 1\];
+    /// `None`: [`JointLimit::DEFAULT_COR`].
+    pub cor: Option<f64>,
+}
+
+impl JointLimit {
+    /// The coefficient of restitution of a stop that does not set one \[-\].
+    pub const DEFAULT_COR: f64 = 0.5;
+
+    /// Stops at `lower` and `upper` (`lower < upper`; `f64::NEG_INFINITY` / `f64::INFINITY`:
+    /// no bound on that side) on the joint's only coordinate (name one with [`Self::on`]).
+    pub fn range(lower: f64, upper: f64) -> Self {
+        JointLimit {
+            coordinate: None,
+            lower: Some(lower),
+            upper: Some(upper),
+            stiffness: None,
+            cor: None,
+        }
+    }
+    /// A lower stop only.
+    pub fn lower(lower: f64) -> Self {
+        JointLimit {
+            upper: None,
+            ..Self::range(lower, f64::NAN)
+        }
+    }
+    /// An upper stop only.
+    pub fn upper(upper: f64) -> Self {
+        JointLimit {
+            lower: None,
+            ..Self::range(f64::NAN, upper)
+        }
+    }
+    /// On coordinate `name` of the joint (needed for joints with several).
+    pub fn on(mut self, name: &str) -> Self {
+        self.coordinate = Some(name.to_string());
+        self
+    }
+    /// Sets the stiffness \[N·m/rad or N/m\].
+    pub fn stiffness(mut self, k: f64) -> Self {
+        self.stiffness = Some(k);
+        self
+    }
+    /// Sets the coefficient of restitution \[-\].
+    pub fn cor(mut self, e: f64) -> Self {
+        self.cor = Some(e);
+        self
+    }
 }
 
 impl Joint {
@@ -582,7 +650,19 @@ impl Joint {
             kind,
             can_collide: None,
             cut: false,
+            limits: vec![],
         }
+    }
+    /// Stops at `lower` and `upper` \[rad or m\] on the joint's only scalar coordinate
+    /// (Revolute `phi`, Prismatic `s`); see [`JointLimit`], and [`Self::limit`] for one side,
+    /// another coordinate, a stiffness or a restitution.
+    pub fn limits(self, lower: f64, upper: f64) -> Self {
+        self.limit(JointLimit::range(lower, upper))
+    }
+    /// Adds the stop `limit` (see [`JointLimit`]).
+    pub fn limit(mut self, limit: JointLimit) -> Self {
+        self.limits.push(limit);
+        self
     }
     /// Marks this joint as the one to cut when it closes a kinematic loop (see the field `cut`).
     pub fn cut(mut self, on: bool) -> Self {

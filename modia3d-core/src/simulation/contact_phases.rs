@@ -125,6 +125,21 @@ impl Simulation {
                 *slot = Sample::default();
             }
         }
+        // Stops of joint limits (ids after the pairs', listed after them).
+        if let Some((_, ls)) = self.ida.system().limits() {
+            let base = self.stop_base();
+            for (&id, row) in active.iter().zip(rows.iter_mut()) {
+                let sample = id.checked_sub(base).and_then(|s| ls.sample(s));
+                if let (Some((pen, f_n)), Some(slot)) = (sample, row.get_mut(column)) {
+                    *slot = Sample {
+                        pen,
+                        f_n,
+                        normal: Vector3::zeros(),
+                        f_t: Vector3::zeros(),
+                    };
+                }
+            }
+        }
         let Some(cs) = self.ida.system().contact() else {
             return;
         };
@@ -148,8 +163,18 @@ impl Simulation {
         }
     }
 
+    /// The id of the joint limits' first stop in the phase book (after the pairs').
+    fn stop_base(&self) -> usize {
+        self.ida.system().contact_plan().map_or(0, |cp| cp.n_pairs)
+    }
+
     /// Penetration \[m\] and normal force \[N\] of pair `id` at the last evaluation.
     fn pair_sample(&self, id: usize) -> (f64, f64) {
+        if let (Some(s), Some((_, ls))) =
+            (id.checked_sub(self.stop_base()), self.ida.system().limits())
+        {
+            return ls.sample(s).unwrap_or((0.0, 0.0));
+        }
         self.ida
             .system()
             .contact()
@@ -173,6 +198,11 @@ impl Simulation {
                     .map(|(id, _, _)| id)
                     .filter(|&p| book.is_open(p)),
             );
+        }
+        if let Some((_, ls)) = self.ida.system().limits() {
+            let base = self.stop_base();
+            sc.active
+                .extend(ls.active().map(|s| base + s).filter(|&p| book.is_open(p)));
         }
         // Interpolation is defined on the last step only, [t_n − h_u, t_n].
         let t_a = t_a.max(t_b - self.ida.stats().last_step);

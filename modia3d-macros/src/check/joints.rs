@@ -1,13 +1,14 @@
 //! Check stage, components that connect: joints, force elements, inputs, contact pairs.
 
-use super::{compact, lit_bool, lit_int, lit_str, lit_vec3, Checker};
+use super::{compact, lit_bool, lit_f64, lit_int, lit_str, lit_vec3, Args, Checker};
 use crate::ast::Ctor;
-use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MaterialName};
+use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, LimitIr, MaterialName};
 use crate::names::{did_you_mean, hint};
 use crate::vocab::{
-    joint_keys, joint_kind, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, PAIR_KEYS,
-    SPRING_DAMPER_KEYS,
+    joint_keys, joint_kind, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, LIMIT_SUFFIXES,
+    PAIR_KEYS, SPRING_DAMPER_KEYS,
 };
+use modia3d_core::JointKindSpec;
 use proc_macro2::Ident;
 use quote::ToTokens;
 use syn::spanned::Spanned;
@@ -68,7 +69,46 @@ impl Checker {
     pub(super) fn joint(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
         // `Kind::Joint` comes from the table, so the row exists.
         let spec = joint_kind(&ctor.name().to_string())?;
-        let a = self.args(ctor, &joint_keys(spec));
+        let mut keys = joint_keys(spec);
+        // A limit key of a coordinate the kind does not have: one error that says which it has
+        // (the key is then taken as known, so `args` does not report it a second time).
+        let names: Vec<String> = ctor.args.iter().map(|a| a.key.to_string()).collect();
+        for (arg, k) in ctor.args.iter().zip(&names) {
+            let Some((coord, _)) = LIMIT_SUFFIXES
+                .iter()
+                .find_map(|s| k.strip_suffix(s).map(|c| (c, s)))
+            else {
+                continue;
+            };
+            if keys.contains(&k.as_str()) {
+                continue;
+            }
+            let have = spec
+                .coordinates
+                .iter()
+                .map(|c| format!("`{}`", c.name))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let msg = if have.is_empty() {
+                format!(
+                    "a {} joint has no scalar coordinate to limit (`{k}`); limit a Revolute, Prismatic, Cylindrical, Universal or Planar joint",
+                    spec.name
+                )
+            } else {
+                format!(
+                    "a {} joint has no coordinate `{coord}` (`{k}`): its coordinates are {have} (hint: `{}_limits = [lower, upper]`)",
+                    spec.name, spec.coordinates[0].name
+                )
+            };
+            self.err(arg.key.span(), msg);
+        }
+        keys.extend(
+            names
+                .iter()
+                .filter(|k| LIMIT_SUFFIXES.iter().any(|s| k.ends_with(s)))
+                .map(String::as_str),
+        );
+        let a = self.args(ctor, &keys);
         let (o1, o2) = (
             self.required_object(&a, "obj1"),
             self.required_object(&a, "obj2"),
@@ -100,6 +140,7 @@ impl Checker {
                 Some((p.key, self.var(p.key, e)?))
             })
             .collect();
+        let limits = self.joint_limits(spec, &a);
         let kind = ok.then_some(JointKindIr { spec, axes, inits });
         Some(Item::Joint {
             name: name.clone(),
@@ -108,7 +149,73 @@ impl Checker {
             kind: kind?,
             can_collide,
             cut,
+            limits,
         })
+    }
+
+    /// The limits of a joint of kind `spec`: per scalar coordinate `c`, `c_limits = [lower,
+    /// upper]` (an array of two; literal bounds must have `lower < upper`) with its optional
+    /// `c_limit_stiffness` and `c_limit_cor` (which need `c_limits`).
+    fn joint_limits(&mut self, spec: &JointKindSpec, a: &Args) -> Vec<LimitIr> {
+        let mut out = vec![];
+        for c in spec.coordinates {
+            let keys = c.limit_keys;
+            let (stiffness, cor) = (a.get(keys.stiffness), a.get(keys.cor));
+            let Some(range) = a.get(keys.range) else {
+                for k in [keys.stiffness, keys.cor] {
+                    if let Some(key) = a.key(k) {
+                        self.err(
+                            key.span(),
+                            format!(
+                                "`{k}` needs `{}` (hint: `{} = [lower, upper]`)",
+                                keys.range, keys.range
+                            ),
+                        );
+                    }
+                }
+                continue;
+            };
+            let Expr::Array(arr) = range else {
+                self.err(
+                    range.span(),
+                    format!(
+                        "`{}` takes `[lower, upper]` [{}] (use `f64::INFINITY` for no upper bound)",
+                        keys.range, c.unit
+                    ),
+                );
+                continue;
+            };
+            let [lower, upper] = [arr.elems.first(), arr.elems.get(1)];
+            let (Some(lower), Some(upper), 2) = (lower, upper, arr.elems.len()) else {
+                self.err(
+                    range.span(),
+                    format!(
+                        "`{}` takes two bounds `[lower, upper]` [{}], found {}",
+                        keys.range,
+                        c.unit,
+                        arr.elems.len()
+                    ),
+                );
+                continue;
+            };
+            if let (Some(lo), Some(hi)) = (lit_f64(lower), lit_f64(upper)) {
+                if lo >= hi {
+                    self.err(
+                        range.span(),
+                        format!("`{}`: the lower bound {lo} must be below the upper bound {hi} [{}]; swap them or widen the range", keys.range, c.unit),
+                    );
+                    continue;
+                }
+            }
+            out.push(LimitIr {
+                coordinate: c.name,
+                lower: lower.clone(),
+                upper: upper.clone(),
+                stiffness: stiffness.cloned(),
+                cor: cor.cloned(),
+            });
+        }
+        out
     }
 
     pub(super) fn force(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {

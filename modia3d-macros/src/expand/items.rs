@@ -151,6 +151,7 @@ pub(super) fn item(it: &Item) -> TokenStream {
             kind,
             can_collide,
             cut,
+            limits,
         } => {
             let (n, o1, o2) = (
                 scoped(&name.to_string()),
@@ -160,7 +161,13 @@ pub(super) fn item(it: &Item) -> TokenStream {
             let kind = joint_kind(kind);
             let c = can_collide.as_ref().map(|(c, _)| quote!(.can_collide(#c)));
             let cut = cut.as_ref().map(|(c, _)| quote!(.cut(#c)));
-            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #cut);)
+            let limits = limits.iter().map(|l| {
+                let (coord, lo, hi) = (l.coordinate, &l.lower, &l.upper);
+                let k = l.stiffness.as_ref().map(|k| quote!(.stiffness(#k)));
+                let e = l.cor.as_ref().map(|e| quote!(.cor(#e)));
+                quote!(.limit(#core::JointLimit::range(#lo, #hi).on(#coord) #k #e))
+            });
+            quote!(#scene.add_joint(#core::Joint::new(#n, #o1, #o2, #kind) #c #cut #(#limits)*);)
         }
         Item::Force { name, force, .. } => {
             let v = self::force(&name.to_string(), force);

@@ -214,6 +214,7 @@ impl<'a> Probe<'a> {
                 kind,
                 can_collide,
                 cut,
+                ..
             } => {
                 let kind = joint_at_rest(kind);
                 let (o1, o2) = (obj(obj1), obj(obj2));

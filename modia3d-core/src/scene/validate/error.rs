@@ -238,6 +238,52 @@ pub enum SceneError {
         /// Its kind.
         kind: &'static str,
     },
+    /// A joint limit on a joint without a scalar coordinate.
+    #[error("joint `{joint}` has a limit, but a {kind} joint has no scalar coordinate; limit a joint with one (Revolute, Prismatic, Cylindrical, Universal, Planar)")]
+    LimitWithoutCoordinate {
+        /// The joint.
+        joint: String,
+        /// Its kind.
+        kind: &'static str,
+    },
+    /// A joint limit whose lower bound is not below its upper one.
+    #[error("joint `{joint}`: the limits of `{coordinate}` are lower {lower} ≥ upper {upper} [{unit}]; the lower bound must be below the upper one: swap them or widen the range")]
+    LimitRange {
+        /// The joint.
+        joint: String,
+        /// The coordinate.
+        coordinate: &'static str,
+        /// Lower bound.
+        lower: f64,
+        /// Upper bound.
+        upper: f64,
+        /// Unit of both (`"rad"` or `"m"`).
+        unit: &'static str,
+    },
+    /// A joint whose initial coordinate lies outside its limits.
+    #[error("joint `{joint}`: initial `{coordinate}` = {value} {unit} lies outside its limits [{lower}, {upper}] {unit}; start it between the stops (or on one) or move the stops")]
+    LimitOutside {
+        /// The joint.
+        joint: String,
+        /// The coordinate.
+        coordinate: &'static str,
+        /// Its initial value.
+        value: f64,
+        /// Lower bound (`−inf`: none).
+        lower: f64,
+        /// Upper bound (`inf`: none).
+        upper: f64,
+        /// Unit (`"rad"` or `"m"`).
+        unit: &'static str,
+    },
+    /// Two limits on one coordinate of a joint.
+    #[error("joint `{joint}` has two limits on `{coordinate}`; give one limit per coordinate with both bounds (`JointLimit::range`)")]
+    LimitTwice {
+        /// The joint.
+        joint: String,
+        /// The coordinate.
+        coordinate: &'static str,
+    },
     /// A joint spring-damper or joint input that names no coordinate of a joint with several.
     #[error("{referrer}: a {kind} joint has the coordinates {coordinates}; name one (`coordinate = \"…\"`)")]
     AmbiguousCoordinate {

@@ -239,6 +239,45 @@ pub(super) fn inputs(
     inputs
 }
 
+/// The index of the scalar coordinate `coordinate` (`None`: the only one) of a joint of the
+/// kind `facts` with scalar coordinates, that `referrer` (a spring-damper, input or limit, in
+/// words) names; errors for an unknown name, or no name where several exist.
+pub(super) fn coordinate_index(
+    c: &mut Checker,
+    referrer: &str,
+    facts: &crate::joints::Facts,
+    coordinate: &Option<String>,
+) -> Option<usize> {
+    let (kind, coords) = (facts.spec.name, facts.spec.coordinates);
+    match coordinate {
+        None if coords.len() == 1 => Some(0),
+        None => {
+            c.errors.push(SceneError::AmbiguousCoordinate {
+                referrer: referrer.to_string(),
+                kind,
+                coordinates: coords
+                    .iter()
+                    .map(|c| format!("`{}`", c.name))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+            None
+        }
+        Some(name) => {
+            let k = coords.iter().position(|c| c.name == name);
+            if k.is_none() {
+                c.errors.push(SceneError::Unknown {
+                    referrer: format!("{referrer} (a {kind} joint)"),
+                    kind: "joint coordinate",
+                    name: name.clone(),
+                    hint: did_you_mean(name, coords.iter().map(|c| c.name)),
+                });
+            }
+            k
+        }
+    }
+}
+
 /// The validated joint and the index of its scalar coordinate `coordinate` (`None`: its only
 /// one) that a spring-damper or input (`referrer`) acts on; errors for an unknown joint, a kind
 /// without scalar coordinates, an unknown coordinate name, or no name where several exist.
@@ -269,33 +308,7 @@ fn joint_coordinate(
         });
         return None;
     }
-    let k = match coordinate {
-        None if coords.len() == 1 => 0,
-        None => {
-            c.errors.push(SceneError::AmbiguousCoordinate {
-                referrer: referrer.to_string(),
-                kind,
-                coordinates: coords
-                    .iter()
-                    .map(|c| format!("`{}`", c.name))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-            });
-            return None;
-        }
-        Some(name) => match coords.iter().position(|c| c.name == name) {
-            Some(k) => k,
-            None => {
-                c.errors.push(SceneError::Unknown {
-                    referrer: format!("{referrer} (a {kind} joint)"),
-                    kind: "joint coordinate",
-                    name: name.clone(),
-                    hint: did_you_mean(name, coords.iter().map(|c| c.name)),
-                });
-                return None;
-            }
-        },
-    };
+    let k = coordinate_index(c, referrer, facts, coordinate)?;
     // A joint with an invalid value was dropped (its error is reported).
     let valid = joints.iter().position(|vj| vj.name == joint)?;
     Some((valid, k))

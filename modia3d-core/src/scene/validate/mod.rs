@@ -100,6 +100,24 @@ pub(crate) struct ValidJoint {
     pub can_collide: bool,
     /// Whether the user prefers this joint to be cut if it closes a loop.
     pub cut: bool,
+    /// Its stops, checked (one per limited coordinate).
+    pub limits: Vec<ValidLimit>,
+}
+
+/// A checked stop on a scalar coordinate of a joint ([`crate::JointLimit`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ValidLimit {
+    /// Index of the coordinate among the kind's scalar coordinates
+    /// (`JointKindSpec::coordinates`).
+    pub coordinate: usize,
+    /// Lower bound \[rad or m\] (`−∞`: none).
+    pub lower: f64,
+    /// Upper bound \[rad or m\] (`+∞`: none).
+    pub upper: f64,
+    /// Stiffness \[N·m/rad or N/m\]; `None`: the default (docs/joint-limits.md).
+    pub stiffness: Option<f64>,
+    /// Coefficient of restitution \[-\].
+    pub cor: f64,
 }
 
 /// A resolved force element.
