@@ -333,4 +333,40 @@ fn bad_limits_are_typed_errors_naming_the_joint() {
         matches!(&e[..], [SceneError::InvalidValue { what, .. }] if what.contains("hinge")),
         "{e:?}"
     );
+    // A beam pinned at both ends: one of its two hinges closes the loop (a cut joint, whose
+    // coordinate is no state), so limits there are refused; marking the other one `cut`
+    // keeps the limited hinge in the tree.
+    let beam = |limited_is_cut: bool| {
+        let mut s = SceneDesc::new();
+        s.add(Object3D::new("world").scene(SceneOptions::default()))
+            .add(
+                Object3D::new("anchor")
+                    .parent("world")
+                    .translation([1.0, 0.0, 0.0]),
+            )
+            .add(Object3D::new("beam").solid(point_mass(1.0, 0.1)))
+            .add(
+                Object3D::new("beam_end")
+                    .parent("beam")
+                    .translation([1.0, 0.0, 0.0]),
+            )
+            .add_joint(Joint::new("pin", "world", "beam", JointKind::revolute(2)))
+            .add_joint(
+                Joint::new("support", "anchor", "beam_end", JointKind::revolute(2))
+                    .limits(-0.5, 0.5)
+                    .cut(limited_is_cut),
+            );
+        if !limited_is_cut {
+            // The first-declared `pin` stays in the tree unless marked; mark it.
+            s.joints.iter_mut().for_each(|j| j.cut = j.name == "pin");
+        }
+        s.build()
+    };
+    let e = beam(true).unwrap_err().0;
+    assert!(
+        matches!(&e[..], [SceneError::LimitOnCutJoint { joint }] if joint == "support"),
+        "{e:?}"
+    );
+    println!("{}", e[0]);
+    assert!(beam(false).is_ok());
 }

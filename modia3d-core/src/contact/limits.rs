@@ -82,7 +82,7 @@ impl LimitPlan {
     /// The stops of `plan`'s joints; `None` without any. The default stiffness needs the
     /// effective inertia of each limited coordinate: the diagonal of the mass matrix at the
     /// initial state (one pass per tree, at build time). A limit on a joint that is not in
-    /// the spanning tree (a cut joint) is left out with a warning: its coordinate is no state.
+    /// the spanning tree (a cut joint) is refused by validation (`SceneError::LimitOnCutJoint`).
     pub(crate) fn compile(plan: &Plan) -> Option<LimitPlan> {
         let scene = &plan.scene;
         if scene.joints.iter().all(|j| j.limits.is_empty()) {
@@ -100,8 +100,8 @@ impl LimitPlan {
             if j.limits.is_empty() {
                 continue;
             }
+            // Validation refuses limits on a cut joint (`SceneError::LimitOnCutJoint`).
             let Some(tj) = plan.tree_joint_of.get(sj).copied().flatten() else {
-                tracing::warn!(joint = %j.name, "the limits of a cut joint (closing a loop) are not applied: its coordinates are no states; cut another joint of the loop");
                 continue;
             };
             let jp = &plan.joints[tj];
@@ -290,7 +290,13 @@ impl LimitState {
     /// The derivatives of the dynamics rows (`… − τ`) with respect to the coordinate and its
     /// rate, `(∂/∂q, ∂/∂q̇)` of `−s·f`, of the stops in contact at `(q, v)`, added per
     /// velocity index into `kd` (the analytic Jacobian of hinge trees).
-    pub(crate) fn row_derivatives(&self, lp: &LimitPlan, q: &[f64], v: &[f64], kd: &mut [(f64, f64)]) {
+    pub(crate) fn row_derivatives(
+        &self,
+        lp: &LimitPlan,
+        q: &[f64],
+        v: &[f64],
+        kd: &mut [(f64, f64)],
+    ) {
         for &s in &self.active {
             let s = s as usize;
             let st = &lp.stops[s];

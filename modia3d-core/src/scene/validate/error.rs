@@ -276,6 +276,13 @@ pub enum SceneError {
         /// Unit (`"rad"` or `"m"`).
         unit: &'static str,
     },
+    /// Limits on a joint that closes a kinematic loop (a cut joint: its coordinates are no
+    /// states, so no stop can act on them).
+    #[error("joint `{joint}` has limits but closes a kinematic loop (it is the loop's cut joint, whose coordinates are no states of the model), so its stops cannot act; mark another joint of the loop `cut = true` (`Joint::cut(true)`) so this one stays in the tree, or put the limits on another joint of the loop")]
+    LimitOnCutJoint {
+        /// The joint.
+        joint: String,
+    },
     /// Two limits on one coordinate of a joint.
     #[error("joint `{joint}` has two limits on `{coordinate}`; give one limit per coordinate with both bounds (`JointLimit::range`)")]
     LimitTwice {

@@ -392,6 +392,14 @@ impl SceneDesc {
             &mut suspect,
             &mut c.errors,
         );
+        // A cut joint's coordinates are no states: its stops could not act.
+        for cut in &topology.cuts {
+            if let Some(j) = joints.get(cut.joint).filter(|j| !j.limits.is_empty()) {
+                c.errors.push(SceneError::LimitOnCutJoint {
+                    joint: j.name.clone(),
+                });
+            }
+        }
         let forces = forces::forces(c, self, &names, &joints);
         let inputs = forces::inputs(c, self, &names, &joints);
         options::contact_pair_materials(c, self);
