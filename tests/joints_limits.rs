@@ -166,7 +166,8 @@ fn slider_between_stops_loses_energy_as_e_squared_says() {
     assert!((phases[0].start - 0.1).abs() < 1e-12, "{}", phases[0].start);
 }
 
-/// A horizontal arm (bob 1 m out along x) falls from 0.1 rad above onto a stop at φ = 0 (its
+/// A horizontal arm (bob 1 m out along x) laid on a stop at φ = 0 rests without any event;
+/// dropped from 0.1 rad above onto the same stop (its
 /// upper bound: gravity turns it to positive φ) and settles: after it does, no events, and the
 /// stop holds the weight's moment, `limit_f = −m·g·l·cos δ` with `δ` ~1e-7 rad, i.e. `m·g·l` to
 /// 1e-14: statics, to 1e-6 relative (the run's rtol 1e-8 on a state at rest, where IDA's
@@ -205,6 +206,31 @@ fn arm_resting_on_its_stop_carries_its_weight() {
         "stop torque {f_end}"
     );
     assert_eq!(f.unit, "N·m");
+    // Laid on its stop at rest (φ = 0, the bound) instead of dropped: in the stop's contact
+    // from the start, it sinks ~1e-7 rad into the compliant stop and stays: no event at all.
+    let laid = pendulum([l, 0.0, 0.0], 0.0, JointLimit::upper(0.0), options(false))
+        .build()
+        .unwrap()
+        .simulate(
+            &SimOptions::new(3.0)
+                .tolerance(1e-8)
+                .interval(1e-2)
+                .progress(false),
+        )
+        .unwrap();
+    println!(
+        "laid on the stop: {} events, {} steps",
+        laid.events.len(),
+        laid.stats.solver.steps
+    );
+    assert!(laid.events.is_empty(), "{:?}", laid.events);
+    let f_laid = *laid
+        .signal("hinge.limit_f")
+        .unwrap()
+        .values()
+        .last()
+        .unwrap();
+    assert!((f_laid + m * g * l).abs() < 1e-6 * m * g * l, "{f_laid}");
     // The hinge's load on the arm includes the stop's torque: it holds the arm's weight, force
     // `m·g` up and torque `−m·g·l` about y (about the arm's origin, on the axis), by statics.
     let t = res.signal("hinge.t").unwrap();
