@@ -290,7 +290,7 @@ impl ContactPlan {
                     round: shape.ball_diameter().is_some(),
                     material: 0, // set below
                     geo: {
-                        let (radius, flat) = contact_radius(shape);
+                        let (radius, flat) = shape.contact_radius();
                         let sphere_diameter = shape.ball_diameter();
                         ShapeGeo {
                             sphere_diameter,
@@ -512,11 +512,11 @@ fn volume_shape(
         return Ok(None);
     };
     let h = layer_depth.unwrap_or(own_depth);
-    // A beam's volume is that of its polytope (rounded ends as inscribed polygons): its signed
-    // distance must be of the same solid, so that the force is zero at both events.
+    // A polytope inscribed in the shape (a beam's, rounded ends as polygons) is the volume: its
+    // signed distance must be of the same solid, so that the force is zero at both events.
     let exact = || CollisionShape::with_smoothing(shape, 0.0);
-    let sharp = match shape {
-        Shape::Beam { .. } => match &solid {
+    let sharp = if shape.polytope_inscribed() {
+        match &solid {
             VolumeSolid::Polytope(p) => CollisionShape::with_smoothing(
                 &Shape::ConvexHull {
                     points: p.vertices().to_vec(),
@@ -524,16 +524,9 @@ fn volume_shape(
                 0.0,
             )?,
             VolumeSolid::Frustum(_) => exact()?,
-        },
-        Shape::Sphere { .. }
-        | Shape::Box { .. }
-        | Shape::Cylinder { .. }
-        | Shape::Capsule { .. }
-        | Shape::Cone { .. }
-        | Shape::Ellipsoid { .. }
-        | Shape::ConvexHull { .. }
-        | Shape::FileMesh { .. }
-        | Shape::Mesh { .. } => exact()?,
+        }
+    } else {
+        exact()?
     };
     Ok(Some(VolumeShape {
         sharp,
@@ -596,33 +589,5 @@ fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) ->
             }
         }
         ContactProfile::Modia3DLater => hertz_by_curvature(),
-    }
-}
-
-/// Contact radius \[m\] of a shape in the later Modia3D profile and whether it counts as flat.
-fn contact_radius(s: &Shape) -> (f64, bool) {
-    match s {
-        Shape::Sphere { diameter } | Shape::Capsule { diameter, .. } => (0.5 * diameter, false),
-        Shape::Box { lengths } => (0.5 * lengths.min(), true),
-        Shape::Cylinder {
-            diameter, length, ..
-        } => (0.5 * diameter.min(*length), false),
-        Shape::Cone {
-            diameter,
-            top_diameter,
-            ..
-        } => (0.25 * (diameter + top_diameter), false),
-        Shape::Ellipsoid { lengths } => (0.5 * lengths.min(), false),
-        // Its flat faces are what it usually rests on.
-        Shape::Beam {
-            width, thickness, ..
-        } => (0.5 * width.min(*thickness), true),
-        Shape::ConvexHull { .. } | Shape::Mesh { .. } | Shape::FileMesh { .. } => {
-            let w = s
-                .unit_mass_properties()
-                .map(|u| u.volume.cbrt())
-                .unwrap_or(1.0);
-            (0.5 * w, true)
-        }
     }
 }

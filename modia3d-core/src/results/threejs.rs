@@ -12,7 +12,6 @@
 //! with one keyframe per output time point. Lengths in \[m\], times in \[s\].
 
 use super::animation::world_to_y_up;
-use super::mesh::shape_mesh;
 use super::{ResultError, SimulationResult};
 use crate::geometry::{Axis, Shape};
 use nalgebra::{Matrix4, Translation3, UnitQuaternion, Vector3};
@@ -100,7 +99,7 @@ fn geometry(shape: &Shape) -> (Value, Matrix4<f64>) {
         | Shape::Beam { .. }
         | Shape::Mesh { .. }
         | Shape::FileMesh { .. } => {
-            let m = shape_mesh(shape);
+            let m = shape.display_mesh();
             let flat = |v: &[[f32; 3]]| v.iter().flatten().copied().collect::<Vec<f32>>();
             (
                 json!({"type": "BufferGeometry", "data": {"attributes": {

@@ -95,39 +95,8 @@ impl Frustum {
     ///   `diameter/2`, top at `z1 = length` with radius `top_diameter/2` (conventions: the
     ///   module docs of `geometry::shapes`).
     pub fn from_shape(shape: &Shape) -> Option<Frustum> {
-        match *shape {
-            Shape::Cylinder {
-                axis,
-                diameter,
-                length,
-            } => Some(Frustum {
-                axis,
-                z0: -0.5 * length,
-                z1: 0.5 * length,
-                r0: 0.5 * diameter,
-                r1: 0.5 * diameter,
-            }),
-            Shape::Cone {
-                axis,
-                diameter,
-                length,
-                top_diameter,
-            } => Some(Frustum {
-                axis,
-                z0: 0.0,
-                z1: length,
-                r0: 0.5 * diameter,
-                r1: 0.5 * top_diameter,
-            }),
-            Shape::Sphere { .. }
-            | Shape::Box { .. }
-            | Shape::Capsule { .. }
-            | Shape::Beam { .. }
-            | Shape::Ellipsoid { .. }
-            | Shape::ConvexHull { .. }
-            | Shape::FileMesh { .. }
-            | Shape::Mesh { .. } => None,
-        }
+        // The kind's solid (`geometry/kinds/<kind>.rs`, `frustum`).
+        shape.frustum()
     }
 
     /// Default layer depth `H` \[m\] of the volume contact law: the radius of the largest ball
