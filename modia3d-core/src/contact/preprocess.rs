@@ -9,7 +9,7 @@
 use crate::dynamics::plan::BodyPlan;
 use crate::dynamics::{BodyId, IdVec, ObjectPlan};
 use crate::geometry::overlap::{Frustum, OverlapScratch, Polytope};
-use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape};
+use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape, VolumeLaw};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 use crate::spatial::Transform;
 
@@ -503,19 +503,23 @@ fn volume_shape(
     layer_depth: Option<f64>,
     c: f64,
 ) -> Result<Option<VolumeShape>, crate::geometry::GeometryError> {
-    let (solid, own_depth) = if let Some(p) = Polytope::from_shape(shape)? {
-        let h = p.layer_depth();
-        (VolumeSolid::Polytope(p), h)
-    } else if let Some(f) = Frustum::from_shape(shape) {
-        (VolumeSolid::Frustum(f), f.layer_depth())
-    } else {
-        return Ok(None);
+    // The kind's solid (`geometry/kinds/<kind>.rs`, `volume_solid`).
+    let (solid, own_depth, inscribed) = match shape.volume_solid()? {
+        VolumeLaw::Polytope {
+            polytope,
+            inscribed,
+        } => {
+            let h = polytope.layer_depth();
+            (VolumeSolid::Polytope(polytope), h, inscribed)
+        }
+        VolumeLaw::Frustum(f) => (VolumeSolid::Frustum(f), f.layer_depth(), false),
+        VolumeLaw::None => return Ok(None),
     };
     let h = layer_depth.unwrap_or(own_depth);
     // A polytope inscribed in the shape (a beam's, rounded ends as polygons) is the volume: its
     // signed distance must be of the same solid, so that the force is zero at both events.
     let exact = || CollisionShape::with_smoothing(shape, 0.0);
-    let sharp = if shape.polytope_inscribed() {
+    let sharp = if inscribed {
         match &solid {
             VolumeSolid::Polytope(p) => CollisionShape::with_smoothing(
                 &Shape::ConvexHull {

@@ -69,6 +69,48 @@ impl TriMesh {
     }
 }
 
+/// A display primitive of a shape, in its shape frame, for an export that draws balls, boxes,
+/// frustums and capsules with geometries of its own (three.js); a shape without one is drawn
+/// as its display mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Primitive {
+    /// A ball of radius `radius` \[m\] centred at the origin, scaled along x, y, z by
+    /// `scaling` (an ellipsoid) if given.
+    Ball {
+        /// Radius \[m\].
+        radius: f64,
+        /// Factors along x, y, z.
+        scaling: Option<Vector3<f64>>,
+    },
+    /// A box with edge lengths along x, y, z \[m\], centred at the origin.
+    Box {
+        /// Edge lengths \[m\].
+        lengths: Vector3<f64>,
+    },
+    /// A frustum along `axis`, its centre at `lift` on the axis \[m\].
+    Frustum {
+        /// Its axis.
+        axis: Axis,
+        /// Radius of the end towards +axis \[m\].
+        top: f64,
+        /// Radius of the end towards −axis \[m\].
+        bottom: f64,
+        /// Length along the axis \[m\].
+        length: f64,
+        /// Position of its centre on the axis \[m\].
+        lift: f64,
+    },
+    /// A capsule along `axis`, centred at the origin.
+    Capsule {
+        /// Its axis.
+        axis: Axis,
+        /// Radius of the cylinder and caps \[m\].
+        radius: f64,
+        /// Length of the cylindrical part \[m\].
+        length: f64,
+    },
+}
+
 /// A surface of revolution about `axis`: `profile` is a list of `(radius, height)` points from
 /// one end to the other; the mesh is scaled by `scale` afterwards (ellipsoids).
 pub(crate) fn lathe(axis: Axis, profile: &[(f64, f64)], scale: Vector3<f64>) -> TriMesh {

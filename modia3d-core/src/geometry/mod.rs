@@ -40,6 +40,7 @@ pub use aabb::{aabb_distance, aabbs_overlap, world_aabb, world_aabbs_into, Aabb}
 pub use broad_phase::BroadPhase;
 pub use collision_shape::CollisionShape;
 pub use error::GeometryError;
+pub(crate) use kinds::VolumeLaw;
 pub use kinds::SHAPE_KINDS;
 pub use mesh_file::{
     convex_parts, load_mesh, mesh_mass_properties, obj_vertices, repair_mesh, MeshRepair,

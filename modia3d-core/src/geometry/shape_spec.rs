@@ -131,3 +131,10 @@ pub(crate) const AXIS: ShapeParam = ShapeParam {
     required: false,
     ..param("axis", ShapeValue::AxisIndex, "1")
 };
+
+/// The parameters of a round shape along an axis (cylinder, capsule): axis, diameter, length.
+pub(crate) const AXIS_DIAMETER_LENGTH: &[ShapeParam] = &[
+    AXIS,
+    param("diameter", ShapeValue::Length, "m"),
+    param("length", ShapeValue::Length, "m"),
+];

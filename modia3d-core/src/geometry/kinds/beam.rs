@@ -6,11 +6,11 @@
 //! polygons, so its volume law's unsmoothed collision shape is that polytope's hull; it counts
 //! as flat for the contact radius.
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{hull_mesh, TriMesh, SEGMENTS};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{hull_mesh, Primitive, TriMesh, SEGMENTS};
 use crate::geometry::error::GeometryError;
 use crate::geometry::overlap::polytope::beam_points;
-use crate::geometry::overlap::{Frustum, Polytope};
+use crate::geometry::overlap::Polytope;
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue, AXIS};
 use crate::geometry::shapes::{Axis, Shape};
@@ -94,7 +94,8 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             r,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
+    /// The polytope with the rounded ends as inscribed polygons (`beam_points`).
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
         for (name, value) in self.dimensions() {
             if !(value.is_finite() && value > 0.0) {
                 return Err(GeometryError::InvalidDimension { name, value });
@@ -106,13 +107,10 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             *self.width,
             *self.thickness,
         ))
-        .map(Some)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        true
+        .map(|polytope| VolumeLaw::Polytope {
+            polytope,
+            inscribed: true,
+        })
     }
     /// Its flat faces are what it usually rests on.
     fn contact_radius(&self) -> (f64, bool) {
@@ -125,6 +123,9 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             *self.width,
             *self.thickness,
         ))
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        None
     }
 }
 

@@ -2,10 +2,10 @@
 //! box shrunk by the smoothing radius; its volume-law solid is itself, a polytope; it counts as
 //! flat for the contact radius.
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::TriMesh;
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{Primitive, TriMesh};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
+use crate::geometry::overlap::Polytope;
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue};
 use crate::geometry::shapes::Shape;
@@ -40,12 +40,7 @@ impl<'a> KindGeometry<'a> for Params<'a> {
         None
     }
     fn dimensions(&self) -> Vec<(&'static str, f64)> {
-        let lengths = self.lengths;
-        vec![
-            ("lengths[0]", lengths.x),
-            ("lengths[1]", lengths.y),
-            ("lengths[2]", lengths.z),
-        ]
+        super::components(["lengths[0]", "lengths[1]", "lengths[2]"], self.lengths)
     }
     fn non_negative_lengths(&self) -> Vec<(&'static str, f64)> {
         vec![]
@@ -76,7 +71,7 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             r,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
         for &l in self.lengths.iter() {
             if !(l.is_finite() && l > 0.0) {
                 return Err(GeometryError::InvalidDimension {
@@ -85,13 +80,10 @@ impl<'a> KindGeometry<'a> for Params<'a> {
                 });
             }
         }
-        Ok(Some(Polytope::from_box(self.lengths / 2.0)))
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+        Ok(VolumeLaw::Polytope {
+            polytope: Polytope::from_box(self.lengths / 2.0),
+            inscribed: false,
+        })
     }
     fn contact_radius(&self) -> (f64, bool) {
         (0.5 * self.lengths.min(), true)
@@ -120,5 +112,10 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             m.push(c(q[0]), c(q[2]), c(q[3]), &centre);
         }
         m
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        Some(Primitive::Box {
+            lengths: *self.lengths,
+        })
     }
 }

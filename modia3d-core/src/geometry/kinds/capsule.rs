@@ -3,12 +3,11 @@
 //! core is its axis segment, its margin its radius (what makes MPR exact for it); it has no
 //! volume-law solid (it keeps a point law).
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{arc, lathe, TriMesh, RINGS};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{arc, lathe, Primitive, TriMesh, RINGS};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
 use crate::geometry::shape_kind::ShapeKind;
-use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue, AXIS};
+use crate::geometry::shape_spec::{ShapeKindSpec, AXIS_DIAMETER_LENGTH};
 use crate::geometry::shapes::{Axis, Shape};
 use crate::geometry::support::CoreShape;
 use crate::geometry::UnitMassProperties;
@@ -19,11 +18,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 pub(crate) const ROW: ShapeKindSpec = ShapeKindSpec {
     name: "Capsule",
     kind: ShapeKind::Capsule,
-    params: &[
-        AXIS,
-        param("diameter", ShapeValue::Length, "m"),
-        param("length", ShapeValue::Length, "m"),
-    ],
+    params: AXIS_DIAMETER_LENGTH,
     stand_in: Some(|v| Shape::Capsule {
         axis: v.axis("axis"),
         diameter: v.length("diameter"),
@@ -89,14 +84,8 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             0.5 * self.diameter,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Ok(None)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Ok(VolumeLaw::None)
     }
     fn contact_radius(&self) -> (f64, bool) {
         (0.5 * self.diameter, false)
@@ -107,5 +96,12 @@ impl<'a> KindGeometry<'a> for Params<'a> {
         let mut p = arc(r, -h, 0.0, FRAC_PI_2, RINGS / 2);
         p.extend(arc(r, h, FRAC_PI_2, PI, RINGS / 2));
         lathe(*self.axis, &p, one)
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        Some(Primitive::Capsule {
+            axis: *self.axis,
+            radius: self.diameter / 2.0,
+            length: *self.length,
+        })
     }
 }

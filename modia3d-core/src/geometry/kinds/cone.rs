@@ -3,10 +3,10 @@
 //! `axis = length`. Smoothed: its core is the cone shrunk by the smoothing radius (the top
 //! diameter is not counted in the bound); its volume-law solid is a frustum.
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{lathe, TriMesh};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{lathe, Primitive, TriMesh};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
+use crate::geometry::overlap::Frustum;
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeParam, ShapeValue, AXIS};
 use crate::geometry::shapes::{Axis, Shape};
@@ -100,22 +100,16 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             r,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Ok(None)
-    }
-    /// Base at `z0 = 0` with radius `diameter/2`, top at `z1 = length` with radius
+    /// A frustum: base at `z0 = 0` with radius `diameter/2`, top at `z1 = length` with radius
     /// `top_diameter/2`.
-    fn frustum(&self) -> Option<Frustum> {
-        Some(Frustum {
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Ok(VolumeLaw::Frustum(Frustum {
             axis: *self.axis,
             z0: 0.0,
             z1: *self.length,
             r0: 0.5 * self.diameter,
             r1: 0.5 * self.top_diameter,
-        })
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+        }))
     }
     fn contact_radius(&self) -> (f64, bool) {
         (0.25 * (self.diameter + self.top_diameter), false)
@@ -133,6 +127,15 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             ],
             one,
         )
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        Some(Primitive::Frustum {
+            axis: *self.axis,
+            top: self.top_diameter / 2.0,
+            bottom: self.diameter / 2.0,
+            length: *self.length,
+            lift: self.length / 2.0,
+        })
     }
 }
 

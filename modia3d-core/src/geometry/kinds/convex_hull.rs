@@ -4,10 +4,10 @@
 //! radius (the radius of a ball of its volume). Validation checks its points finite and
 //! spanning a volume.
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{hull_mesh, TriMesh};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{hull_mesh, Primitive, TriMesh};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
+use crate::geometry::overlap::Polytope;
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, tetrahedron, ShapeKindSpec, ShapeValue};
 use crate::geometry::shapes::Shape;
@@ -63,20 +63,20 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             r,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Polytope::from_points(self.points).map(Some)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Polytope::from_points(self.points).map(|polytope| VolumeLaw::Polytope {
+            polytope,
+            inscribed: false,
+        })
     }
     fn contact_radius(&self) -> (f64, bool) {
         super::volume_radius(self.unit_mass_properties())
     }
     fn display_mesh(&self) -> TriMesh {
         hull_mesh(self.points)
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        None
     }
 }
 

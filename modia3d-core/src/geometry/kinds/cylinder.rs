@@ -1,12 +1,12 @@
 //! Cylinder: a circular cylinder along `axis`, centred at the origin. Smoothed: its core is the
 //! frustum shrunk by the smoothing radius; its volume-law solid is a frustum.
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{lathe, TriMesh};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{lathe, Primitive, TriMesh};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
+use crate::geometry::overlap::Frustum;
 use crate::geometry::shape_kind::ShapeKind;
-use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue, AXIS};
+use crate::geometry::shape_spec::{ShapeKindSpec, AXIS_DIAMETER_LENGTH};
 use crate::geometry::shapes::{Axis, Shape};
 use crate::geometry::support::CoreShape;
 use crate::geometry::UnitMassProperties;
@@ -17,11 +17,7 @@ use std::f64::consts::PI;
 pub(crate) const ROW: ShapeKindSpec = ShapeKindSpec {
     name: "Cylinder",
     kind: ShapeKind::Cylinder,
-    params: &[
-        AXIS,
-        param("diameter", ShapeValue::Length, "m"),
-        param("length", ShapeValue::Length, "m"),
-    ],
+    params: AXIS_DIAMETER_LENGTH,
     stand_in: Some(|v| Shape::Cylinder {
         axis: v.axis("axis"),
         diameter: v.length("diameter"),
@@ -88,22 +84,16 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             r,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Ok(None)
-    }
-    /// Centred: `z0 = −length/2`, `z1 = length/2`, `r0 = r1 = diameter/2`.
-    fn frustum(&self) -> Option<Frustum> {
+    /// A frustum, centred: `z0 = −length/2`, `z1 = length/2`, `r0 = r1 = diameter/2`.
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
         let (diameter, length) = (*self.diameter, *self.length);
-        Some(Frustum {
+        Ok(VolumeLaw::Frustum(Frustum {
             axis: *self.axis,
             z0: -0.5 * length,
             z1: 0.5 * length,
             r0: 0.5 * diameter,
             r1: 0.5 * diameter,
-        })
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+        }))
     }
     fn contact_radius(&self) -> (f64, bool) {
         (0.5 * self.diameter.min(*self.length), false)
@@ -112,5 +102,14 @@ impl<'a> KindGeometry<'a> for Params<'a> {
         let one = Vector3::new(1.0, 1.0, 1.0);
         let (r, h) = (self.diameter / 2.0, self.length / 2.0);
         lathe(*self.axis, &[(0.0, -h), (r, -h), (r, h), (0.0, h)], one)
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        Some(Primitive::Frustum {
+            axis: *self.axis,
+            top: self.diameter / 2.0,
+            bottom: self.diameter / 2.0,
+            length: *self.length,
+            lift: 0.0,
+        })
     }
 }

@@ -2,10 +2,9 @@
 //! smoothing): its core is itself, with margin 0; it has no volume-law solid (it keeps a point
 //! law).
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{arc, lathe, TriMesh, RINGS};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{arc, lathe, Primitive, TriMesh, RINGS};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue};
 use crate::geometry::shapes::{Axis, Shape};
@@ -41,12 +40,7 @@ impl<'a> KindGeometry<'a> for Params<'a> {
         None
     }
     fn dimensions(&self) -> Vec<(&'static str, f64)> {
-        let lengths = self.lengths;
-        vec![
-            ("lengths[0]", lengths.x),
-            ("lengths[1]", lengths.y),
-            ("lengths[2]", lengths.z),
-        ]
+        super::components(["lengths[0]", "lengths[1]", "lengths[2]"], self.lengths)
     }
     fn non_negative_lengths(&self) -> Vec<(&'static str, f64)> {
         vec![]
@@ -77,19 +71,19 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             0.0,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Ok(None)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Ok(VolumeLaw::None)
     }
     fn contact_radius(&self) -> (f64, bool) {
         (0.5 * self.lengths.min(), false)
     }
     fn display_mesh(&self) -> TriMesh {
         lathe(Axis::Y, &arc(1.0, 0.0, 0.0, PI, RINGS), self.lengths / 2.0)
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        Some(Primitive::Ball {
+            radius: 0.5,
+            scaling: Some(*self.lengths),
+        })
     }
 }

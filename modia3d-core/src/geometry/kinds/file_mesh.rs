@@ -4,11 +4,10 @@
 //! properties, no collision shape and an empty display mesh. `model!` stands in a tetrahedron
 //! for it (the file is read at run time).
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::TriMesh;
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{Primitive, TriMesh};
 use crate::geometry::error::GeometryError;
 use crate::geometry::mesh_file::{load_mesh, MeshCollision};
-use crate::geometry::overlap::{Frustum, Polytope};
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, tetrahedron, ShapeKindSpec, ShapeParam, ShapeValue};
 use crate::geometry::shapes::Shape;
@@ -70,12 +69,7 @@ impl<'a> KindGeometry<'a> for Params<'a> {
         None
     }
     fn dimensions(&self) -> Vec<(&'static str, f64)> {
-        let scale = self.scale;
-        vec![
-            ("scale[0]", scale.x),
-            ("scale[1]", scale.y),
-            ("scale[2]", scale.z),
-        ]
+        super::components(["scale[0]", "scale[1]", "scale[2]"], self.scale)
     }
     fn non_negative_lengths(&self) -> Vec<(&'static str, f64)> {
         vec![]
@@ -93,14 +87,8 @@ impl<'a> KindGeometry<'a> for Params<'a> {
         Err(self.not_loaded())
     }
     /// Loaded first.
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Ok(None)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Ok(VolumeLaw::None)
     }
     fn contact_radius(&self) -> (f64, bool) {
         super::volume_radius(self.unit_mass_properties())
@@ -108,5 +96,8 @@ impl<'a> KindGeometry<'a> for Params<'a> {
     /// Loaded by `SceneDesc::build`; a result never holds an unloaded one.
     fn display_mesh(&self) -> TriMesh {
         TriMesh::default()
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        None
     }
 }

@@ -5,11 +5,11 @@
 //! counts as flat for the contact radius (the radius of a ball of its volume); its display
 //! mesh keeps its triangles' orientation (it need not be convex).
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::TriMesh;
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{Primitive, TriMesh};
 use crate::geometry::error::GeometryError;
 use crate::geometry::mesh_file::{convex_parts, mesh_mass_properties, MeshCollision, TriangleMesh};
-use crate::geometry::overlap::{Frustum, Polytope};
+use crate::geometry::overlap::Polytope;
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue};
 use crate::geometry::shapes::Shape;
@@ -78,14 +78,12 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             r,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Polytope::from_points(&self.mesh.vertices).map(Some)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+    /// The convex hull of its vertices.
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Polytope::from_points(&self.mesh.vertices).map(|polytope| VolumeLaw::Polytope {
+            polytope,
+            inscribed: false,
+        })
     }
     fn contact_radius(&self) -> (f64, bool) {
         super::volume_radius(self.unit_mass_properties())
@@ -100,5 +98,8 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             m.push(a, b, c, &centre);
         }
         m
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        None
     }
 }

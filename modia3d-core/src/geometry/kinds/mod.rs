@@ -1,10 +1,11 @@
 //! Shape kinds, one file per [`Shape`] variant that states every geometry fact of it (geometry
 //! stage): its row of [`SHAPE_KINDS`] (`ROW`: name, `model!` keys, value types, units,
 //! stand-in) and, in `impl` [`KindGeometry`] for its `Params` (the variant's fields, borrowed),
-//! loading and collision parts, the lengths validation checks, its exact mass properties, the
-//! width its smoothing is bounded by and its core ⊕ margin, its volume-law solid (polytope or
-//! frustum), its contact radius and flatness, and its display mesh. No fact has a default:
-//! `ROW` is a plain struct literal and [`KindGeometry`] a trait without provided methods.
+//! loading and collision parts, the lengths and points validation checks, its exact mass
+//! properties, the width its smoothing is bounded by and its core ⊕ margin, its volume-law
+//! solid ([`VolumeLaw`]: none, a polytope or a frustum), its contact radius and flatness, and
+//! its display mesh and primitive. No fact has a default: `ROW` is a plain struct literal and
+//! [`KindGeometry`] a trait without provided methods.
 //!
 //! The kinds are listed once, in `shape_table!` (`shape_kind.rs`); the table generates, here,
 //! [`SHAPE_KINDS`] and every dispatch from a [`Shape`] to its file as an exhaustive `match`
@@ -31,7 +32,7 @@ pub(crate) mod file_mesh;
 pub(crate) mod mesh;
 pub(crate) mod sphere;
 
-use super::display_mesh::TriMesh;
+use super::display_mesh::{Primitive, TriMesh};
 use super::error::GeometryError;
 use super::mass_properties::UnitMassProperties;
 use super::overlap::{Frustum, Polytope};
@@ -40,6 +41,23 @@ use super::shape_spec::ShapeKindSpec;
 use super::shapes::{Axis, Shape};
 use super::support::CoreShape;
 use nalgebra::{Matrix3, Point3, Vector3};
+
+/// The solid the volume contact law uses for a shape (`geometry/overlap/`).
+pub(crate) enum VolumeLaw {
+    /// None: the shape keeps a point law (sphere, capsule, ellipsoid, unloaded file mesh).
+    None,
+    /// A polytope; `inscribed` when it is inscribed in the shape rather than the shape itself
+    /// (a beam's rounded ends are polygons): then the volume law's unsmoothed collision shape
+    /// is the polytope's hull, so that its signed distance is of the same solid.
+    Polytope {
+        /// The polytope.
+        polytope: Polytope,
+        /// Whether it is inscribed in the shape.
+        inscribed: bool,
+    },
+    /// A frustum (cylinder, cone).
+    Frustum(Frustum),
+}
 
 /// The geometry facts of one shape variant, implemented by its `Params` in its file (no
 /// provided methods: each kind states each one). `'a` is the lifetime of the shape's fields.
@@ -71,18 +89,15 @@ pub(crate) trait KindGeometry<'a> {
     /// The core and the margin of `core ⊕ ball(margin)` with the effective smoothing radius
     /// `r` \[m\].
     fn core(&self, r: f64) -> Result<(CoreShape, f64), GeometryError>;
-    /// The volume law's polytope of the shape, `Ok(None)` when it is not one.
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError>;
-    /// The volume law's frustum of the shape, `None` when it is not one.
-    fn frustum(&self) -> Option<Frustum>;
-    /// Whether the volume-law polytope is inscribed in the shape rather than the shape itself
-    /// (a beam's rounded ends are polygons): then the volume law's unsmoothed collision shape
-    /// is the polytope's hull, so that its signed distance is of the same solid.
-    fn polytope_inscribed(&self) -> bool;
+    /// The volume law's solid of the shape.
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError>;
     /// Contact radius \[m\] in the later Modia3D profile and whether the shape counts as flat.
     fn contact_radius(&self) -> (f64, bool);
     /// The display mesh in the shape frame (`display_mesh.rs`).
     fn display_mesh(&self) -> TriMesh;
+    /// The primitive an export with geometries of its own draws the shape as (three.js);
+    /// `None`: its display mesh.
+    fn display_primitive(&self) -> Option<Primitive>;
 }
 
 /// The inertia of an axisymmetric solid of unit density, `axial` about `axis` and `transverse`
@@ -91,6 +106,12 @@ fn axisymmetric(axis: Axis, axial: f64, transverse: f64) -> Matrix3<f64> {
     let mut d = Vector3::repeat(transverse);
     d[axis.index()] = axial;
     Matrix3::from_diagonal(&d)
+}
+
+/// The components of `v` along x, y, z with their names (`dimensions` of a vector).
+fn components(names: [&'static str; 3], v: &Vector3<f64>) -> Vec<(&'static str, f64)> {
+    let [x, y, z] = names;
+    vec![(x, v.x), (y, v.y), (z, v.z)]
 }
 
 /// The contact radius of a solid without a radius of its own (a hull or mesh), from its unit
@@ -199,20 +220,9 @@ impl Shape {
         each_kind!(self, core(r))
     }
 
-    /// The volume law's polytope of the shape, `Ok(None)` when it is not one.
-    pub(crate) fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        each_kind!(self, polytope())
-    }
-
-    /// The volume law's frustum of the shape, `None` when it is not one.
-    pub(crate) fn frustum(&self) -> Option<Frustum> {
-        each_kind!(self, frustum())
-    }
-
-    /// Whether the volume-law polytope is inscribed in the shape rather than the shape itself
-    /// (see [`KindGeometry::polytope_inscribed`]).
-    pub(crate) fn polytope_inscribed(&self) -> bool {
-        each_kind!(self, polytope_inscribed())
+    /// The volume law's solid of the shape.
+    pub(crate) fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        each_kind!(self, volume_solid())
     }
 
     /// Contact radius \[m\] in the later Modia3D profile and whether the shape counts as flat.
@@ -223,6 +233,12 @@ impl Shape {
     /// The display mesh of the shape, in its shape frame (empty for an unloaded file mesh).
     pub(crate) fn display_mesh(&self) -> TriMesh {
         each_kind!(self, display_mesh())
+    }
+
+    /// The primitive an export with geometries of its own draws the shape as (three.js);
+    /// `None`: its display mesh.
+    pub(crate) fn display_primitive(&self) -> Option<Primitive> {
+        each_kind!(self, display_primitive())
     }
 }
 

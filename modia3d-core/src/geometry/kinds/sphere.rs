@@ -2,10 +2,9 @@
 //! is its centre, its margin its radius (what makes MPR exact for it); it has no volume-law
 //! solid (a sphere pair keeps the paper's point law).
 
-use super::KindGeometry;
-use crate::geometry::display_mesh::{arc, lathe, TriMesh, RINGS};
+use super::{KindGeometry, VolumeLaw};
+use crate::geometry::display_mesh::{arc, lathe, Primitive, TriMesh, RINGS};
 use crate::geometry::error::GeometryError;
-use crate::geometry::overlap::{Frustum, Polytope};
 use crate::geometry::shape_kind::ShapeKind;
 use crate::geometry::shape_spec::{param, ShapeKindSpec, ShapeValue};
 use crate::geometry::shapes::{Axis, Shape};
@@ -69,14 +68,8 @@ impl<'a> KindGeometry<'a> for Params<'a> {
             0.5 * self.diameter,
         ))
     }
-    fn polytope(&self) -> Result<Option<Polytope>, GeometryError> {
-        Ok(None)
-    }
-    fn frustum(&self) -> Option<Frustum> {
-        None
-    }
-    fn polytope_inscribed(&self) -> bool {
-        false
+    fn volume_solid(&self) -> Result<VolumeLaw, GeometryError> {
+        Ok(VolumeLaw::None)
     }
     fn contact_radius(&self) -> (f64, bool) {
         (0.5 * self.diameter, false)
@@ -84,5 +77,11 @@ impl<'a> KindGeometry<'a> for Params<'a> {
     fn display_mesh(&self) -> TriMesh {
         let one = Vector3::new(1.0, 1.0, 1.0);
         lathe(Axis::Y, &arc(self.diameter / 2.0, 0.0, 0.0, PI, RINGS), one)
+    }
+    fn display_primitive(&self) -> Option<Primitive> {
+        Some(Primitive::Ball {
+            radius: self.diameter / 2.0,
+            scaling: None,
+        })
     }
 }

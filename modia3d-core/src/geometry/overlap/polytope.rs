@@ -51,7 +51,7 @@
 //! `geometry/smoothing.rs` (`hull_planes`) does.
 
 use super::Overlap;
-use crate::geometry::{Axis, GeometryError, Shape};
+use crate::geometry::{Axis, GeometryError, Shape, VolumeLaw};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
 /// Relative tolerance (to the hull's size) for merging coplanar hull triangles into one face
@@ -95,8 +95,11 @@ impl Polytope {
     /// dimension not finite and > 0 ([`GeometryError::InvalidDimension`]), a degenerate hull
     /// ([`GeometryError::DegenerateHull`]).
     pub fn from_shape(shape: &Shape) -> Result<Option<Polytope>, GeometryError> {
-        // The kind's solid (`geometry/kinds/<kind>.rs`, `polytope`).
-        shape.polytope()
+        // The kind's solid (`geometry/kinds/<kind>.rs`, `volume_solid`).
+        match shape.volume_solid()? {
+            VolumeLaw::Polytope { polytope, .. } => Ok(Some(polytope)),
+            VolumeLaw::Frustum(_) | VolumeLaw::None => Ok(None),
+        }
     }
 
     /// The box `[−e, e]` with half edge lengths `e = half_extents` \[m\] (each finite and > 0),

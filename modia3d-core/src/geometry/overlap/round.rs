@@ -65,7 +65,7 @@
 //! A call costs about 1 µs (release build; 32 nodes, or more only for the graded case).
 
 use super::Overlap;
-use crate::geometry::{Axis, Shape};
+use crate::geometry::{Axis, Shape, VolumeLaw};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use std::f64::consts::PI;
 
@@ -95,8 +95,11 @@ impl Frustum {
     ///   `diameter/2`, top at `z1 = length` with radius `top_diameter/2` (conventions: the
     ///   module docs of `geometry::shapes`).
     pub fn from_shape(shape: &Shape) -> Option<Frustum> {
-        // The kind's solid (`geometry/kinds/<kind>.rs`, `frustum`).
-        shape.frustum()
+        // The kind's solid (`geometry/kinds/<kind>.rs`, `volume_solid`).
+        match shape.volume_solid() {
+            Ok(VolumeLaw::Frustum(f)) => Some(f),
+            Ok(VolumeLaw::Polytope { .. } | VolumeLaw::None) | Err(_) => None,
+        }
     }
 
     /// Default layer depth `H` \[m\] of the volume contact law: the radius of the largest ball
