@@ -9,7 +9,7 @@
 use crate::dynamics::plan::BodyPlan;
 use crate::dynamics::{BodyId, IdVec, ObjectPlan};
 use crate::geometry::overlap::{Frustum, OverlapScratch, Polytope};
-use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape};
+use crate::geometry::{CollisionShape, MeshCollision, NarrowPhaseOptions, Shape, VolumeLaw};
 use crate::scene::{CollisionFilter, ContactProfile, SceneError, ValidScene};
 use crate::spatial::Transform;
 
@@ -290,7 +290,7 @@ impl ContactPlan {
                     round: shape.ball_diameter().is_some(),
                     material: 0, // set below
                     geo: {
-                        let (radius, flat) = contact_radius(shape);
+                        let (radius, flat) = shape.contact_radius();
                         let sphere_diameter = shape.ball_diameter();
                         ShapeGeo {
                             sphere_diameter,
@@ -503,20 +503,24 @@ fn volume_shape(
     layer_depth: Option<f64>,
     c: f64,
 ) -> Result<Option<VolumeShape>, crate::geometry::GeometryError> {
-    let (solid, own_depth) = if let Some(p) = Polytope::from_shape(shape)? {
-        let h = p.layer_depth();
-        (VolumeSolid::Polytope(p), h)
-    } else if let Some(f) = Frustum::from_shape(shape) {
-        (VolumeSolid::Frustum(f), f.layer_depth())
-    } else {
-        return Ok(None);
+    // The kind's solid (`geometry/kinds/<kind>.rs`, `volume_solid`).
+    let (solid, own_depth, inscribed) = match shape.volume_solid()? {
+        VolumeLaw::Polytope {
+            polytope,
+            inscribed,
+        } => {
+            let h = polytope.layer_depth();
+            (VolumeSolid::Polytope(polytope), h, inscribed)
+        }
+        VolumeLaw::Frustum(f) => (VolumeSolid::Frustum(f), f.layer_depth(), false),
+        VolumeLaw::None => return Ok(None),
     };
     let h = layer_depth.unwrap_or(own_depth);
-    // A beam's volume is that of its polytope (rounded ends as inscribed polygons): its signed
-    // distance must be of the same solid, so that the force is zero at both events.
+    // A polytope inscribed in the shape (a beam's, rounded ends as polygons) is the volume: its
+    // signed distance must be of the same solid, so that the force is zero at both events.
     let exact = || CollisionShape::with_smoothing(shape, 0.0);
-    let sharp = match shape {
-        Shape::Beam { .. } => match &solid {
+    let sharp = if inscribed {
+        match &solid {
             VolumeSolid::Polytope(p) => CollisionShape::with_smoothing(
                 &Shape::ConvexHull {
                     points: p.vertices().to_vec(),
@@ -524,16 +528,9 @@ fn volume_shape(
                 0.0,
             )?,
             VolumeSolid::Frustum(_) => exact()?,
-        },
-        Shape::Sphere { .. }
-        | Shape::Box { .. }
-        | Shape::Cylinder { .. }
-        | Shape::Capsule { .. }
-        | Shape::Cone { .. }
-        | Shape::Ellipsoid { .. }
-        | Shape::ConvexHull { .. }
-        | Shape::FileMesh { .. }
-        | Shape::Mesh { .. } => exact()?,
+        }
+    } else {
+        exact()?
     };
     Ok(Some(VolumeShape {
         sharp,
@@ -596,33 +593,5 @@ fn geometry_coefficients(profile: ContactProfile, a: &ShapeGeo, b: &ShapeGeo) ->
             }
         }
         ContactProfile::Modia3DLater => hertz_by_curvature(),
-    }
-}
-
-/// Contact radius \[m\] of a shape in the later Modia3D profile and whether it counts as flat.
-fn contact_radius(s: &Shape) -> (f64, bool) {
-    match s {
-        Shape::Sphere { diameter } | Shape::Capsule { diameter, .. } => (0.5 * diameter, false),
-        Shape::Box { lengths } => (0.5 * lengths.min(), true),
-        Shape::Cylinder {
-            diameter, length, ..
-        } => (0.5 * diameter.min(*length), false),
-        Shape::Cone {
-            diameter,
-            top_diameter,
-            ..
-        } => (0.25 * (diameter + top_diameter), false),
-        Shape::Ellipsoid { lengths } => (0.5 * lengths.min(), false),
-        // Its flat faces are what it usually rests on.
-        Shape::Beam {
-            width, thickness, ..
-        } => (0.5 * width.min(*thickness), true),
-        Shape::ConvexHull { .. } | Shape::Mesh { .. } | Shape::FileMesh { .. } => {
-            let w = s
-                .unit_mass_properties()
-                .map(|u| u.volume.cbrt())
-                .unwrap_or(1.0);
-            (0.5 * w, true)
-        }
     }
 }

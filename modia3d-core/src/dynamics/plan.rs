@@ -370,9 +370,9 @@ impl Plan {
             let (Some(b), Some(s)) = (cluster_body[cluster[i]], &o.solid) else {
                 continue;
             };
-            let centred_sphere = match s.shape {
-                Some(crate::Shape::Sphere { diameter }) => in_ref[i].pos.norm() <= 1e-12 * diameter,
-                _ => false,
+            let centred_sphere = match s.shape.as_ref().and_then(|sh| sh.ball_diameter()) {
+                Some(diameter) => in_ref[i].pos.norm() <= 1e-12 * diameter,
+                None => false,
             };
             if s.collision && !centred_sphere {
                 round[b.index()] = false;

@@ -8,7 +8,7 @@
 
 use super::error::GeometryError;
 use super::shapes::{Shape, ShapeKind};
-use super::smoothing::{effective_smoothing_radius, shrink_convex_hull};
+use super::smoothing::effective_smoothing_radius;
 use super::support::CoreShape;
 use nalgebra::{Isometry3, Point3, Vector3};
 
@@ -42,97 +42,15 @@ impl CollisionShape {
                 return Err(GeometryError::InvalidDimension { name, value });
             }
         }
-        // The one length that may be 0 (a pointed cone); `dimensions` leaves it out.
-        if let Shape::Cone { top_diameter, .. } = shape {
-            if !(top_diameter.is_finite() && *top_diameter >= 0.0) {
-                return Err(GeometryError::InvalidDimension {
-                    name: "top_diameter",
-                    value: *top_diameter,
-                });
+        // The lengths that may be 0 (a pointed cone's top); `dimensions` leaves them out.
+        for (name, value) in shape.non_negative_lengths() {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(GeometryError::InvalidDimension { name, value });
             }
         }
         let r = effective_smoothing_radius(shape, smoothing_radius)?;
-        let (core, margin) = match shape {
-            Shape::Sphere { diameter } => (
-                CoreShape::Point {
-                    centre: Point3::origin(),
-                },
-                0.5 * diameter,
-            ),
-            Shape::Capsule {
-                axis,
-                diameter,
-                length,
-            } => (
-                CoreShape::Segment {
-                    axis: *axis,
-                    half_length: 0.5 * length,
-                },
-                0.5 * diameter,
-            ),
-            Shape::Ellipsoid { lengths } => (
-                CoreShape::Ellipsoid {
-                    semi_axes: 0.5 * lengths,
-                },
-                0.0,
-            ),
-            Shape::Box { lengths } => (
-                CoreShape::Box {
-                    half_extents: 0.5 * lengths - Vector3::repeat(r),
-                },
-                r,
-            ),
-            Shape::Cylinder {
-                axis,
-                diameter,
-                length,
-            } => (
-                CoreShape::Frustum {
-                    axis: *axis,
-                    z0: -0.5 * length + r,
-                    z1: 0.5 * length - r,
-                    r0: 0.5 * diameter - r,
-                    r1: 0.5 * diameter - r,
-                },
-                r,
-            ),
-            Shape::Beam {
-                axis,
-                length,
-                width,
-                thickness,
-            } => (
-                CoreShape::Beam {
-                    axis: *axis,
-                    half_length: 0.5 * length,
-                    half_thickness: 0.5 * thickness - r,
-                    radius: 0.5 * width - r,
-                },
-                r,
-            ),
-            Shape::Cone {
-                axis,
-                diameter,
-                length,
-                top_diameter,
-            } => (shrunk_cone(*axis, *diameter, *length, *top_diameter, r), r),
-            // A mesh as one shape is its convex hull (`Shape::collision_parts` splits it).
-            Shape::ConvexHull { points } => (
-                CoreShape::Hull {
-                    vertices: shrink_convex_hull(points, r)?,
-                },
-                r,
-            ),
-            Shape::Mesh { mesh, .. } => (
-                CoreShape::Hull {
-                    vertices: shrink_convex_hull(&mesh.vertices, r)?,
-                },
-                r,
-            ),
-            Shape::FileMesh { path, .. } => {
-                return Err(GeometryError::MeshNotLoaded(path.display().to_string()))
-            }
-        };
+        // The kind's core (`geometry/kinds/<kind>.rs`, `core`).
+        let (core, margin) = shape.core(r)?;
         let centre = core.interior_point();
         // Local AABB of the core (support along ±axes) grown by the margin.
         let mut lo = Vector3::zeros();
@@ -227,37 +145,5 @@ impl CollisionShape {
             Some(u) => p + u * self.margin,
             None => p,
         }
-    }
-}
-
-/// The core of a cone (or frustum) `diameter`, `length`, `top_diameter` shrunk by `r`: the base
-/// plane moves up by `r`, the top plane down by `r`, the lateral line inwards by `r` (its
-/// horizontal shift is `r·L/h` with `L` the slant length). If the shrunk lateral surface reaches
-/// the axis below the shrunk top plane, the core is pointed there; then the rounded tip of the
-/// outer shape lies `r(L/a − 1)` below the original apex (unavoidable when rounding a tip).
-fn shrunk_cone(
-    axis: super::shapes::Axis,
-    diameter: f64,
-    length: f64,
-    top_diameter: f64,
-    r: f64,
-) -> CoreShape {
-    let (a, b, h) = (0.5 * diameter, 0.5 * top_diameter, length);
-    let slant = (h * h + (a - b) * (a - b)).sqrt();
-    let radius_at = |z: f64| a + (b - a) * z / h - r * slant / h;
-    let z0 = r;
-    let mut z1 = h - r;
-    let mut r1 = radius_at(z1);
-    if r1 < 0.0 {
-        // b < a here: solve radius_at(z) = 0.
-        z1 = (r * slant - a * h) / (b - a);
-        r1 = 0.0;
-    }
-    CoreShape::Frustum {
-        axis,
-        z0,
-        z1,
-        r0: radius_at(z0).max(0.0),
-        r1,
     }
 }

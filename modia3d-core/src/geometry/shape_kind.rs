@@ -1,31 +1,34 @@
 //! The kinds of shapes, listed once (geometry vocabulary, imports nothing): the table
 //! `shape_table!` names each kind with the builder's [`Shape`](super::Shape) variants of the
-//! kind and each variant's row of solver-free facts (`geometry/shape_spec.rs`). It generates
-//! [`ShapeKind`] here and, in `shape_spec.rs`, [`SHAPE_KINDS`](super::SHAPE_KINDS) and the
-//! dispatch from a `Shape` to its kind and row (exhaustive `match`es). A new shape is a line
-//! here, its row and its builder variant; the algorithms that must decide for it (mass
-//! properties, core and smoothing, display, contact radius, volume-law solid, validation) are
-//! exhaustive `match`es in their files; the narrow phase's pair tables give a pair without a
-//! closed form to MPR.
+//! kind, each with all its fields and its file in `geometry/kinds/`, which states every
+//! geometry fact of the variant (its row of [`SHAPE_KINDS`](super::SHAPE_KINDS), validation's
+//! lengths, mass properties, smoothing bound and core, volume-law solid, contact radius,
+//! display mesh, loading). It generates [`ShapeKind`] here and, in `kinds/mod.rs`,
+//! [`SHAPE_KINDS`](super::SHAPE_KINDS) and every dispatch from a `Shape` to its file
+//! (exhaustive `match`es, no trait objects). A new shape is its file in `kinds/`, a line
+//! here, its builder variant (`shapes.rs`) and docs; the narrow phase's pair table
+//! (`narrow_phase/dispatch.rs`) gives a pair without a closed form to MPR.
 //!
 //! (The table is a macro that hands the list to another macro, so that [`ShapeKind`] lives in
-//! this leaf: `error.rs` names it, and the rows, which build `Shape`s, sit above `error.rs`.)
+//! this leaf: `error.rs` names it, and the kinds' files, which build `Shape`s and return
+//! errors, sit above `error.rs`.)
 
-/// Calls the macro `$then!` with the shape kinds, once: `Kind => Variant(ROW) | …,` where
-/// `Variant` is a [`Shape`](super::Shape) variant of the kind and `ROW` its row in
-/// `shape_spec.rs`, in the builder's order.
+/// Calls the macro `$then!` with the shape kinds, once: `Kind => Variant { fields } in file |
+/// …,` where `Variant` is a [`Shape`](super::Shape) variant of the kind with all its fields and
+/// `file` the module of `geometry/kinds/` that states its facts, in the builder's order.
 macro_rules! shape_table {
     ($then:ident) => {
         $then! {
-            Sphere => Sphere(SPHERE),
-            Box => Box(BOX),
-            Cylinder => Cylinder(CYLINDER),
-            Capsule => Capsule(CAPSULE),
-            Cone => Cone(CONE),
-            Beam => Beam(BEAM),
-            Ellipsoid => Ellipsoid(ELLIPSOID),
-            ConvexHull => ConvexHull(CONVEX_HULL),
-            Mesh => FileMesh(FILE_MESH) | Mesh(MESH),
+            Sphere => Sphere { diameter } in sphere,
+            Box => Box { lengths } in box_,
+            Cylinder => Cylinder { axis, diameter, length } in cylinder,
+            Capsule => Capsule { axis, diameter, length } in capsule,
+            Cone => Cone { axis, diameter, length, top_diameter } in cone,
+            Beam => Beam { axis, length, width, thickness } in beam,
+            Ellipsoid => Ellipsoid { lengths } in ellipsoid,
+            ConvexHull => ConvexHull { points } in convex_hull,
+            Mesh => FileMesh { path, scale, collision } in file_mesh
+                | Mesh { mesh, collision } in mesh,
         }
     };
 }
@@ -33,7 +36,7 @@ pub(crate) use shape_table;
 
 /// Generates [`ShapeKind`] from the table.
 macro_rules! kind_enum {
-    ($($kind:ident => $($variant:ident($row:ident))|+,)*) => {
+    ($($kind:ident => $($variant:ident { $($field:ident),* } in $file:ident)|+,)*) => {
         /// The kind of a shape, for messages and dispatch tables.
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         pub enum ShapeKind {

@@ -1,11 +1,13 @@
 //! The shape kinds as the builder and `model!` see them (solver-free vocabulary, exported as
 //! [`crate::SHAPE_KINDS`]): one row per [`Shape`] variant with its name, its parameters (the
 //! variant's fields, with the `model!` key, value type and unit of each) and the shape `model!`
-//! checks a literal constructor with. The rows are listed here in the order of the table in
-//! `shape_kind.rs`, which also generates [`Shape::kind`] and [`Shape::spec`]. The `model!`
-//! macro reads these rows instead of keeping a vocabulary of shapes of its own.
+//! checks a literal constructor with. This file has the rows' types; each row is the `ROW` of
+//! its kind's file (`geometry/kinds/<kind>.rs`), and the table of `shape_kind.rs` lists them
+//! into [`SHAPE_KINDS`](super::SHAPE_KINDS) (`kinds/mod.rs` also generates [`Shape::kind`] and
+//! [`Shape::spec`]). The `model!` macro reads these rows instead of keeping a vocabulary of
+//! shapes of its own.
 
-use super::shape_kind::{shape_table, ShapeKind};
+use super::shape_kind::ShapeKind;
 use super::shapes::{Axis, Shape};
 use nalgebra::{Point3, Vector3};
 
@@ -102,7 +104,7 @@ pub trait ShapeValues {
 }
 
 /// A tetrahedron of edge `s` at the origin: what points or a file stand in as.
-fn tetrahedron(s: f64) -> Shape {
+pub(crate) fn tetrahedron(s: f64) -> Shape {
     Shape::ConvexHull {
         points: vec![
             Point3::origin(),
@@ -113,7 +115,8 @@ fn tetrahedron(s: f64) -> Shape {
     }
 }
 
-const fn param(key: &'static str, value: ShapeValue, unit: &'static str) -> ShapeParam {
+/// A required parameter whose field is its key.
+pub(crate) const fn param(key: &'static str, value: ShapeValue, unit: &'static str) -> ShapeParam {
     ShapeParam {
         key,
         field: key,
@@ -124,183 +127,14 @@ const fn param(key: &'static str, value: ShapeValue, unit: &'static str) -> Shap
 }
 
 /// The axis of a shape (optional: z).
-const AXIS: ShapeParam = ShapeParam {
+pub(crate) const AXIS: ShapeParam = ShapeParam {
     required: false,
     ..param("axis", ShapeValue::AxisIndex, "1")
 };
 
-const SPHERE: ShapeKindSpec = ShapeKindSpec {
-    name: "Sphere",
-    kind: ShapeKind::Sphere,
-    params: &[param("diameter", ShapeValue::Length, "m")],
-    stand_in: Some(|v| Shape::Sphere {
-        diameter: v.length("diameter"),
-    }),
-};
-
-const BOX: ShapeKindSpec = ShapeKindSpec {
-    name: "Box",
-    kind: ShapeKind::Box,
-    params: &[param("lengths", ShapeValue::Lengths, "m")],
-    stand_in: Some(|v| Shape::Box {
-        lengths: v.vector("lengths"),
-    }),
-};
-
-const CYLINDER: ShapeKindSpec = ShapeKindSpec {
-    name: "Cylinder",
-    kind: ShapeKind::Cylinder,
-    params: &[
-        AXIS,
-        param("diameter", ShapeValue::Length, "m"),
-        param("length", ShapeValue::Length, "m"),
-    ],
-    stand_in: Some(|v| Shape::Cylinder {
-        axis: v.axis("axis"),
-        diameter: v.length("diameter"),
-        length: v.length("length"),
-    }),
-};
-
-const CAPSULE: ShapeKindSpec = ShapeKindSpec {
-    name: "Capsule",
-    kind: ShapeKind::Capsule,
-    params: &[
-        AXIS,
-        param("diameter", ShapeValue::Length, "m"),
-        param("length", ShapeValue::Length, "m"),
-    ],
-    stand_in: Some(|v| Shape::Capsule {
-        axis: v.axis("axis"),
-        diameter: v.length("diameter"),
-        length: v.length("length"),
-    }),
-};
-
-const CONE: ShapeKindSpec = ShapeKindSpec {
-    name: "Cone",
-    kind: ShapeKind::Cone,
-    params: &[
-        AXIS,
-        param("diameter", ShapeValue::Length, "m"),
-        param("length", ShapeValue::Length, "m"),
-        ShapeParam {
-            required: false,
-            ..param("top_diameter", ShapeValue::Length, "m")
-        },
-    ],
-    stand_in: Some(|v| Shape::Cone {
-        axis: v.axis("axis"),
-        diameter: v.length("diameter"),
-        length: v.length("length"),
-        top_diameter: v.length("top_diameter"),
-    }),
-};
-
-const BEAM: ShapeKindSpec = ShapeKindSpec {
-    name: "Beam",
-    kind: ShapeKind::Beam,
-    params: &[
-        AXIS,
-        param("length", ShapeValue::Length, "m"),
-        param("width", ShapeValue::Length, "m"),
-        param("thickness", ShapeValue::Length, "m"),
-    ],
-    stand_in: Some(|v| Shape::Beam {
-        axis: v.axis("axis"),
-        length: v.length("length"),
-        width: v.length("width"),
-        thickness: v.length("thickness"),
-    }),
-};
-
-const ELLIPSOID: ShapeKindSpec = ShapeKindSpec {
-    name: "Ellipsoid",
-    kind: ShapeKind::Ellipsoid,
-    params: &[param("lengths", ShapeValue::Lengths, "m")],
-    stand_in: Some(|v| Shape::Ellipsoid {
-        lengths: v.vector("lengths"),
-    }),
-};
-
-const CONVEX_HULL: ShapeKindSpec = ShapeKindSpec {
-    name: "ConvexHull",
-    kind: ShapeKind::ConvexHull,
-    params: &[param("points", ShapeValue::Vertices, "m")],
-    stand_in: Some(|v| tetrahedron(v.stand_in())),
-};
-
-const FILE_MESH: ShapeKindSpec = ShapeKindSpec {
-    name: "FileMesh",
-    kind: ShapeKind::Mesh,
-    params: &[
-        param("path", ShapeValue::File, "1"),
-        ShapeParam {
-            required: false,
-            ..param("scale", ShapeValue::Factors, "1")
-        },
-        ShapeParam {
-            key: "convex_decomposition",
-            required: false,
-            ..param("collision", ShapeValue::Decomposition, "1")
-        },
-    ],
-    // The file is read by `build()` at run time.
-    stand_in: Some(|v| tetrahedron(v.stand_in())),
-};
-
-const MESH: ShapeKindSpec = ShapeKindSpec {
-    name: "Mesh",
-    kind: ShapeKind::Mesh,
-    params: &[
-        param("mesh", ShapeValue::LoadedMesh, "m"),
-        param("collision", ShapeValue::Decomposition, "1"),
-    ],
-    stand_in: None,
-};
-
-/// Generates [`SHAPE_KINDS`] and the dispatch from a [`Shape`] to its row.
-macro_rules! rows {
-    ($($kind:ident => $($variant:ident($row:ident))|+,)*) => {
-        /// The solver-free rows of the shape kinds, one per [`Shape`] variant (name, parameters
-        /// with their `model!` keys, value types and units), in the builder's order; the
-        /// `model!` macro reads them.
-        pub const SHAPE_KINDS: &[ShapeKindSpec] = &[$($($row,)+)*];
-
-        impl Shape {
-            /// The row of this shape's variant in [`SHAPE_KINDS`].
-            pub fn spec(&self) -> &'static ShapeKindSpec {
-                match self {
-                    $($(Shape::$variant { .. } => &$row,)+)*
-                }
-            }
-            /// The kind of this shape.
-            pub fn kind(&self) -> ShapeKind {
-                self.spec().kind
-            }
-        }
-    };
-}
-
-shape_table!(rows);
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Each row's kind is the one the table names, and every kind has a row.
-    #[test]
-    fn rows_name_their_kinds() {
-        macro_rules! kinds {
-            ($($kind:ident => $($variant:ident($row:ident))|+,)*) => {
-                &[$($((ShapeKind::$kind, stringify!($variant), &$row),)+)*]
-            };
-        }
-        let table: &[(ShapeKind, &str, &ShapeKindSpec)] = shape_table!(kinds);
-        assert_eq!(table.len(), SHAPE_KINDS.len());
-        for (kind, variant, row) in table {
-            assert_eq!(row.kind, *kind, "{variant}");
-            assert_eq!(row.name, *variant);
-        }
-    }
-}
+/// The parameters of a round shape along an axis (cylinder, capsule): axis, diameter, length.
+pub(crate) const AXIS_DIAMETER_LENGTH: &[ShapeParam] = &[
+    AXIS,
+    param("diameter", ShapeValue::Length, "m"),
+    param("length", ShapeValue::Length, "m"),
+];

@@ -1,4 +1,6 @@
-//! Shapes of solids and their exact mass properties (geometry stage; touches nothing else).
+//! Shapes of solids: the builder's [`Shape`] and its conventions (geometry stage; touches
+//! nothing else). Each variant's facts (mass properties, core, volume-law solid, display mesh,
+//! …) are stated by its file in `geometry/kinds/`.
 //!
 //! Every shape is given in its own *shape frame*, which is the frame of the object that carries
 //! it. Conventions (after Modia3D.jl):
@@ -17,10 +19,9 @@
 use super::error::GeometryError;
 pub use super::mass_properties::UnitMassProperties;
 pub use super::mesh_file::MeshCollision;
-use super::mesh_file::{load_mesh, mesh_mass_properties, obj_vertices, TriangleMesh};
+use super::mesh_file::{obj_vertices, TriangleMesh};
 pub use super::shape_kind::ShapeKind;
-use nalgebra::{Matrix3, Point3, Vector3};
-use std::f64::consts::PI;
+use nalgebra::{Point3, Vector3};
 use std::path::Path;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -158,281 +159,6 @@ pub enum Shape {
     },
 }
 
-impl Shape {
-    /// This shape with a [`Shape::FileMesh`] read into a [`Shape::Mesh`]; other shapes
-    /// unchanged. Only reading and parsing can fail here; whether the mesh bounds a solid
-    /// (needed for mass properties, not for a visual) is [`mesh_mass_properties`]' check.
-    pub fn load(&self) -> Result<Shape, GeometryError> {
-        match self {
-            Shape::FileMesh {
-                path,
-                scale,
-                collision,
-            } => {
-                let mesh = load_mesh(path, *scale)?;
-                Ok(Shape::Mesh {
-                    mesh: Arc::new(mesh),
-                    collision: *collision,
-                })
-            }
-            Shape::Sphere { .. }
-            | Shape::Box { .. }
-            | Shape::Cylinder { .. }
-            | Shape::Capsule { .. }
-            | Shape::Cone { .. }
-            | Shape::Beam { .. }
-            | Shape::Ellipsoid { .. }
-            | Shape::ConvexHull { .. }
-            | Shape::Mesh { .. } => Ok(self.clone()),
-        }
-    }
-
-    /// The shapes of the collision shapes this shape becomes: itself, or for a mesh the
-    /// convex hulls of its parts ([`MeshCollision`]). Empty for an unloaded file mesh.
-    pub fn collision_parts(&self) -> Vec<Shape> {
-        match self {
-            Shape::Mesh { mesh, collision } => super::mesh_file::convex_parts(mesh, *collision)
-                .into_iter()
-                .map(|points| Shape::ConvexHull { points })
-                .collect(),
-            Shape::FileMesh { .. } => vec![],
-            Shape::Sphere { .. }
-            | Shape::Box { .. }
-            | Shape::Cylinder { .. }
-            | Shape::Capsule { .. }
-            | Shape::Cone { .. }
-            | Shape::Beam { .. }
-            | Shape::Ellipsoid { .. }
-            | Shape::ConvexHull { .. } => vec![self.clone()],
-        }
-    }
-
-    /// The diameter of a ball \[m\] (a sphere: the contact laws of the paper's sphere pairs
-    /// apply to it); `None` for every other shape.
-    pub fn ball_diameter(&self) -> Option<f64> {
-        match self {
-            Shape::Sphere { diameter } => Some(*diameter),
-            Shape::Box { .. }
-            | Shape::Cylinder { .. }
-            | Shape::Capsule { .. }
-            | Shape::Cone { .. }
-            | Shape::Beam { .. }
-            | Shape::Ellipsoid { .. }
-            | Shape::ConvexHull { .. }
-            | Shape::FileMesh { .. }
-            | Shape::Mesh { .. } => None,
-        }
-    }
-
-    /// Every length parameter that must be finite and > 0, with its name, for validation. A
-    /// cone's top diameter, which may be 0, is not among them: the validators check it
-    /// themselves (`≥ 0`).
-    pub fn dimensions(&self) -> Vec<(&'static str, f64)> {
-        match self {
-            Shape::Sphere { diameter } => vec![("diameter", *diameter)],
-            Shape::Box { lengths } | Shape::Ellipsoid { lengths } => vec![
-                ("lengths[0]", lengths.x),
-                ("lengths[1]", lengths.y),
-                ("lengths[2]", lengths.z),
-            ],
-            Shape::Cylinder {
-                diameter, length, ..
-            }
-            | Shape::Capsule {
-                diameter, length, ..
-            } => vec![("diameter", *diameter), ("length", *length)],
-            Shape::Cone {
-                diameter, length, ..
-            } => vec![("diameter", *diameter), ("length", *length)],
-            Shape::Beam {
-                length,
-                width,
-                thickness,
-                ..
-            } => vec![
-                ("length", *length),
-                ("width", *width),
-                ("thickness", *thickness),
-            ],
-            Shape::FileMesh { scale, .. } => vec![
-                ("scale[0]", scale.x),
-                ("scale[1]", scale.y),
-                ("scale[2]", scale.z),
-            ],
-            Shape::ConvexHull { .. } | Shape::Mesh { .. } => vec![],
-        }
-    }
-
-    /// Exact volume, centre of mass and unit-density inertia. `None` for a degenerate convex
-    /// hull (fewer than 4 points not in a plane), a mesh that is not closed (see
-    /// [`mesh_mass_properties`] for the reason) and a [`Shape::FileMesh`] not yet loaded.
-    pub fn unit_mass_properties(&self) -> Option<UnitMassProperties> {
-        let diag = |d: Vector3<f64>| Matrix3::from_diagonal(&d);
-        // Axisymmetric inertia (axial, transverse) placed on `axis`.
-        let axisym = |axis: Axis, axial: f64, transverse: f64| {
-            let mut d = Vector3::repeat(transverse);
-            d[axis.index()] = axial;
-            Matrix3::from_diagonal(&d)
-        };
-        let p = match self {
-            Shape::Sphere { diameter } => {
-                let r = 0.5 * diameter;
-                let v = 4.0 / 3.0 * PI * r.powi(3);
-                UnitMassProperties {
-                    volume: v,
-                    com: Vector3::zeros(),
-                    inertia: Matrix3::identity() * (0.4 * v * r * r),
-                }
-            }
-            Shape::Box { lengths: l } => {
-                let v = l.x * l.y * l.z;
-                let s = l.component_mul(l);
-                UnitMassProperties {
-                    volume: v,
-                    com: Vector3::zeros(),
-                    inertia: diag(Vector3::new(s.y + s.z, s.x + s.z, s.x + s.y) * (v / 12.0)),
-                }
-            }
-            Shape::Ellipsoid { lengths: l } => {
-                let a = l * 0.5;
-                let v = 4.0 / 3.0 * PI * a.x * a.y * a.z;
-                let s = a.component_mul(&a);
-                UnitMassProperties {
-                    volume: v,
-                    com: Vector3::zeros(),
-                    inertia: diag(Vector3::new(s.y + s.z, s.x + s.z, s.x + s.y) * (v / 5.0)),
-                }
-            }
-            Shape::Cylinder {
-                axis,
-                diameter,
-                length,
-            } => {
-                let r = 0.5 * diameter;
-                let v = PI * r * r * length;
-                UnitMassProperties {
-                    volume: v,
-                    com: Vector3::zeros(),
-                    inertia: axisym(
-                        *axis,
-                        0.5 * v * r * r,
-                        v * (3.0 * r * r + length * length) / 12.0,
-                    ),
-                }
-            }
-            Shape::Capsule {
-                axis,
-                diameter,
-                length,
-            } => {
-                let r = 0.5 * diameter;
-                let l = *length;
-                let vc = PI * r * r * l; // cylinder
-                let vh = 2.0 / 3.0 * PI * r.powi(3); // one hemisphere
-                                                     // Hemisphere: centroid 3r/8 from its flat face, transverse inertia about its
-                                                     // centroid 83/320 m r², axial 2/5 m r².
-                let d = 0.5 * l + 3.0 * r / 8.0;
-                let axial = 0.5 * vc * r * r + 2.0 * 0.4 * vh * r * r;
-                let transverse = vc * (3.0 * r * r + l * l) / 12.0
-                    + 2.0 * (83.0 / 320.0 * vh * r * r + vh * d * d);
-                UnitMassProperties {
-                    volume: vc + 2.0 * vh,
-                    com: Vector3::zeros(),
-                    inertia: axisym(*axis, axial, transverse),
-                }
-            }
-            Shape::Beam {
-                axis,
-                length,
-                width,
-                thickness,
-            } => beam_mass_properties(*axis, *length, *width, *thickness),
-            Shape::Cone {
-                axis,
-                diameter,
-                length,
-                top_diameter,
-            } => {
-                // Frustum r(z) = a + b z, 0 ≤ z ≤ h: integrate z^m r^n exactly.
-                let (a, h) = (0.5 * diameter, *length);
-                let b = (0.5 * top_diameter - a) / h;
-                let v = PI * poly_moment(a, b, h, 0, 2);
-                let zc = PI * poly_moment(a, b, h, 1, 2) / v;
-                let axial = 0.5 * PI * poly_moment(a, b, h, 0, 4);
-                // About the base plane: ∫ (r⁴/4 + r² z²) π dz, then shift to the centroid.
-                let trans_base =
-                    PI * (0.25 * poly_moment(a, b, h, 0, 4) + poly_moment(a, b, h, 2, 2));
-                let mut com = Vector3::zeros();
-                com[axis.index()] = zc;
-                UnitMassProperties {
-                    volume: v,
-                    com,
-                    inertia: axisym(*axis, axial, trans_base - v * zc * zc),
-                }
-            }
-            Shape::FileMesh { .. } => return None,
-            Shape::Mesh { mesh, .. } => return mesh_mass_properties(mesh).ok(),
-            Shape::ConvexHull { points } => {
-                let poly = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(points)?;
-                let mp = parry3d_f64::shape::Shape::mass_properties(&poly, 1.0);
-                if mp.mass().is_nan() || mp.mass() <= 0.0 {
-                    return None;
-                }
-                let rot = mp.principal_inertia_local_frame.to_rotation_matrix();
-                let inertia = rot.matrix()
-                    * Matrix3::from_diagonal(&mp.principal_inertia())
-                    * rot.matrix().transpose();
-                UnitMassProperties {
-                    volume: mp.mass(),
-                    com: mp.local_com.coords,
-                    inertia,
-                }
-            }
-        };
-        Some(p)
-    }
-}
-
-/// Exact mass properties of a [`Shape::Beam`] of unit density: box `l × w × t` plus two
-/// half-cylinders (radius `w/2`, height `t`) whose flat faces are the box's end faces. With
-/// `u`, `v`, `s` the length, width and thickness coordinates, the second moments `∫u²`, `∫v²`,
-/// `∫s²` are summed over the parts; a half-disk of radius `r` (area `A = πr²/2`) with its flat
-/// side on `u = l/2` has `∫u² dA = A (l²/4 + l·4r/(3π) + r²/4)` and `∫v² dA = A r²/4`. All
-/// products of inertia vanish (the beam is symmetric in every coordinate plane).
-fn beam_mass_properties(axis: Axis, l: f64, w: f64, t: f64) -> UnitMassProperties {
-    let r = 0.5 * w;
-    let v_box = l * w * t;
-    let v_ends = PI * r * r * t; // both half-cylinders
-    let s_u = v_box * l * l / 12.0
-        + v_ends * (0.25 * l * l + 0.25 * r * r)
-        + 4.0 / 3.0 * l * r.powi(3) * t;
-    let s_v = v_box * w * w / 12.0 + v_ends * 0.25 * r * r;
-    let s_s = (v_box + v_ends) * t * t / 12.0;
-    let (kw, kt) = axis.beam_directions();
-    let mut d = Vector3::zeros();
-    d[axis.index()] = s_v + s_s;
-    d[kw] = s_u + s_s;
-    d[kt] = s_u + s_v;
-    UnitMassProperties {
-        volume: v_box + v_ends,
-        com: Vector3::zeros(),
-        inertia: Matrix3::from_diagonal(&d),
-    }
-}
-
-/// ∫₀ʰ zᵐ (a + b z)ⁿ dz, exactly, by the binomial expansion.
-fn poly_moment(a: f64, b: f64, h: f64, m: i32, n: i32) -> f64 {
-    let mut sum = 0.0;
-    let mut binom = 1.0;
-    for k in 0..=n {
-        // term C(n,k) a^(n-k) b^k ∫ z^(m+k) dz
-        let p = m + k + 1;
-        sum += binom * a.powi(n - k) * b.powi(k) * h.powi(p) / f64::from(p);
-        binom = binom * f64::from(n - k) / f64::from(k + 1);
-    }
-    sum
-}
-
 /// The convex hull of the vertices of the OBJ file at `path` (scaled by `scale`) as a
 /// [`Shape::ConvexHull`].
 pub fn convex_hull_from_obj(path: &Path, scale: Vector3<f64>) -> Result<Shape, GeometryError> {
@@ -444,6 +170,7 @@ pub fn convex_hull_from_obj(path: &Path, scale: Vector3<f64>) -> Result<Shape, G
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol * b.abs().max(1e-300)

@@ -25,24 +25,9 @@ pub fn effective_smoothing_radius(shape: &Shape, requested: f64) -> Result<f64, 
     if !(requested.is_finite() && requested >= 0.0) {
         return Err(GeometryError::InvalidSmoothingRadius(requested));
     }
-    let smallest = match shape {
-        Shape::Sphere { .. } | Shape::Capsule { .. } | Shape::Ellipsoid { .. } => return Ok(0.0),
-        Shape::Box { lengths } => lengths.min(),
-        Shape::Cylinder {
-            diameter, length, ..
-        }
-        | Shape::Cone {
-            diameter, length, ..
-        } => diameter.min(*length),
-        // The length is not counted: the straight part is not shrunk (its ends are round).
-        Shape::Beam {
-            width, thickness, ..
-        } => width.min(*thickness),
-        Shape::ConvexHull { points } => hull_inner_width(points)?,
-        Shape::Mesh { mesh, .. } => hull_inner_width(&mesh.vertices)?,
-        Shape::FileMesh { path, .. } => {
-            return Err(GeometryError::MeshNotLoaded(path.display().to_string()))
-        }
+    // The kind's bound (`geometry/kinds/<kind>.rs`, `smoothed_width`).
+    let Some(smallest) = shape.smoothed_width()? else {
+        return Ok(0.0);
     };
     Ok(requested.min(MAX_SMOOTHING_FRACTION * smallest))
 }

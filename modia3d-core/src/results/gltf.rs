@@ -13,7 +13,6 @@
 #![allow(clippy::indexing_slicing)]
 
 use super::animation::world_to_y_up;
-use super::mesh::shape_mesh;
 use super::threejs::{write_text, COLORS};
 use super::{ResultError, SimulationResult};
 use serde_json::{json, Value};
@@ -116,7 +115,7 @@ impl SimulationResult {
             );
             let mut primitives = vec![];
             for shape in &o.shapes {
-                let m = shape_mesh(shape);
+                let m = shape.display_mesh();
                 if m.positions.is_empty() {
                     continue;
                 }

@@ -11,7 +11,6 @@ mod force_signals;
 mod gltf;
 mod html;
 mod loads;
-mod mesh;
 pub(crate) mod plot;
 pub(crate) mod plot_axis;
 mod plot_legend;

@@ -12,8 +12,8 @@
 //! with one keyframe per output time point. Lengths in \[m\], times in \[s\].
 
 use super::animation::world_to_y_up;
-use super::mesh::shape_mesh;
 use super::{ResultError, SimulationResult};
+use crate::geometry::display_mesh::Primitive;
 use crate::geometry::{Axis, Shape};
 use nalgebra::{Matrix4, Translation3, UnitQuaternion, Vector3};
 use serde_json::{json, Value};
@@ -61,46 +61,36 @@ fn geometry(shape: &Shape) -> (Value, Matrix4<f64>) {
                "heightSegments": 16, "phiStart": 0.0, "phiLength": 2.0 * PI,
                "thetaStart": 0.0, "thetaLength": PI})
     };
-    match shape {
-        Shape::Sphere { diameter } => (sphere(diameter / 2.0), Matrix4::identity()),
-        Shape::Ellipsoid { lengths } => (sphere(0.5), Matrix4::new_nonuniform_scaling(lengths)),
-        Shape::Box { lengths } => (
+    // The kind's primitive (`geometry/kinds/<kind>.rs`, `display_primitive`), else its mesh.
+    match shape.display_primitive() {
+        Some(Primitive::Ball { radius, scaling }) => (
+            sphere(radius),
+            scaling.map_or_else(Matrix4::identity, |s| Matrix4::new_nonuniform_scaling(&s)),
+        ),
+        Some(Primitive::Box { lengths }) => (
             json!({"type": "BoxGeometry", "width": lengths.x, "height": lengths.y,
                    "depth": lengths.z, "widthSegments": 1, "heightSegments": 1,
                    "depthSegments": 1}),
             Matrix4::identity(),
         ),
-        Shape::Cylinder {
+        Some(Primitive::Frustum {
             axis,
-            diameter,
+            top,
+            bottom,
             length,
-        } => (
-            cylinder(diameter / 2.0, diameter / 2.0, *length),
-            along(*axis, 0.0),
-        ),
-        Shape::Cone {
+            lift,
+        }) => (cylinder(top, bottom, length), along(axis, lift)),
+        Some(Primitive::Capsule {
             axis,
-            diameter,
+            radius,
             length,
-            top_diameter,
-        } => (
-            cylinder(top_diameter / 2.0, diameter / 2.0, *length),
-            along(*axis, length / 2.0),
-        ),
-        Shape::Capsule {
-            axis,
-            diameter,
-            length,
-        } => (
-            json!({"type": "CapsuleGeometry", "radius": diameter / 2.0, "length": length,
+        }) => (
+            json!({"type": "CapsuleGeometry", "radius": radius, "length": length,
                    "capSegments": 8, "radialSegments": 24, "heightSegments": 1}),
-            along(*axis, 0.0),
+            along(axis, 0.0),
         ),
-        Shape::ConvexHull { .. }
-        | Shape::Beam { .. }
-        | Shape::Mesh { .. }
-        | Shape::FileMesh { .. } => {
-            let m = shape_mesh(shape);
+        None => {
+            let m = shape.display_mesh();
             let flat = |v: &[[f32; 3]]| v.iter().flatten().copied().collect::<Vec<f32>>();
             (
                 json!({"type": "BufferGeometry", "data": {"attributes": {

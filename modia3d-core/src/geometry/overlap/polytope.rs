@@ -51,7 +51,7 @@
 //! `geometry/smoothing.rs` (`hull_planes`) does.
 
 use super::Overlap;
-use crate::geometry::{Axis, GeometryError, Shape};
+use crate::geometry::{Axis, GeometryError, Shape, VolumeLaw};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 
 /// Relative tolerance (to the hull's size) for merging coplanar hull triangles into one face
@@ -95,41 +95,10 @@ impl Polytope {
     /// dimension not finite and > 0 ([`GeometryError::InvalidDimension`]), a degenerate hull
     /// ([`GeometryError::DegenerateHull`]).
     pub fn from_shape(shape: &Shape) -> Result<Option<Polytope>, GeometryError> {
-        let positive = |name: &'static str, value: f64| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(GeometryError::InvalidDimension { name, value })
-            }
-        };
-        match shape {
-            Shape::Box { lengths } => {
-                for &l in lengths.iter() {
-                    positive("lengths", l)?;
-                }
-                Ok(Some(Polytope::from_box(lengths / 2.0)))
-            }
-            Shape::Beam {
-                axis,
-                length,
-                width,
-                thickness,
-            } => {
-                positive("length", *length)?;
-                positive("width", *width)?;
-                positive("thickness", *thickness)?;
-                Polytope::from_points(&beam_points(*axis, *length, *width, *thickness)).map(Some)
-            }
-            Shape::ConvexHull { points } => Polytope::from_points(points).map(Some),
-            Shape::Mesh { mesh, .. } => Polytope::from_points(&mesh.vertices).map(Some),
-            // Round solids are frustums (`Frustum::from_shape`) or have no volume law; a file
-            // mesh is loaded first.
-            Shape::Sphere { .. }
-            | Shape::Cylinder { .. }
-            | Shape::Capsule { .. }
-            | Shape::Cone { .. }
-            | Shape::Ellipsoid { .. }
-            | Shape::FileMesh { .. } => Ok(None),
+        // The kind's solid (`geometry/kinds/<kind>.rs`, `volume_solid`).
+        match shape.volume_solid()? {
+            VolumeLaw::Polytope { polytope, .. } => Ok(Some(polytope)),
+            VolumeLaw::Frustum(_) | VolumeLaw::None => Ok(None),
         }
     }
 

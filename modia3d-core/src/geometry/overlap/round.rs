@@ -65,7 +65,7 @@
 //! A call costs about 1 µs (release build; 32 nodes, or more only for the graded case).
 
 use super::Overlap;
-use crate::geometry::{Axis, Shape};
+use crate::geometry::{Axis, Shape, VolumeLaw};
 use nalgebra::{Isometry3, Matrix3, Point3, Vector3};
 use std::f64::consts::PI;
 
@@ -95,38 +95,10 @@ impl Frustum {
     ///   `diameter/2`, top at `z1 = length` with radius `top_diameter/2` (conventions: the
     ///   module docs of `geometry::shapes`).
     pub fn from_shape(shape: &Shape) -> Option<Frustum> {
-        match *shape {
-            Shape::Cylinder {
-                axis,
-                diameter,
-                length,
-            } => Some(Frustum {
-                axis,
-                z0: -0.5 * length,
-                z1: 0.5 * length,
-                r0: 0.5 * diameter,
-                r1: 0.5 * diameter,
-            }),
-            Shape::Cone {
-                axis,
-                diameter,
-                length,
-                top_diameter,
-            } => Some(Frustum {
-                axis,
-                z0: 0.0,
-                z1: length,
-                r0: 0.5 * diameter,
-                r1: 0.5 * top_diameter,
-            }),
-            Shape::Sphere { .. }
-            | Shape::Box { .. }
-            | Shape::Capsule { .. }
-            | Shape::Beam { .. }
-            | Shape::Ellipsoid { .. }
-            | Shape::ConvexHull { .. }
-            | Shape::FileMesh { .. }
-            | Shape::Mesh { .. } => None,
+        // The kind's solid (`geometry/kinds/<kind>.rs`, `volume_solid`).
+        match shape.volume_solid() {
+            Ok(VolumeLaw::Frustum(f)) => Some(f),
+            Ok(VolumeLaw::Polytope { .. } | VolumeLaw::None) | Err(_) => None,
         }
     }
 

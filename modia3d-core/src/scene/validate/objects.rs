@@ -336,40 +336,24 @@ fn check_shape(c: &mut Checker, object: &str, shape: &Shape) {
     for (name, v) in shape.dimensions() {
         c.positive(|| format!("object `{object}`: {kind:?} {name} [m]"), v);
     }
-    // What each shape checks beyond its dimensions.
-    match shape {
-        Shape::Cone { top_diameter, .. } => {
-            c.non_negative(
-                || format!("object `{object}`: Cone top_diameter [m]"),
-                *top_diameter,
-            );
+    for (name, v) in shape.non_negative_lengths() {
+        c.non_negative(|| format!("object `{object}`: {kind:?} {name} [m]"), v);
+    }
+    // Points given for a convex hull (a mesh is checked when it is read and repaired:
+    // `load_shape`, `solid_mesh`).
+    if let Some(points) = shape.hull_points() {
+        let flat: Vec<f64> = points
+            .iter()
+            .flat_map(|p| p.coords.iter().copied())
+            .collect();
+        c.finite(|| format!("object `{object}`: {kind:?} points [m]"), &flat);
+        if flat.iter().all(|v| v.is_finite()) && shape.unit_mass_properties().is_none() {
+            c.errors.push(SceneError::InvalidValue {
+                what: format!("object `{object}`: {kind:?} volume [m³]"),
+                value: 0.0,
+                expected: "> 0 (at least 4 points not in one plane)",
+            });
         }
-        Shape::ConvexHull { points } => {
-            let flat: Vec<f64> = points
-                .iter()
-                .flat_map(|p| p.coords.iter().copied())
-                .collect();
-            c.finite(
-                || format!("object `{object}`: ConvexHull points [m]"),
-                &flat,
-            );
-            if flat.iter().all(|v| v.is_finite()) && shape.unit_mass_properties().is_none() {
-                c.errors.push(SceneError::InvalidValue {
-                    what: format!("object `{object}`: ConvexHull volume [m³]"),
-                    value: 0.0,
-                    expected: "> 0 (at least 4 points not in one plane)",
-                });
-            }
-        }
-        // A mesh is checked when it is read and repaired (`load_shape`, `solid_mesh`).
-        Shape::Sphere { .. }
-        | Shape::Box { .. }
-        | Shape::Cylinder { .. }
-        | Shape::Capsule { .. }
-        | Shape::Beam { .. }
-        | Shape::Ellipsoid { .. }
-        | Shape::FileMesh { .. }
-        | Shape::Mesh { .. } => {}
     }
 }
 

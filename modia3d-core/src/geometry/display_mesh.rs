@@ -1,21 +1,23 @@
-//! Results stage, display meshes: triangle meshes of the shapes for animation export (glTF).
-//! Pure geometry in the shape frame (see `geometry::shapes` for the conventions); touches
-//! nothing else.
+//! Display meshes (geometry stage): the triangulation helpers the shape kinds draw their
+//! display mesh with (`geometry/kinds/<kind>.rs`, `display_mesh`; [`Shape::display_mesh`](super::Shape::display_mesh) is
+//! the dispatch), for the animation exports of `results/` (glTF, three.js), which serialise
+//! them. Pure geometry in the shape frame (see `geometry::shapes` for the conventions).
 //!
 //! Every built-in shape is convex, so triangles are generated in any order and then turned to
 //! face away from the shape's centre; a mesh keeps its triangles' orientation. Each triangle
 //! gets its own (flat) normal.
-// Export encoding: offsets into buffers this module sized itself from the same lengths; no
-// index comes from user input, which reaches it only through the checked signal look-up.
-#![allow(clippy::indexing_slicing)]
 
-use crate::geometry::{Axis, Shape};
+// Without the `solver` feature (the `model!` macro's build, which asks only the rows and the
+// validation facts) the contact preprocess and the display exports are not compiled.
+#![cfg_attr(not(feature = "solver"), allow(dead_code))]
+
+use super::shapes::Axis;
 use nalgebra::{Point3, Vector3};
 
 /// Segments around an axis of revolution.
-const SEGMENTS: usize = 24;
+pub(crate) const SEGMENTS: usize = 24;
 /// Rings from pole to pole of a sphere (half of them per cap of a capsule).
-const RINGS: usize = 12;
+pub(crate) const RINGS: usize = 12;
 
 /// A non-indexed triangle list: three vertices per triangle, one normal per vertex \[m\].
 #[derive(Clone, Debug, Default)]
@@ -28,7 +30,7 @@ pub(crate) struct TriMesh {
 
 impl TriMesh {
     /// Adds triangle `a, b, c`, turned to face away from `centre`; skips degenerate ones.
-    pub(super) fn push(
+    pub(crate) fn push(
         &mut self,
         a: Vector3<f64>,
         b: Vector3<f64>,
@@ -54,7 +56,7 @@ impl TriMesh {
 
     /// Axis-aligned bounds `(min, max)` of the vertices, or `None` for an empty mesh.
     #[cfg(test)]
-    pub(super) fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
+    pub(crate) fn bounds(&self) -> Option<([f32; 3], [f32; 3])> {
         let mut it = self.positions.iter();
         let first = *it.next()?;
         Some(it.fold((first, first), |(mut lo, mut hi), p| {
@@ -67,9 +69,51 @@ impl TriMesh {
     }
 }
 
+/// A display primitive of a shape, in its shape frame, for an export that draws balls, boxes,
+/// frustums and capsules with geometries of its own (three.js); a shape without one is drawn
+/// as its display mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Primitive {
+    /// A ball of radius `radius` \[m\] centred at the origin, scaled along x, y, z by
+    /// `scaling` (an ellipsoid) if given.
+    Ball {
+        /// Radius \[m\].
+        radius: f64,
+        /// Factors along x, y, z.
+        scaling: Option<Vector3<f64>>,
+    },
+    /// A box with edge lengths along x, y, z \[m\], centred at the origin.
+    Box {
+        /// Edge lengths \[m\].
+        lengths: Vector3<f64>,
+    },
+    /// A frustum along `axis`, its centre at `lift` on the axis \[m\].
+    Frustum {
+        /// Its axis.
+        axis: Axis,
+        /// Radius of the end towards +axis \[m\].
+        top: f64,
+        /// Radius of the end towards −axis \[m\].
+        bottom: f64,
+        /// Length along the axis \[m\].
+        length: f64,
+        /// Position of its centre on the axis \[m\].
+        lift: f64,
+    },
+    /// A capsule along `axis`, centred at the origin.
+    Capsule {
+        /// Its axis.
+        axis: Axis,
+        /// Radius of the cylinder and caps \[m\].
+        radius: f64,
+        /// Length of the cylindrical part \[m\].
+        length: f64,
+    },
+}
+
 /// A surface of revolution about `axis`: `profile` is a list of `(radius, height)` points from
 /// one end to the other; the mesh is scaled by `scale` afterwards (ellipsoids).
-fn lathe(axis: Axis, profile: &[(f64, f64)], scale: Vector3<f64>) -> TriMesh {
+pub(crate) fn lathe(axis: Axis, profile: &[(f64, f64)], scale: Vector3<f64>) -> TriMesh {
     let a = axis.index();
     let (e1, e2) = ((a + 1) % 3, (a + 2) % 3);
     let point = |r: f64, h: f64, k: usize| {
@@ -103,7 +147,7 @@ fn lathe(axis: Axis, profile: &[(f64, f64)], scale: Vector3<f64>) -> TriMesh {
 
 /// A sphere profile of radius `r` centred at height `h0`, from angle `from` to `to` (0 = the −axis
 /// pole, π = the +axis pole), with `rings` steps.
-fn arc(r: f64, h0: f64, from: f64, to: f64, rings: usize) -> Vec<(f64, f64)> {
+pub(crate) fn arc(r: f64, h0: f64, from: f64, to: f64, rings: usize) -> Vec<(f64, f64)> {
     (0..=rings)
         .map(|i| {
             let t = from + (to - from) * i as f64 / rings as f64;
@@ -112,120 +156,8 @@ fn arc(r: f64, h0: f64, from: f64, to: f64, rings: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The display mesh of a shape, in its shape frame.
-pub(crate) fn shape_mesh(shape: &Shape) -> TriMesh {
-    use std::f64::consts::{FRAC_PI_2, PI};
-    let one = Vector3::new(1.0, 1.0, 1.0);
-    match shape {
-        Shape::Sphere { diameter } => {
-            lathe(Axis::Y, &arc(diameter / 2.0, 0.0, 0.0, PI, RINGS), one)
-        }
-        Shape::Ellipsoid { lengths } => {
-            lathe(Axis::Y, &arc(1.0, 0.0, 0.0, PI, RINGS), lengths / 2.0)
-        }
-        Shape::Cylinder {
-            axis,
-            diameter,
-            length,
-        } => {
-            let (r, h) = (diameter / 2.0, length / 2.0);
-            lathe(*axis, &[(0.0, -h), (r, -h), (r, h), (0.0, h)], one)
-        }
-        Shape::Capsule {
-            axis,
-            diameter,
-            length,
-        } => {
-            let (r, h) = (diameter / 2.0, length / 2.0);
-            let mut p = arc(r, -h, 0.0, FRAC_PI_2, RINGS / 2);
-            p.extend(arc(r, h, FRAC_PI_2, PI, RINGS / 2));
-            lathe(*axis, &p, one)
-        }
-        Shape::Cone {
-            axis,
-            diameter,
-            length,
-            top_diameter,
-        } => lathe(
-            *axis,
-            &[
-                (0.0, 0.0),
-                (diameter / 2.0, 0.0),
-                (top_diameter / 2.0, *length),
-                (0.0, *length),
-            ],
-            one,
-        ),
-        Shape::Box { lengths } => {
-            let h = lengths / 2.0;
-            let c = |i: usize| {
-                Vector3::new(
-                    if i & 1 == 0 { -h.x } else { h.x },
-                    if i & 2 == 0 { -h.y } else { h.y },
-                    if i & 4 == 0 { -h.z } else { h.z },
-                )
-            };
-            let mut m = TriMesh::default();
-            let centre = Vector3::zeros();
-            // Faces as corner-index quads (bit 0 = x, bit 1 = y, bit 2 = z).
-            for q in [
-                [0, 2, 6, 4],
-                [1, 3, 7, 5],
-                [0, 1, 5, 4],
-                [2, 3, 7, 6],
-                [0, 1, 3, 2],
-                [4, 5, 7, 6],
-            ] {
-                m.push(c(q[0]), c(q[1]), c(q[2]), &centre);
-                m.push(c(q[0]), c(q[2]), c(q[3]), &centre);
-            }
-            m
-        }
-        Shape::Beam {
-            axis,
-            length,
-            width,
-            thickness,
-        } => hull_mesh(&beam_points(*axis, *length, *width, *thickness)),
-        Shape::ConvexHull { points } => hull_mesh(points),
-        // A mesh keeps its own (outward) orientation: it need not be convex.
-        Shape::Mesh { mesh, .. } => {
-            let mut m = TriMesh::default();
-            for t in &mesh.triangles {
-                let [a, b, c] = t.map(|i| mesh.vertices[i as usize].coords);
-                let centre = (a + b + c) / 3.0 - (b - a).cross(&(c - a));
-                m.push(a, b, c, &centre);
-            }
-            m
-        }
-        // Loaded by `SceneDesc::build`; a result never holds an unloaded one.
-        Shape::FileMesh { .. } => TriMesh::default(),
-    }
-}
-
-/// Points whose convex hull is a [`Shape::Beam`] with each half-disk end drawn as `SEGMENTS / 2`
-/// chords (vertices on the circle).
-fn beam_points(axis: Axis, length: f64, width: f64, thickness: f64) -> Vec<Point3<f64>> {
-    let (k, (kw, kt)) = (axis.index(), axis.beam_directions());
-    let (r, n) = (width / 2.0, SEGMENTS / 2);
-    let mut pts = Vec::with_capacity(4 * (n + 1));
-    for end in [-1.0, 1.0] {
-        for i in 0..=n {
-            let phi = std::f64::consts::PI * (i as f64 / n as f64 - 0.5);
-            for s in [-1.0, 1.0] {
-                let mut p = Point3::origin();
-                p[k] = end * (length / 2.0 + r * phi.cos());
-                p[kw] = r * phi.sin();
-                p[kt] = s * thickness / 2.0;
-                pts.push(p);
-            }
-        }
-    }
-    pts
-}
-
 /// The display mesh of the convex hull of `points`.
-fn hull_mesh(points: &[Point3<f64>]) -> TriMesh {
+pub(crate) fn hull_mesh(points: &[Point3<f64>]) -> TriMesh {
     let (verts, tris) = convex_hull(points);
     let centre = verts.iter().fold(Vector3::zeros(), |s, p| s + p) / verts.len().max(1) as f64;
     let mut m = TriMesh::default();
@@ -252,6 +184,7 @@ pub(crate) fn convex_hull(points: &[Point3<f64>]) -> (Vec<Vector3<f64>>, Vec<[u3
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::Shape;
 
     fn volume(m: &TriMesh) -> f64 {
         // Divergence theorem over outward triangles.
@@ -299,7 +232,7 @@ mod tests {
         ];
         for s in shapes {
             let exact = s.unit_mass_properties().unwrap().volume;
-            let v = volume(&shape_mesh(&s));
+            let v = volume(&s.display_mesh());
             assert!(
                 (v - exact).abs() < 0.05 * exact,
                 "{s:?}: mesh {v}, exact {exact}"
@@ -345,17 +278,18 @@ mod tests {
             mesh: std::sync::Arc::new(mesh),
             collision: crate::geometry::MeshCollision::ConvexHull,
         };
-        assert!((volume(&shape_mesh(&shape)) - exact).abs() < 1e-6);
+        assert!((volume(&shape.display_mesh()) - exact).abs() < 1e-6);
     }
 
     #[test]
     fn cone_base_is_at_zero_along_its_axis() {
-        let m = shape_mesh(&Shape::Cone {
+        let m = Shape::Cone {
             axis: Axis::Z,
             diameter: 1.0,
             length: 2.0,
             top_diameter: 0.0,
-        });
+        }
+        .display_mesh();
         let (lo, hi) = m.bounds().unwrap();
         assert_eq!((lo[2], hi[2]), (0.0, 2.0));
     }
