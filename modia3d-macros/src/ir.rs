@@ -241,26 +241,30 @@ pub(crate) enum JointAxis {
     Vector(syn::ExprArray, Option<[f64; 3]>),
 }
 
+/// `SpringDamper(…)` ([`ForceIr::SpringDamper`]).
+#[derive(Clone, Debug)]
+pub(crate) struct SpringDamperIr {
+    /// Ends.
+    pub obj1: NameRef,
+    /// Ends.
+    pub obj2: NameRef,
+    /// `stiffness`, or `spring_law` (then `stiffness` is `None`).
+    pub stiffness: Option<Num>,
+    /// `damping`.
+    pub damping: Option<Num>,
+    /// `length0`.
+    pub length0: Option<Num>,
+    /// `spring_law = <number or closure>` (a `SpringDamperPtP`).
+    pub spring_law: Option<Num>,
+    /// `damper_law = <number or closure>`.
+    pub damper_law: Option<Num>,
+}
+
 /// A force element.
 #[derive(Clone, Debug)]
 pub(crate) enum ForceIr {
     /// `SpringDamper`.
-    SpringDamper {
-        /// Ends.
-        obj1: NameRef,
-        /// Ends.
-        obj2: NameRef,
-        /// `stiffness`, or `spring_law` (then `stiffness` is `None`).
-        stiffness: Option<Num>,
-        /// `damping`.
-        damping: Option<Num>,
-        /// `length0`.
-        length0: Option<Num>,
-        /// `spring_law = <number or closure>` (a `SpringDamperPtP`).
-        spring_law: Option<Num>,
-        /// `damper_law = <number or closure>`.
-        damper_law: Option<Num>,
-    },
+    SpringDamper(SpringDamperIr),
     /// `Bushing`.
     Bushing {
         /// Ends.
@@ -337,52 +341,85 @@ pub(crate) enum ActionIr {
     Delete(NameRef),
 }
 
-/// One component.
+/// `SolidMaterial(density, young_modulus, poisson_ratio)` ([`Item::Material`]).
+#[derive(Clone, Debug)]
+pub(crate) struct MaterialIr {
+    /// Component name.
+    pub name: Ident,
+    /// The three numbers.
+    pub density: Num,
+    /// See `density`.
+    pub young_modulus: Num,
+    /// See `density`.
+    pub poisson_ratio: Num,
+}
+
+/// `Object3D(…)` ([`Item::Object`]).
+#[derive(Clone, Debug)]
+pub(crate) struct ObjectIr {
+    /// Component name.
+    pub name: Ident,
+    /// Its parent.
+    pub parent: Parent,
+    /// `translation`.
+    pub translation: Option<Expr>,
+    /// `rotation`.
+    pub rotation: Option<Expr>,
+    /// `feature`.
+    pub feature: Option<FeatureIr>,
+    /// Whether it is the scene (the world).
+    pub scene: bool,
+}
+
+/// A joint ([`Item::Joint`]).
+#[derive(Clone, Debug)]
+pub(crate) struct JointIr {
+    /// Component name.
+    pub name: Ident,
+    /// The world-side object.
+    pub obj1: NameRef,
+    /// The moved object.
+    pub obj2: NameRef,
+    /// Kind and initial values.
+    pub kind: JointKindIr,
+    /// `can_collide = …` and its literal value.
+    pub can_collide: Option<(Expr, Option<bool>)>,
+    /// `cut = …` (prefer this joint as the one that closes its loop) and its literal value.
+    pub cut: Option<(Expr, Option<bool>)>,
+    /// Its limits (`<coordinate>_limits = [lower, upper]`, …), one per coordinate.
+    pub limits: Vec<LimitIr>,
+}
+
+/// `ContactPair(…)` ([`Item::ContactPair`]).
+#[derive(Clone, Debug)]
+pub(crate) struct ContactPairIr {
+    /// The two contact materials.
+    pub material1: MaterialName,
+    /// See `material1`.
+    pub material2: MaterialName,
+    /// Coefficients.
+    pub cor: Num,
+    /// See `cor`.
+    pub mu_k: Num,
+    /// See `cor`.
+    pub mu_r: Num,
+    /// Optional regularisation velocities (`f64` or `Option<f64>`).
+    pub v_min: Option<Num>,
+    /// See `v_min`.
+    pub w_min: Option<Num>,
+}
+
+/// One component. The variants that both consumers of the IR (the rules' scene of literal
+/// values, `rules/`, and the expansion's builder calls, `expand/`) read field by field are
+/// named structs, so each reads the fields it needs by name.
 #[derive(Clone, Debug)]
 pub(crate) enum Item {
     /// `SolidMaterial(density, young_modulus, poisson_ratio)`.
-    Material {
-        /// Component name.
-        name: Ident,
-        /// The three numbers.
-        density: Num,
-        /// See `density`.
-        young_modulus: Num,
-        /// See `density`.
-        poisson_ratio: Num,
-    },
+    Material(MaterialIr),
     /// `Object3D(…)`.
-    Object {
-        /// Component name.
-        name: Ident,
-        /// Its parent.
-        parent: Parent,
-        /// `translation`.
-        translation: Option<Expr>,
-        /// `rotation`.
-        rotation: Option<Expr>,
-        /// `feature`.
-        feature: Option<FeatureIr>,
-        /// Whether it is the scene (the world).
-        scene: bool,
-    },
+    Object(ObjectIr),
     /// A joint.
-    Joint {
-        /// Component name.
-        name: Ident,
-        /// The world-side object.
-        obj1: NameRef,
-        /// The moved object.
-        obj2: NameRef,
-        /// Kind and initial values.
-        kind: JointKindIr,
-        /// `can_collide = …` and its literal value.
-        can_collide: Option<(Expr, Option<bool>)>,
-        /// `cut = …` (prefer this joint as the one that closes its loop) and its literal value.
-        cut: Option<(Expr, Option<bool>)>,
-        /// Its limits (`<coordinate>_limits = [lower, upper]`, …), one per coordinate.
-        limits: Vec<LimitIr>,
-    },
+    Joint(JointIr),
     /// A force element.
     Force {
         /// Component name.
@@ -413,22 +450,7 @@ pub(crate) enum Item {
         slot: u32,
     },
     /// `ContactPair(…)`.
-    ContactPair {
-        /// The two contact materials.
-        material1: MaterialName,
-        /// See `material1`.
-        material2: MaterialName,
-        /// Coefficients.
-        cor: Num,
-        /// See `cor`.
-        mu_k: Num,
-        /// See `cor`.
-        mu_r: Num,
-        /// Optional regularisation velocities (`f64` or `Option<f64>`).
-        v_min: Option<Num>,
-        /// See `v_min`.
-        w_min: Option<Num>,
-    },
+    ContactPair(ContactPairIr),
     /// A sub-assembly: `Type { params… }.add_to(scene, prefix.name., parent)`.
     Assembly {
         /// Component name.

@@ -5,6 +5,7 @@
 
 pub(crate) use crate::ir::NameRef;
 use crate::ir::{Item, Parent};
+use crate::ir::{JointIr, ObjectIr};
 use proc_macro2::Ident;
 use std::collections::{HashMap, HashSet};
 use syn::Expr;
@@ -70,11 +71,11 @@ pub(crate) fn attach_roots(items: &mut [Item]) {
     let parent_of: HashMap<String, String> = items
         .iter()
         .filter_map(|it| match it {
-            Item::Object {
+            Item::Object(ObjectIr {
                 name,
                 parent: Parent::Ref(r),
                 ..
-            } => Some((name.to_string(), r.path.clone())),
+            }) => Some((name.to_string(), r.path.clone())),
             _ => None,
         })
         .collect();
@@ -94,7 +95,7 @@ pub(crate) fn attach_roots(items: &mut [Item]) {
     let moved: Vec<&str> = items
         .iter()
         .filter_map(|it| match it {
-            Item::Joint { obj2, .. } => Some(obj2.path.as_str()),
+            Item::Joint(JointIr { obj2, .. }) => Some(obj2.path.as_str()),
             _ => None,
         })
         .collect();
@@ -106,12 +107,12 @@ pub(crate) fn attach_roots(items: &mut [Item]) {
     let moved: Vec<String> = moved.iter().map(|s| s.to_string()).collect();
     for it in items.iter_mut() {
         match it {
-            Item::Object {
+            Item::Object(ObjectIr {
                 name,
                 parent,
                 scene,
                 ..
-            } if matches!(parent, Parent::None)
+            }) if matches!(parent, Parent::None)
                 && !*scene
                 && !moved_roots.contains(&name.to_string()) =>
             {

@@ -2,7 +2,9 @@
 
 use super::{compact, lit_bool, lit_f64, lit_int, lit_str, lit_vec3, Args, Checker};
 use crate::ast::Ctor;
+use crate::ir::SpringDamperIr;
 use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, LimitIr, MaterialName};
+use crate::ir::{ContactPairIr, JointIr};
 use crate::names::{did_you_mean, hint};
 use crate::vocab::{
     joint_keys, joint_kind, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, LIMIT_SUFFIXES,
@@ -142,7 +144,7 @@ impl Checker {
             .collect();
         let limits = self.joint_limits(spec, &a);
         let kind = ok.then_some(JointKindIr { spec, axes, inits });
-        Some(Item::Joint {
+        Some(Item::Joint(JointIr {
             name: name.clone(),
             obj1: o1?,
             obj2: o2?,
@@ -150,7 +152,7 @@ impl Checker {
             can_collide,
             cut,
             limits,
-        })
+        }))
     }
 
     /// The limits of a joint of kind `spec`: per scalar coordinate `c`, `c_limits = [lower,
@@ -245,7 +247,7 @@ impl Checker {
                 if stiffness.is_none() && spring_law.is_none() {
                     return None;
                 }
-                ForceIr::SpringDamper {
+                ForceIr::SpringDamper(SpringDamperIr {
                     obj1: o1?,
                     obj2: o2?,
                     stiffness,
@@ -253,7 +255,7 @@ impl Checker {
                     length0,
                     spring_law,
                     damper_law,
-                }
+                })
             }
             "Bushing" => {
                 let a = self.args(ctor, BUSHING_KEYS);
@@ -464,7 +466,7 @@ impl Checker {
         let mu_r = self.num(&a, "mu_r", true);
         let v_min = self.num(&a, "v_min", false);
         let w_min = self.num(&a, "w_min", false);
-        Some(Item::ContactPair {
+        Some(Item::ContactPair(ContactPairIr {
             material1: m1?,
             material2: m2?,
             cor: cor?,
@@ -472,6 +474,6 @@ impl Checker {
             mu_r: mu_r?,
             v_min,
             w_min,
-        })
+        }))
     }
 }

@@ -13,6 +13,7 @@ mod joints;
 mod values;
 
 use crate::ast::{push, Arg, Ctor, ModelDef};
+use crate::ir::MaterialIr;
 use crate::ir::{Ir, Item, LitNum, Num, Parent, PathCheck};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
 use crate::vocab::{components, is_nested, nested_hint, Kind, SYNONYMS};
@@ -465,12 +466,12 @@ impl Checker {
                 let d = self.num(&a, "density", true);
                 let e = self.num(&a, "young_modulus", true);
                 let p = self.num(&a, "poisson_ratio", true);
-                Some(Item::Material {
+                Some(Item::Material(MaterialIr {
                     name: name.clone(),
                     density: d?,
                     young_modulus: e?,
                     poisson_ratio: p?,
-                })
+                }))
             }
             Kind::ContactPair => self.contact_pair(name, ctor),
             Kind::Input => self.input(name, ctor),

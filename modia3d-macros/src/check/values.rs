@@ -3,6 +3,7 @@
 
 use super::{lit_bool, lit_int, lit_matrix, lit_str, Checker};
 use crate::ast::Ctor;
+use crate::ir::ObjectIr;
 use crate::ir::{
     AxisIr, FeatureIr, Item, MassIr, MaterialName, Num, Parent, Profile, SceneIr, ShapeArg,
     ShapeIr, SolidIr,
@@ -41,14 +42,14 @@ impl Checker {
                 }
             }
         }
-        Some(Item::Object {
+        Some(Item::Object(ObjectIr {
             name: name.clone(),
             parent,
             translation: a.get("translation").cloned(),
             rotation: a.get("rotation").cloned(),
             feature,
             scene,
-        })
+        }))
     }
 
     fn feature(&mut self, fc: &Ctor, parent_key: Option<Span>) -> Option<FeatureIr> {

@@ -4,10 +4,12 @@
 
 use super::{local, paths_module_at, prefix, scoped};
 use crate::ir::shape_arg;
+use crate::ir::SpringDamperIr;
 use crate::ir::{
     ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr,
     MaterialName, Num, Parent, PathCheck, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr,
 };
+use crate::ir::{ContactPairIr, JointIr, MaterialIr, ObjectIr};
 use modia3d_core::{ParamValue, ShapeValue};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
@@ -21,12 +23,12 @@ pub(super) fn item(it: &Item) -> TokenStream {
     let p = local("p");
     let core = quote!(::modia3d::core);
     match it {
-        Item::Material {
+        Item::Material(MaterialIr {
             name,
             density,
             young_modulus,
             poisson_ratio,
-        } => {
+        }) => {
             let n = scoped(&name.to_string());
             let (d, e, nu) = (&density.expr, &young_modulus.expr, &poisson_ratio.expr);
             quote! {
@@ -37,14 +39,14 @@ pub(super) fn item(it: &Item) -> TokenStream {
                 });
             }
         }
-        Item::Object {
+        Item::Object(ObjectIr {
             name,
             parent,
             translation,
             rotation,
             feature,
             ..
-        } => {
+        }) => {
             let n = scoped(&name.to_string());
             let t = translation.as_ref().map(|t| quote!(.translation(#t)));
             let r = rotation
@@ -113,7 +115,7 @@ pub(super) fn item(it: &Item) -> TokenStream {
             };
             quote!(#scene.add_action(#v);)
         }
-        Item::ContactPair {
+        Item::ContactPair(ContactPairIr {
             material1,
             material2,
             cor,
@@ -122,7 +124,7 @@ pub(super) fn item(it: &Item) -> TokenStream {
             v_min,
             w_min,
             ..
-        } => {
+        }) => {
             let (m1, m2) = (pair_material(material1), pair_material(material2));
             let (cor, mu_k, mu_r) = (&cor.expr, &mu_k.expr, &mu_r.expr);
             let private = quote!(::modia3d::__private);
@@ -144,7 +146,7 @@ pub(super) fn item(it: &Item) -> TokenStream {
                 });
             }
         }
-        Item::Joint {
+        Item::Joint(JointIr {
             name,
             obj1,
             obj2,
@@ -152,7 +154,7 @@ pub(super) fn item(it: &Item) -> TokenStream {
             can_collide,
             cut,
             limits,
-        } => {
+        }) => {
             let (n, o1, o2) = (
                 scoped(&name.to_string()),
                 scoped(&obj1.path),
@@ -523,7 +525,7 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
     let fe = quote!(::modia3d::core::ForceElement);
     let to_string = quote!(::std::string::ToString::to_string);
     match f {
-        ForceIr::SpringDamper {
+        ForceIr::SpringDamper(SpringDamperIr {
             obj1,
             obj2,
             stiffness,
@@ -531,7 +533,7 @@ fn force(name: &str, f: &ForceIr) -> TokenStream {
             length0,
             spring_law,
             damper_law,
-        } => {
+        }) => {
             let (n, o1, o2) = (scoped(name), scoped(&obj1.path), scoped(&obj2.path));
             let l = num_or(length0, quote!(0.0));
             if spring_law.is_none() && damper_law.is_none() {

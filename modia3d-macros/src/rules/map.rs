@@ -5,6 +5,7 @@
 use super::{is_stand_in, Probe};
 use crate::check::{compact, Errors};
 use crate::ir::{ActionIr, FeatureIr, ForceIr, InputIr, Ir, Item, MaterialName, Parent, SolidIr};
+use crate::ir::{JointIr, ObjectIr};
 use crate::names::NameRef;
 use modia3d_core::scene::{builtin_solid_names, SceneError};
 use modia3d_core::JOINT_KINDS;
@@ -34,27 +35,27 @@ impl<'a> Mapper<'a> {
         self.ir
             .items
             .iter()
-            .find(|it| matches!(it, Item::Object { name: n, .. } if n == name))
+            .find(|it| matches!(it, Item::Object(ObjectIr { name: n, .. }) if n == name))
     }
 
     fn solid(&self, name: &str) -> Option<&'a SolidIr> {
         match self.object(name)? {
-            Item::Object {
+            Item::Object(ObjectIr {
                 feature: Some(FeatureIr::Solid(s)),
                 ..
-            } => Some(s),
+            }) => Some(s),
             _ => None,
         }
     }
 
     fn joint(&self, name: &str) -> Option<(&'a NameRef, &'a NameRef)> {
         self.ir.items.iter().find_map(|it| match it {
-            Item::Joint {
+            Item::Joint(JointIr {
                 name: n,
                 obj1,
                 obj2,
                 ..
-            } if n == name => Some((obj1, obj2)),
+            }) if n == name => Some((obj1, obj2)),
             _ => None,
         })
     }
@@ -201,10 +202,10 @@ impl<'a> Mapper<'a> {
                     return None;
                 }
                 let last = objects.last()?;
-                let Some(Item::Object {
+                let Some(Item::Object(ObjectIr {
                     parent: Parent::Ref(r),
                     ..
-                }) = self.object(last)
+                })) = self.object(last)
                 else {
                     return None;
                 };
@@ -547,9 +548,9 @@ impl<'a> Mapper<'a> {
     fn kinematic_loop(&self, objects: &[String], errors: &mut Errors) -> Option<(u32, syn::Error)> {
         let (a, b) = (objects.first()?, objects.get(1)?);
         let closing = self.ir.items.iter().rev().find_map(|it| match it {
-            Item::Joint {
+            Item::Joint(JointIr {
                 name, obj1, obj2, ..
-            } if (obj1.path == *a && obj2.path == *b) || (obj1.path == *b && obj2.path == *a) => {
+            }) if (obj1.path == *a && obj2.path == *b) || (obj1.path == *b && obj2.path == *a) => {
                 Some((name, obj1, obj2))
             }
             _ => None,

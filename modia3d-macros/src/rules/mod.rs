@@ -10,6 +10,7 @@ mod map;
 use crate::ast::ModelDef;
 use crate::check::Errors;
 use crate::ir::shape_arg;
+use crate::ir::MaterialIr;
 use crate::ir::{
     ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr, LitNum,
     MassIr, MaterialName, Num, Parent, SceneIr, ShapeArg, ShapeIr, SolidIr,
@@ -152,7 +153,7 @@ impl<'a> Probe<'a> {
             let defined = ir
                 .items
                 .iter()
-                .any(|it| matches!(it, Item::Material { name, .. } if name == n));
+                .any(|it| matches!(it, Item::Material(MaterialIr { name, .. }) if name == n));
             if *k == Kind::Material && !defined {
                 self.desc.add_solid_material(&n.to_string(), neutral);
             }
@@ -177,66 +178,40 @@ impl<'a> Probe<'a> {
             r.path.as_str()
         };
         match it {
-            Item::Material {
-                name,
-                density,
-                young_modulus,
-                poisson_ratio,
-            } => {
-                let n = name.to_string();
+            Item::Material(mat) => {
+                let n = mat.name.to_string();
                 let m = SolidMaterial {
-                    density: self.scalar(&n, density),
-                    young_modulus: self.scalar(&n, young_modulus),
-                    poisson_ratio: self.scalar(&n, poisson_ratio),
+                    density: self.scalar(&n, &mat.density),
+                    young_modulus: self.scalar(&n, &mat.young_modulus),
+                    poisson_ratio: self.scalar(&n, &mat.poisson_ratio),
                 };
                 self.desc.add_solid_material(&n, m);
             }
-            Item::Object {
-                name,
-                parent,
-                feature,
-                ..
-            } => {
-                let n = name.to_string();
+            Item::Object(object) => {
+                let n = object.name.to_string();
                 let mut o = Object3D::new(&n);
-                if let Parent::Ref(r) = parent {
+                if let Parent::Ref(r) = &object.parent {
                     o = o.parent(obj(r));
                 }
-                if let Some(f) = feature {
+                if let Some(f) = &object.feature {
                     o = o.feature(self.feature(&n, f));
                 }
                 self.desc.add(o);
             }
-            Item::Joint {
-                name,
-                obj1,
-                obj2,
-                kind,
-                can_collide,
-                cut,
-                ..
-            } => {
-                let kind = joint_at_rest(kind);
-                let (o1, o2) = (obj(obj1), obj(obj2));
-                let cut = cut.as_ref().and_then(|c| c.1).unwrap_or(false);
-                let mut joint = Joint::new(&name.to_string(), o1, o2, kind).cut(cut);
+            Item::Joint(j) => {
+                let kind = joint_at_rest(&j.kind);
+                let (o1, o2) = (obj(&j.obj1), obj(&j.obj2));
+                let cut = j.cut.as_ref().and_then(|c| c.1).unwrap_or(false);
+                let mut joint = Joint::new(&j.name.to_string(), o1, o2, kind).cut(cut);
                 // Not given: the scene's conventions decide (`SceneOptions::modia3d_conventions`).
-                if let Some(c) = can_collide {
+                if let Some(c) = &j.can_collide {
                     joint = joint.can_collide(c.1.unwrap_or(false));
                 }
                 self.desc.add_joint(joint);
             }
             Item::Force { name, force, .. } => {
                 let f = match force {
-                    ForceIr::SpringDamper {
-                        obj1,
-                        obj2,
-                        stiffness,
-                        damping,
-                        length0,
-                        spring_law,
-                        damper_law,
-                    } => {
+                    ForceIr::SpringDamper(sd) => {
                         // A law's literal number is a coefficient; a closure a stand-in.
                         let n = name.to_string();
                         let mut coef = |a: &'a Option<Num>, b: &'a Option<Num>| {
@@ -244,13 +219,16 @@ impl<'a> Probe<'a> {
                                 .or(b.as_ref())
                                 .map_or(0.0, |x| self.scalar(&n, x))
                         };
-                        let (c, d) = (coef(stiffness, spring_law), coef(damping, damper_law));
+                        let (c, d) = (
+                            coef(&sd.stiffness, &sd.spring_law),
+                            coef(&sd.damping, &sd.damper_law),
+                        );
                         ForceElement::SpringDamper {
-                            obj1: obj(obj1).to_string(),
-                            obj2: obj(obj2).to_string(),
+                            obj1: obj(&sd.obj1).to_string(),
+                            obj2: obj(&sd.obj2).to_string(),
                             stiffness: c,
                             damping: d,
-                            length0: length0.as_ref().map_or(0.0, |l| self.scalar(&n, l)),
+                            length0: sd.length0.as_ref().map_or(0.0, |l| self.scalar(&n, l)),
                             name: n,
                         }
                     }
@@ -350,26 +328,20 @@ impl<'a> Probe<'a> {
                 };
                 self.desc.add_action(a);
             }
-            Item::ContactPair {
-                material1,
-                material2,
-                cor,
-                mu_k,
-                mu_r,
-                v_min,
-                w_min,
-                ..
-            } => {
+            Item::ContactPair(pair) => {
                 let unsure = |m: &MaterialName| matches!(m, MaterialName::Expr(_));
-                self.pairs_unsure |= unsure(material1) || unsure(material2);
-                let (a, b) = (self.material(material1), self.material(material2));
-                let mut m = ContactPairMaterial::new(
-                    self.scalar(&a, cor),
-                    self.scalar(&a, mu_k),
-                    self.scalar(&a, mu_r),
+                self.pairs_unsure |= unsure(&pair.material1) || unsure(&pair.material2);
+                let (a, b) = (
+                    self.material(&pair.material1),
+                    self.material(&pair.material2),
                 );
-                m.v_min = v_min.as_ref().map(|v| self.scalar(&a, v));
-                m.w_min = w_min.as_ref().map(|w| self.scalar(&a, w));
+                let mut m = ContactPairMaterial::new(
+                    self.scalar(&a, &pair.cor),
+                    self.scalar(&a, &pair.mu_k),
+                    self.scalar(&a, &pair.mu_r),
+                );
+                m.v_min = pair.v_min.as_ref().map(|v| self.scalar(&a, v));
+                m.w_min = pair.w_min.as_ref().map(|w| self.scalar(&a, w));
                 self.desc.add_contact_pair(&a, &b, m);
             }
             Item::Assembly { parent, .. } => {
