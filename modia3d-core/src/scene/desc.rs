@@ -679,7 +679,14 @@ impl Joint {
         match &mut self.kind {
             JointKind::Revolute { phi, .. } => *phi = x,
             JointKind::Prismatic { s, .. } => *s = x,
-            _ => {}
+            // The other kinds have several coordinates or none: their initial values are
+            // the variant's own fields (listed, so a new kind must decide here).
+            JointKind::Fix
+            | JointKind::FreeMotion { .. }
+            | JointKind::Spherical { .. }
+            | JointKind::Universal { .. }
+            | JointKind::Cylindrical { .. }
+            | JointKind::Planar { .. } => {}
         }
         self
     }
@@ -688,7 +695,14 @@ impl Joint {
         match &mut self.kind {
             JointKind::Revolute { w, .. } => *w = x,
             JointKind::Prismatic { v, .. } => *v = x,
-            _ => {}
+            // The other kinds have several coordinates or none: their initial values are
+            // the variant's own fields (listed, so a new kind must decide here).
+            JointKind::Fix
+            | JointKind::FreeMotion { .. }
+            | JointKind::Spherical { .. }
+            | JointKind::Universal { .. }
+            | JointKind::Cylindrical { .. }
+            | JointKind::Planar { .. } => {}
         }
         self
     }
