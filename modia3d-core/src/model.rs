@@ -109,7 +109,7 @@ impl SceneDesc {
 impl Model {
     /// Compiles both plans of a validated scene. The mass-matrix positivity check and the
     /// initial penetrations come last: they need the compiled plans and the initial state (see
-    /// `Plan::check_inertia` for why they are not validation checks; `contact/initial.rs`).
+    /// `mass_matrix::check_inertia` for why they are not validation checks; `contact/initial.rs`).
     pub(crate) fn compile(valid: ValidScene) -> Result<Model, SceneErrors> {
         Model::finish(Plan::compile(valid), true)
     }
@@ -122,7 +122,7 @@ impl Model {
         crate::dynamics::loops::assemble_initial(&mut plan).map_err(|e| SceneErrors(vec![e]))?;
         let contact =
             ContactPlan::compile(&plan.scene, &plan.objects, &plan.bodies).map_err(SceneErrors)?;
-        plan.check_inertia()?;
+        crate::dynamics::mass_matrix::check_inertia(&plan)?;
         crate::dynamics::forces::check_gravity_centre(&plan)?;
         if let Some(cp) = contact.as_ref().filter(|_| penetration) {
             let deep = crate::contact::initial_penetrations(&plan, cp);

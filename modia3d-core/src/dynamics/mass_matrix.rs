@@ -7,6 +7,7 @@
 use super::forces::applied_forces;
 use super::kinematics::position_velocity;
 use super::{Plan, Workspace};
+use crate::scene::{SceneError, SceneErrors};
 use crate::spatial::Force;
 use nalgebra::{DMatrix, Vector3};
 
@@ -329,6 +330,47 @@ pub(crate) fn singular_coordinate(
     let (free, factor) = free_cholesky(plan, group, m);
     factor.err()?;
     row_operated_lu(plan, ws, q, group, &free).err()
+}
+
+/// The mass matrix of the coordinates that are not prescribed must be positive definite at
+/// the initial state (or, where its Cholesky pivot test fails, the residual's row-operated
+/// matrix must be regular: `mass_matrix::singular_coordinate`); otherwise names the joint
+/// whose coordinate has no inertia.
+///
+/// (Beside the mass matrix it forms: the plan only lays the tree out.) This is the one scene
+/// check after validation: it needs the compiled plan and the
+/// dynamics (an inverse-dynamics pass per coordinate). It runs only on a scene without
+/// any other error, so its error never hides another one; and a body without mass is a
+/// consequence of values validation has already accepted, so the user fixes it in one
+/// further edit rather than seeing a new kind of error appear after each round.
+pub(crate) fn check_inertia(plan: &Plan) -> Result<(), SceneErrors> {
+    let mut ws = super::Workspace::new(plan);
+    let singular = tree_mass_matrices(plan, &mut ws, &plan.q0)
+        .into_iter()
+        .find_map(|(group, m)| singular_coordinate(plan, &ws, &plan.q0, &group, &m));
+    if let Some(k) = singular {
+        let j = plan
+            .joints
+            .iter()
+            .find(|j| k >= j.v_offset && k < j.v_offset + j.coord.nv())
+            .expect("every velocity belongs to a joint");
+        let body = &plan.bodies[j.body];
+        let problem = if body.inertia.mass == 0.0 {
+            "has no mass"
+        } else {
+            "has a singular inertia for its degrees of freedom"
+        };
+        return Err(SceneErrors(vec![SceneError::SingularMass {
+            joint: j.name.clone(),
+            objects: body
+                .objects
+                .iter()
+                .map(|&o| plan.objects[o].name.clone())
+                .collect(),
+            problem,
+        }]));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

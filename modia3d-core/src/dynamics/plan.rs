@@ -6,7 +6,7 @@
 
 use super::ids::{BodyId, IdVec, JointId, ObjectId};
 pub(crate) use crate::joints::JointCoord;
-use crate::scene::{GravityField, SceneError, SceneErrors, ValidInputKind, ValidScene};
+use crate::scene::{GravityField, ValidInputKind, ValidScene};
 use crate::spatial::{Inertia, Transform};
 use nalgebra::{Isometry3, Vector3};
 
@@ -332,7 +332,7 @@ impl Plan {
     /// Lays out a validated scene, whose topology (clusters, spanning tree) validation has
     /// already checked: bodies and joints in tree order, object placements, state layout,
     /// combined mass properties, inputs. Layout only: it cannot fail. The mass-matrix
-    /// positivity check ([`Plan::check_inertia`]) needs the finished plan and runs after it.
+    /// positivity check ([`super::mass_matrix::check_inertia`]) needs the finished plan and runs after it.
     pub(crate) fn compile(scene: ValidScene) -> Plan {
         let in_ref = placements(&scene);
         let TreeLayout {
@@ -409,48 +409,6 @@ impl Plan {
             },
             scene,
         }
-    }
-
-    /// The mass matrix of the coordinates that are not prescribed must be positive definite at
-    /// the initial state (or, where its Cholesky pivot test fails, the residual's row-operated
-    /// matrix must be regular: `mass_matrix::singular_coordinate`); otherwise names the joint
-    /// whose coordinate has no inertia.
-    ///
-    /// This is the one scene check after validation: it needs the compiled plan and the
-    /// dynamics (an inverse-dynamics pass per coordinate). It runs only on a scene without
-    /// any other error, so its error never hides another one; and a body without mass is a
-    /// consequence of values validation has already accepted, so the user fixes it in one
-    /// further edit rather than seeing a new kind of error appear after each round.
-    pub(crate) fn check_inertia(&self) -> Result<(), SceneErrors> {
-        let mut ws = super::Workspace::new(self);
-        let singular = super::mass_matrix::tree_mass_matrices(self, &mut ws, &self.q0)
-            .into_iter()
-            .find_map(|(group, m)| {
-                super::mass_matrix::singular_coordinate(self, &ws, &self.q0, &group, &m)
-            });
-        if let Some(k) = singular {
-            let j = self
-                .joints
-                .iter()
-                .find(|j| k >= j.v_offset && k < j.v_offset + j.coord.nv())
-                .expect("every velocity belongs to a joint");
-            let body = &self.bodies[j.body];
-            let problem = if body.inertia.mass == 0.0 {
-                "has no mass"
-            } else {
-                "has a singular inertia for its degrees of freedom"
-            };
-            return Err(SceneErrors(vec![SceneError::SingularMass {
-                joint: j.name.clone(),
-                objects: body
-                    .objects
-                    .iter()
-                    .map(|&o| self.objects[o].name.clone())
-                    .collect(),
-                problem,
-            }]));
-        }
-        Ok(())
     }
 
     /// The object with this name.

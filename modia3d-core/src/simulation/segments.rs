@@ -674,7 +674,7 @@ fn project_velocities(now: &Now, v_old: &[f64], new: &Plan) -> Vec<f64> {
             .copied()
             .unwrap_or(0.0)
     });
-    // M⁺ is positive definite on the free coordinates (checked by `Plan::check_inertia` when
+    // M⁺ is positive definite on the free coordinates (checked by `mass_matrix::check_inertia` when
     // the segment's model is finished); if not, that check reports it, so keep v = 0 here.
     if let Some(ch) = m_ff.cholesky() {
         let v_f = ch.solve(&r_f);
