@@ -31,3 +31,4 @@ pub(crate) use limits::{LimitPlan, LimitState};
 pub(crate) use pair_jacobian::{pair_wrench_jacobian, PER_BODY};
 pub(crate) use preprocess::{ContactPlan, PairLaw};
 pub(crate) use regularise::CLAMP_BAND;
+pub(crate) use step_guard::StepGuard;

@@ -170,8 +170,6 @@ pub(crate) struct ContactPlan {
     /// looked at; their `z_AB` counts as `margin` (a positive constant), which keeps `z_2`
     /// continuous (`docs/contact-model.md` §2.2: far fewer than n² box tests).
     pub margin: f64,
-    /// The largest step that keeps every passage through a contact visible (tunnelling).
-    pub step_guard: super::step_guard::StepGuard,
 }
 
 /// The constants of a pair of contact materials, the scene's defaults filled in.
@@ -343,7 +341,6 @@ impl ContactPlan {
             .collect();
         let mut cp = ContactPlan {
             moving,
-            step_guard: super::step_guard::StepGuard::default(),
             margin,
             shapes,
             n_pairs: 0,
@@ -390,7 +387,6 @@ impl ContactPlan {
         if cp.n_pairs == 0 {
             return Ok(None);
         }
-        cp.step_guard = super::step_guard::StepGuard::new(&cp);
         Ok(Some(cp))
     }
 

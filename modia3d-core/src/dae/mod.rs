@@ -4,7 +4,9 @@
 //! functions of the contact set (none without collision pairs). The residual is a short list of
 //! stage calls and allocates nothing.
 
-use crate::contact::{ContactError, ContactPlan, ContactState, LimitPlan, LimitState, Mode};
+use crate::contact::{
+    ContactError, ContactPlan, ContactState, LimitPlan, LimitState, Mode, StepGuard,
+};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, BodyId, Plan, Workspace};
@@ -59,6 +61,9 @@ pub(crate) struct MultibodyDae {
     /// Scratch of the loop constraints (empty without cut joints).
     lw: LoopWork,
     contact: Option<ContactState>,
+    /// The largest step that keeps every passage through a contact visible (tunnelling;
+    /// `contact/step_guard.rs`), built with the DAE from its contact plan; `None` without one.
+    step_guard: Option<StepGuard>,
     /// The joint limits, `None` without any (then nothing of them runs).
     limits: Option<Box<Limits>>,
     /// Scratch of [`Self::limit_forces`].
@@ -229,6 +234,7 @@ impl MultibodyDae {
         let ws = Workspace::new(&plan);
         let contact_plan = contact;
         let contact = contact_plan.as_deref().map(ContactState::new);
+        let step_guard = contact_plan.as_deref().map(StepGuard::new);
         let blocks = TreeBlocks::new(&plan);
         let lw = LoopWork::new(&plan);
         let mut body_of_q = Vec::with_capacity(plan.nq);
@@ -279,6 +285,7 @@ impl MultibodyDae {
             hinge,
             plan,
             contact_plan,
+            step_guard,
             ws,
             lw,
             contact,
@@ -335,9 +342,8 @@ impl MultibodyDae {
     /// [`Self::max_safe_step`] with the body that sets it (`StepGuard::limit`).
     pub(crate) fn guard_limit(&self) -> Option<(f64, BodyId)> {
         let (b, h) = self
-            .contact_plan
-            .as_ref()?
             .step_guard
+            .as_ref()?
             .limit(&self.ws, &self.plan.gravity)?;
         Some((h, b))
     }
