@@ -4,8 +4,7 @@
 //! Plain data on syntax; no code generation.
 
 pub(crate) use crate::ir::NameRef;
-use crate::ir::{Item, Parent};
-use crate::ir::{JointIr, ObjectIr};
+use crate::ir::{Item, JointIr, ObjectIr, Parent};
 use proc_macro2::Ident;
 use std::collections::{HashMap, HashSet};
 use syn::Expr;

@@ -34,7 +34,7 @@ struct GuardBody {
 }
 
 /// What the guard needs of a contact plan.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub(crate) struct StepGuard {
     /// Every moving body with a collision shape.
     bodies: Vec<GuardBody>,

@@ -2,9 +2,10 @@
 
 use super::{compact, lit_bool, lit_f64, lit_int, lit_str, lit_vec3, Args, Checker};
 use crate::ast::Ctor;
-use crate::ir::SpringDamperIr;
-use crate::ir::{ActionIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, LimitIr, MaterialName};
-use crate::ir::{ContactPairIr, JointIr};
+use crate::ir::{
+    ActionIr, ContactPairIr, ForceIr, InputIr, Item, JointAxis, JointIr, JointKindIr, LimitIr,
+    MaterialName, SpringDamperIr,
+};
 use crate::names::{did_you_mean, hint};
 use crate::vocab::{
     joint_keys, joint_kind, world_vector_keys, Kind, BUSHING_KEYS, BUSHING_LAWS, LIMIT_SUFFIXES,

@@ -13,8 +13,7 @@ mod joints;
 mod values;
 
 use crate::ast::{push, Arg, Ctor, ModelDef};
-use crate::ir::MaterialIr;
-use crate::ir::{Ir, Item, LitNum, Num, Parent, PathCheck};
+use crate::ir::{Ir, Item, LitNum, MaterialIr, Num, Parent, PathCheck};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
 use crate::vocab::{components, is_nested, nested_hint, Kind, SYNONYMS};
 use proc_macro2::{Ident, Span};

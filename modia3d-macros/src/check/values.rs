@@ -3,10 +3,9 @@
 
 use super::{lit_bool, lit_int, lit_matrix, lit_str, Checker};
 use crate::ast::Ctor;
-use crate::ir::ObjectIr;
 use crate::ir::{
-    AxisIr, FeatureIr, Item, MassIr, MaterialName, Num, Parent, Profile, SceneIr, ShapeArg,
-    ShapeIr, SolidIr,
+    AxisIr, FeatureIr, Item, MassIr, MaterialName, Num, ObjectIr, Parent, Profile, SceneIr,
+    ShapeArg, ShapeIr, SolidIr,
 };
 use crate::names::{did_you_mean, hint};
 use crate::vocab::{

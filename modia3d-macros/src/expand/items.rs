@@ -3,13 +3,11 @@
 //! spliced in on their own spans so rustc reports type errors there.
 
 use super::{local, paths_module_at, prefix, scoped};
-use crate::ir::shape_arg;
-use crate::ir::SpringDamperIr;
 use crate::ir::{
-    ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Item, JointAxis, JointKindIr, MassIr,
-    MaterialName, Num, Parent, PathCheck, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr,
+    shape_arg, ActionIr, AxisIr, ContactPairIr, FeatureIr, ForceIr, InputIr, Item, JointAxis,
+    JointIr, JointKindIr, MassIr, MaterialIr, MaterialName, Num, ObjectIr, Parent, PathCheck,
+    Profile, SceneIr, ShapeArg, ShapeIr, SolidIr, SpringDamperIr,
 };
-use crate::ir::{ContactPairIr, JointIr, MaterialIr, ObjectIr};
 use modia3d_core::{ParamValue, ShapeValue};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};

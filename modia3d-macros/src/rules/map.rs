@@ -4,8 +4,10 @@
 
 use super::{is_stand_in, Probe};
 use crate::check::{compact, Errors};
-use crate::ir::{ActionIr, FeatureIr, ForceIr, InputIr, Ir, Item, MaterialName, Parent, SolidIr};
-use crate::ir::{JointIr, ObjectIr};
+use crate::ir::{
+    ActionIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointIr, MaterialName, ObjectIr, Parent,
+    SolidIr,
+};
 use crate::names::NameRef;
 use modia3d_core::scene::{builtin_solid_names, SceneError};
 use modia3d_core::JOINT_KINDS;

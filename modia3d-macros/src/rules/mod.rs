@@ -9,11 +9,9 @@ mod map;
 
 use crate::ast::ModelDef;
 use crate::check::Errors;
-use crate::ir::shape_arg;
-use crate::ir::MaterialIr;
 use crate::ir::{
-    ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr, LitNum,
-    MassIr, MaterialName, Num, Parent, SceneIr, ShapeArg, ShapeIr, SolidIr,
+    shape_arg, ActionIr, AxisIr, FeatureIr, ForceIr, InputIr, Ir, Item, JointAxis, JointKindIr,
+    LitNum, MassIr, MaterialIr, MaterialName, Num, Parent, SceneIr, ShapeArg, ShapeIr, SolidIr,
 };
 use crate::names::NameRef;
 use crate::vocab::Kind;
