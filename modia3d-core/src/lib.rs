@@ -94,6 +94,10 @@ pub use results::{
     SimWarning, SimulationResult, EVENT_MARKER_COLOR,
 };
 pub use scene::{
+    blocks, Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec,
+    Src, SrcFn, StateSpec,
+};
+pub use scene::{
     Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,
     FreeRotation, Input, InputKind, Joint, JointKind, JointLimit, MassSpec, MaterialPalette,
     MaterialRef, Object3D, ObjectMotion, Rotation, SceneDesc, SceneError, SceneErrors,

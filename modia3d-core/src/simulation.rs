@@ -201,44 +201,54 @@ impl From<UserFault> for SimErrorKind {
 /// Absolute tolerances of the `n` unknowns: `atol` for every state; with closed loops, the
 /// multipliers `λ`, `μ` (algebraic, left out of the error test) get `LOOP_MULTIPLIER_ATOL`
 /// in IDA's Newton convergence test (see `dynamics/loops.rs`).
+/// The components' states (after them) get `atol` times their nominal size.
 fn loop_atol(plan: &crate::dynamics::Plan, n: usize, atol: f64) -> Atol {
-    if plan.loops.m() == 0 {
+    let cp = &plan.components;
+    if plan.loops.m() == 0 && cp.nx == 0 {
         return Atol::Scalar(atol);
     }
     let states = plan.nq + plan.nv;
+    let xo = plan.x_offset();
     Atol::Vector(
         (0..n)
             .map(|i| {
                 if i < states {
                     atol
-                } else {
+                } else if i < xo {
                     LOOP_MULTIPLIER_ATOL
+                } else {
+                    atol * cp.x_nominal.get(i - xo).copied().unwrap_or(1.0)
                 }
             })
             .collect(),
     )
 }
 
-/// IDA's options for a run (or a segment) of `plan` with `n` unknowns and `root_functions`
-/// root functions.
+/// IDA's options for a run (or a segment) of `plan` with `n` unknowns and root functions of
+/// `root_directions` (`MultibodyDae::root_directions`).
 fn ida_options(
     plan: &crate::dynamics::Plan,
     opts: &SimOptions,
     n: usize,
-    root_functions: usize,
+    root_directions: Option<Vec<i32>>,
 ) -> IdaOptions {
     IdaOptions {
         rtol: opts.rtol,
         atol: loop_atol(plan, n, opts.effective_atol(&plan.scene.options)),
         max_step: opts.max_step,
-        // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts).
-        root_directions: (root_functions == 2).then(|| vec![1, -1]),
+        // z_1 matters when it rises (a contact ends), z_2 when it falls (one starts), the
+        // components' smallest crossing when it falls.
+        root_directions,
         structured_jacobian: opts.structured_jacobian,
         jacobian_reuse: opts.jacobian_reuse,
         dense_lu: opts.dense_lu,
         // Closed loops: λ and μ are algebraic and left out of the error test
         // (dynamics/loops.rs).
-        differential: (plan.loops.m() > 0).then(|| (0..n).map(|i| i < plan.nq + plan.nv).collect()),
+        differential: (plan.loops.m() > 0).then(|| {
+            (0..n)
+                .map(|i| i < plan.nq + plan.nv || i >= plan.x_offset())
+                .collect()
+        }),
         suppress_algebraic_error: plan.loops.m() > 0,
         // A stricter Newton test for the index-2 multipliers: on the free four-bar at rtol
         // 1e-10 it takes 11,400 steps over 5 s instead of 16,300 (fewer error-test failures
@@ -501,6 +511,14 @@ impl Simulation {
         let mut y0 = plan.y0();
         // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
         y0.resize(crate::solver::DaeSystem::len(&dae), 0.0);
+        let xo = plan.x_offset();
+        for (slot, &x) in y0.iter_mut().skip(xo).zip(&plan.components.x0) {
+            *slot = x;
+        }
+        // The components' discrete states at the start (limiters' modes, samplers' first tick).
+        if let Err(f) = dae.component_event(t0, &y0) {
+            return Err(fail(f.into(), result));
+        }
         // The initial contact set (event mode), then consistent derivatives including contacts.
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
@@ -510,7 +528,7 @@ impl Simulation {
             Err(e) => return Err(fail(derivative_error(e, t0), result)),
         };
         let root_functions = dae.num_roots_public();
-        let ida_opts = ida_options(&plan, opts, y0.len(), root_functions);
+        let ida_opts = ida_options(&plan, opts, y0.len(), dae.root_directions());
         if let Some((lp, _)) = dae.limits() {
             result.enable_limits(lp, opts.contact_results);
         }
@@ -670,7 +688,11 @@ impl Simulation {
             self.inputs_changed = false;
         }
         let dt = self.opts.interval.unwrap_or((t1 - t0) / 500.0);
-        self.ida.set_stop_time(target)?;
+        // The components' time events (a source's kink, a sampler's tick) stop the
+        // integration there: the event, then a restart.
+        let mut t_event = self.ida.system().next_time_event(now);
+        let stop = |e: Option<f64>| e.map_or(target, |e| e.min(target));
+        self.ida.set_stop_time(stop(t_event))?;
         // One internal step per `solve`: the output grid never steers the steps (IDA's first
         // step after a restart would otherwise be 0.001 × the distance to the next output
         // point, and every output point inside a step would cost a root evaluation); output
@@ -716,8 +738,26 @@ impl Simulation {
                 self.result.push_dense(&mut self.ida, t_prev, t)?;
             }
             self.record_grid(t0, dt, t.min(target - eps))?;
+            let at_event = t_event.is_some_and(|e| t >= e - 1e-14 * e.abs().max(1.0));
+            if at_event && !matches!(status, SolveStatus::Root { .. }) {
+                self.time_event(t)?;
+                t_event = self.ida.system().next_time_event(t);
+                if t < target - eps {
+                    self.restart(t)?;
+                    self.ida.set_stop_time(stop(t_event))?;
+                    continue;
+                }
+                // At the target: the next call restarts from here.
+                self.inputs_changed = true;
+            }
             match status {
-                SolveStatus::Root { t } => self.event(t)?,
+                SolveStatus::Root { t } => {
+                    self.event(t)?;
+                    if t_event.is_some_and(|e| e <= t) {
+                        t_event = self.ida.system().next_time_event(t);
+                        self.ida.set_stop_time(stop(t_event))?;
+                    }
+                }
                 SolveStatus::Reached { t } if self.opts.output_steps && t < target - eps => {
                     let y = self.ida.y().to_vec();
                     record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
@@ -1061,7 +1101,8 @@ impl Simulation {
     fn event(&mut self, t: f64) -> Result<(), SimErrorKind> {
         let y = self.ida.y().to_vec();
         let dae = self.ida.system_mut();
-        let changed = dae.handle_event(t, &y)?;
+        let switched = dae.component_event(t, &y)?;
+        let changed = dae.handle_event(t, &y)? || switched;
         let (started, ended) = dae.event_pairs();
         self.result.phase_event(self.ida.system(), t);
         if !changed && t <= self.last_event_t {
@@ -1083,6 +1124,9 @@ impl Simulation {
         if !ended.is_empty() {
             words.push(format!("contact ended: {}", ended.join(", ")));
         }
+        if switched {
+            words.push("a component switched".into());
+        }
         if words.is_empty() {
             words.push("root without a change of the contact set".into());
         }
@@ -1100,6 +1144,14 @@ impl Simulation {
         self.restart(t)
     }
 
+    /// A time event of the components at `t` \[s\]: their discrete states are set anew (the
+    /// caller restarts IDA).
+    fn time_event(&mut self, t: f64) -> Result<(), SimErrorKind> {
+        let y = self.ida.y().to_vec();
+        self.ida.system_mut().component_event(t, &y)?;
+        Ok(())
+    }
+
     /// Re-initialises IDA at `t` with the current `y` and a consistent `y'`.
     fn restart(&mut self, t: f64) -> Result<(), SimErrorKind> {
         self.phase_scratch.forget();
@@ -1115,26 +1167,27 @@ impl Simulation {
         Ok(())
     }
 
-    /// Names of the declared inputs.
+    /// Names of the declared inputs, then of the `Input` components.
     pub fn input_names(&self) -> Vec<&str> {
-        self.model
-            .plan
-            .inputs
+        let plan = &self.model.plan;
+        plan.inputs
             .iter()
             .map(|i| i.name.as_str())
+            .chain(input_components(plan).map(|(c, _)| c.name.as_str()))
             .collect()
     }
 
     /// Sets input `name` to `values` (1 value for joint inputs, 6 for an object wrench: force
     /// \[N\] then torque [N·m], resolved in world). Takes effect from the current time on.
     pub fn set_input(&mut self, name: &str, values: &[f64]) -> Result<(), InputError> {
+        let plan = self.model.plan.clone();
+        if let Some((_, at)) = input_components(&plan).find(|(c, _)| c.name == name) {
+            return self.set_input_component(name, at, values);
+        }
         let Some(inp) = self.model.plan.inputs.iter().find(|i| i.name == name) else {
             return Err(InputError::Unknown {
                 name: name.into(),
-                hint: crate::scene::did_you_mean(
-                    name,
-                    self.model.plan.inputs.iter().map(|i| i.name.as_str()),
-                ),
+                hint: crate::scene::did_you_mean(name, self.input_names().into_iter()),
             });
         };
         if values.len() != inp.len {
@@ -1155,6 +1208,36 @@ impl Simulation {
         if let Some(slot) = self.ida.system_mut().inputs_mut().get_mut(off..off + len) {
             if slot != values {
                 slot.copy_from_slice(values);
+                self.inputs_changed = true;
+            }
+        }
+        Ok(())
+    }
+
+    /// Sets the `Input` component whose value is discrete state `at` to `values` (one value).
+    fn set_input_component(
+        &mut self,
+        name: &str,
+        at: usize,
+        values: &[f64],
+    ) -> Result<(), InputError> {
+        let &[value] = values else {
+            return Err(InputError::Length {
+                name: name.into(),
+                expected: 1,
+                got: values.len(),
+            });
+        };
+        if !value.is_finite() {
+            return Err(InputError::NotFinite {
+                name: name.into(),
+                value,
+            });
+        }
+        let dae = self.ida.system_mut();
+        if let Some(slot) = dae.component_discrete_mut().and_then(|d| d.get_mut(at)) {
+            if *slot != value {
+                *slot = value;
                 self.inputs_changed = true;
             }
         }
@@ -1192,6 +1275,17 @@ impl Simulation {
     }
 }
 
+/// The `Input` components of `plan` with the index of their value among the discrete states.
+fn input_components(
+    plan: &crate::dynamics::Plan,
+) -> impl Iterator<Item = (&crate::dynamics::components::CompPlan, usize)> + '_ {
+    plan.components
+        .comps
+        .iter()
+        .filter(|c| c.component.kind() == "Input" && c.d.len() == 1)
+        .map(|c| (c, c.d.start))
+}
+
 /// Stores an output point (and, if asked for, the contact signals at it).
 fn record(
     dae: &mut MultibodyDae,
@@ -1208,6 +1302,11 @@ fn record(
     result.push_multipliers(y.get(n..n + m).unwrap_or(&[]));
     if let Some(f) = dae.limit_forces(y) {
         result.push_limit_forces(f);
+    }
+    if !dae.plan().components.comps.is_empty() {
+        let mut values = Vec::new();
+        dae.component_values(t, y, &mut values);
+        result.push_components(&values);
     }
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.

@@ -7,6 +7,7 @@
 use crate::contact::{
     ContactError, ContactPlan, ContactState, LimitPlan, LimitState, Mode, StepGuard,
 };
+use crate::dynamics::components::{ComponentState, Point};
 use crate::dynamics::forces::UserFault;
 use crate::dynamics::loops::LoopWork;
 use crate::dynamics::{forces, kinematics, rnea, BodyId, Plan, Workspace};
@@ -68,6 +69,9 @@ pub(crate) struct MultibodyDae {
     limits: Option<Box<Limits>>,
     /// Scratch of [`Self::limit_forces`].
     limit_out: Vec<f64>,
+    /// The components' scratch and discrete states, `None` without components (then nothing
+    /// of them runs).
+    comps: Option<Box<ComponentState>>,
     /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
     /// fail); reported by the driver.
     root_error: Option<ContactError>,
@@ -163,6 +167,9 @@ struct MassColumns {
 struct TreeBlocks {
     /// Block of each body.
     of_body: Vec<usize>,
+    /// Number of joint trees (the blocks `0..n_trees`; the components' states, if any, are
+    /// block `n_trees`, coupled to the trees whose coordinates they read or drive).
+    n_trees: usize,
     /// Block of each unknown of `y = [q; v]` and the couplings by force elements.
     fixed: BlockStructure,
     /// The trees that are one free body (`dae/jacobian.rs`): their columns can be computed
@@ -213,8 +220,35 @@ impl TreeBlocks {
             }
         }
         let (free, own_forces) = jacobian::free_bodies(plan, &of_body, n_blocks);
+        let n_trees = n_blocks;
+        let mut n_blocks = n_blocks;
+        let cp = &plan.components;
+        if cp.nx > 0 {
+            block_of.resize(block_of.len() + cp.nx, n_trees);
+            n_blocks += 1;
+        }
+        if !cp.comps.is_empty() {
+            let mut tree_of_v = vec![0; plan.nv];
+            for j in &plan.joints {
+                tree_of_v[j.v_offset..j.v_offset + j.coord.nv()].fill(of_body[j.body.index()]);
+            }
+            // Trees tied through the components' signals: each pair of them, and each with the
+            // components' states.
+            let trees: Vec<usize> = cp.v_touched.iter().map(|&v| tree_of_v[v]).collect();
+            for &a in &trees {
+                if cp.nx > 0 {
+                    couplings.push((a, n_trees));
+                }
+                for &b in &trees {
+                    if a != b {
+                        couplings.push((a, b));
+                    }
+                }
+            }
+        }
         Some(TreeBlocks {
             of_body,
+            n_trees,
             fixed: BlockStructure {
                 block_of,
                 n_blocks,
@@ -249,7 +283,7 @@ impl MultibodyDae {
         }
         let nb = plan.bodies.len();
         let groups = plan.velocity_groups();
-        let n_trees = blocks.as_ref().map_or(0, |b| b.fixed.n_blocks);
+        let n_trees = blocks.as_ref().map_or(0, |b| b.n_trees);
         let limits = LimitPlan::compile(&plan).map(|lp| {
             Box::new(Limits {
                 state: LimitState::new(&lp),
@@ -263,6 +297,8 @@ impl MultibodyDae {
         if limits.is_some() {
             hinge.limit_kd = vec![(0.0, 0.0); plan.nv];
         }
+        let comps = (!plan.components.comps.is_empty())
+            .then(|| Box::new(ComponentState::new(&plan.components)));
         MultibodyDae {
             body_of_q,
             body_of_v,
@@ -291,6 +327,7 @@ impl MultibodyDae {
             contact,
             limits,
             limit_out: vec![],
+            comps,
             root_error: None,
             ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
             ewt_factors: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.block_of.len())),
@@ -407,6 +444,74 @@ impl MultibodyDae {
     pub(crate) fn limits(&self) -> Option<(&LimitPlan, &LimitState)> {
         self.limits.as_deref().map(|l| (&l.plan, &l.state))
     }
+    /// Number of the contact and limit root functions (2 with collision pairs or limits, else
+    /// 0); the components' one, if any, follows them.
+    fn contact_roots(&self) -> usize {
+        if self.contact.is_some() || self.limits.is_some() {
+            2
+        } else {
+            0
+        }
+    }
+    /// The directions of the root functions IDA watches: `z_1` rising (a contact ends),
+    /// `z_2` falling (one starts), the components' smallest crossing falling; `None` without
+    /// root functions.
+    pub(crate) fn root_directions(&self) -> Option<Vec<i32>> {
+        let mut d = if self.contact_roots() == 2 {
+            vec![1, -1]
+        } else {
+            vec![]
+        };
+        if self.plan.components.nz > 0 {
+            d.push(-1);
+        }
+        (!d.is_empty()).then_some(d)
+    }
+    /// The components' point of `y` at time `t` \[s\].
+    fn component_point<'a>(plan: &'a Plan, t: f64, y: &'a [f64]) -> Point<'a> {
+        let (nq, nv, xo) = (plan.nq, plan.nv, plan.x_offset());
+        Point {
+            t,
+            q: &y[..nq],
+            v: &y[nq..nq + nv],
+            x: y.get(xo..).unwrap_or(&[]),
+        }
+    }
+    /// A component event at `(t, y)` (a time event, a zero crossing, the start): the
+    /// components set their discrete states. Returns whether any changed.
+    pub(crate) fn component_event(&mut self, t: f64, y: &[f64]) -> Result<bool, UserFault> {
+        let Some(cs) = self.comps.as_deref_mut() else {
+            return Ok(false);
+        };
+        self.quotient_base = false;
+        let at = Self::component_point(&self.plan, t, y);
+        cs.event(&self.plan.components, &at)
+    }
+    /// The first time event of a component strictly after `t` \[s\].
+    pub(crate) fn next_time_event(&self, t: f64) -> Option<f64> {
+        let cs = self.comps.as_deref()?;
+        cs.next_time_event(&self.plan.components, t)
+    }
+    /// The components' signals at `(t, y)` for an output point: their continuous states,
+    /// outputs and discrete states, appended to `out` (nothing without components).
+    pub(crate) fn component_values(&mut self, t: f64, y: &[f64], out: &mut Vec<f64>) {
+        let Some(cs) = self.comps.as_deref_mut() else {
+            return;
+        };
+        let at = Self::component_point(&self.plan, t, y);
+        out.extend_from_slice(at.x);
+        if cs.outputs(&self.plan.components, &at).is_err() {
+            // The next residual reports the fault; the output point shows NaN.
+            out.extend(std::iter::repeat_n(f64::NAN, cs.y.len()));
+        } else {
+            out.extend_from_slice(&cs.y);
+        }
+        out.extend_from_slice(&cs.d);
+    }
+    /// The components' discrete states.
+    pub(crate) fn component_discrete_mut(&mut self) -> Option<&mut [f64]> {
+        self.comps.as_deref_mut().map(|c| &mut c.d[..])
+    }
     /// Takes the first contact error met while evaluating root functions.
     pub(crate) fn take_root_error(&mut self) -> Option<ContactError> {
         self.root_error.take()
@@ -460,8 +565,22 @@ impl MultibodyDae {
         y: &mut [f64],
     ) -> Result<Vec<f64>, DerivativeError> {
         let (nq, nv, m) = (self.plan.nq, self.plan.nv, self.plan.loops.m());
+        let xo = self.plan.x_offset();
+        let x: Vec<f64> = y.get(xo..).unwrap_or(&[]).to_vec();
         if nq + nv == 0 {
-            return Ok(vec![0.0; self.len()]);
+            let mut yp = vec![0.0; self.len()];
+            if let Some(cs) = self.comps.as_deref_mut() {
+                let at = Point {
+                    t,
+                    q: &[],
+                    v: &[],
+                    x: &x,
+                };
+                cs.evaluate(&self.plan.components, &at, &mut [])
+                    .map_err(DerivativeError::User)?;
+                yp[xo..].copy_from_slice(&cs.xdot);
+            }
+            return Ok(yp);
         }
         let (q, rest) = y.split_at_mut(nq);
         let (v, mult) = rest.split_at_mut(nv);
@@ -469,13 +588,15 @@ impl MultibodyDae {
             crate::dynamics::loops::project(&self.plan, &mut self.ws, q, v)
                 .map_err(DerivativeError::Loop)?;
         }
-        let mut yp = vec![0.0; nq + nv + 2 * m];
+        let mut yp = vec![0.0; self.len()];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
         let contact = &mut self.contact;
         let contact_plan = self.contact_plan.as_deref();
         let limits = &mut self.limits;
+        let comps = &mut self.comps;
         let (qc, vc) = (&*q, &*v);
         let mut failed = None;
+        let mut comp_fault = None;
         let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
             &self.plan,
             &mut self.ws,
@@ -491,8 +612,22 @@ impl MultibodyDae {
                 if let Some(l) = limits.as_deref_mut() {
                     l.state.apply(&l.plan, qc, vc, &mut ws.tau_applied);
                 }
+                if let Some(cs) = comps.as_deref_mut() {
+                    let at = Point {
+                        t,
+                        q: qc,
+                        v: &vc[..plan.nv],
+                        x: &x,
+                    };
+                    if let Err(f) = cs.evaluate(&plan.components, &at, &mut ws.tau_applied) {
+                        comp_fault.get_or_insert(f);
+                    }
+                }
             },
         );
+        if let Some(f) = comp_fault {
+            return Err(DerivativeError::User(f));
+        }
         if let Some(fault) = self.ws.fault.take() {
             return Err(DerivativeError::User(fault));
         }
@@ -503,7 +638,10 @@ impl MultibodyDae {
         yp[nq..nq + nv].copy_from_slice(&vd);
         if m > 0 {
             mult[..m].copy_from_slice(&lambda);
-            mult[m..].fill(0.0);
+            mult[m..2 * m].fill(0.0);
+        }
+        if let Some(cs) = self.comps.as_deref() {
+            yp[xo..].copy_from_slice(&cs.xdot);
         }
         Ok(yp)
     }
@@ -532,7 +670,7 @@ impl DaeSystem for MultibodyDae {
     /// `nq + nv`, or 1 for a scene without unknowns (every body fixed): IDA needs n ≥ 1, so
     /// such a scene integrates one dummy state with `ẏ = 0` and its signals stay constant.
     fn len(&self) -> usize {
-        (self.plan.nq + self.plan.nv + 2 * self.plan.loops.m()).max(1)
+        (self.plan.x_offset() + self.plan.components.nx).max(1)
     }
 
     fn residual(
@@ -547,7 +685,9 @@ impl DaeSystem for MultibodyDae {
 
     fn begin_quotients(&mut self, t: f64, y: &[f64], yp: &[f64]) -> Result<bool, ResidualError> {
         self.quotient_base = false;
-        if self.blocks.is_none() {
+        // With components every quotient evaluates the whole residual: their signals tie
+        // trees together in ways the live-tree bookkeeping below does not follow.
+        if self.blocks.is_none() || self.comps.is_some() {
             return Ok(false);
         }
         let mut base = std::mem::take(&mut self.base_res);
@@ -629,17 +769,31 @@ impl DaeSystem for MultibodyDae {
     }
 
     fn num_roots(&self) -> usize {
-        if self.contact.is_some() || self.limits.is_some() {
-            2
-        } else {
-            0
-        }
+        self.contact_roots() + usize::from(self.plan.components.nz > 0)
     }
 
     /// The stops of joint limits are folded into the same two functions (`z_1` the largest
     /// over pairs and stops in contact, `z_2` the smallest over the others).
     fn roots(&mut self, t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) {
         let plan = &*self.plan;
+        // The components' zero crossings: one function, the smallest of them.
+        if let Some(cs) = self.comps.as_deref_mut().filter(|_| plan.components.nz > 0) {
+            let (nq, nv, xo) = (plan.nq, plan.nv, plan.x_offset());
+            let at = Point {
+                t,
+                q: &y[..nq],
+                v: &y[nq..nq + nv],
+                x: &y[xo..],
+            };
+            let base = usize::from(self.contact.is_some() || self.limits.is_some()) * 2;
+            g[base] = match cs.min_crossing(&plan.components, &at) {
+                Ok(z) => z,
+                Err(f) => {
+                    self.ws.fault.get_or_insert(f);
+                    1.0
+                }
+            };
+        }
         let (q, v) = y.split_at(plan.nq);
         let stops = self.limits.as_deref().map(|l| l.state.roots(&l.plan, q));
         let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) else {
@@ -721,6 +875,14 @@ impl DaeSystem for MultibodyDae {
                     }
                 }
             }
+        }
+        if !self.plan.components.comps.is_empty() {
+            // Trees whose coordinates components read or drive get quotient columns (the
+            // analytic ones do not see the components' rows), as does the components' block.
+            for &v in &self.plan.components.v_touched {
+                s.analytic[tb.of_body[self.body_of_v[v].index()]] = false;
+            }
+            s.analytic.resize(s.n_blocks, false);
         }
         if !self.analytic_enabled {
             s.analytic.fill(false);
@@ -821,7 +983,9 @@ impl DaeSystem for MultibodyDae {
     ) -> Result<bool, ResidualError> {
         let plan = &*self.plan;
         let (nq, nv) = (plan.nq, plan.nv);
-        if nq + nv == 0 {
+        // With components every matrix is formed anew (their rows and the geared inertias
+        // are not in the columns below).
+        if nq + nv == 0 || self.comps.is_some() {
             return Ok(false);
         }
         let q = &args.y[..nq];
@@ -966,8 +1130,30 @@ impl MultibodyDae {
     ) -> Result<(), ResidualError> {
         let plan = &*self.plan;
         let nq = plan.nq;
+        // The components' rows `ẋ − f = 0` after the multibody ones (`dynamics/components.rs`).
+        let xo = plan.x_offset();
+        let (y, x) = y.split_at(xo.min(y.len()));
+        let (yp, xd) = yp.split_at(xo.min(yp.len()));
+        let (res, res_x) = res.split_at_mut(xo.min(res.len()));
         if nq + plan.nv == 0 {
-            res[0] = yp[0];
+            match self.comps.as_deref_mut() {
+                Some(cs) => {
+                    let at = Point {
+                        t,
+                        q: &[],
+                        v: &[],
+                        x,
+                    };
+                    if let Err(f) = cs.evaluate(&plan.components, &at, &mut []) {
+                        self.ws.fault.get_or_insert(f);
+                    }
+                    fault_check(&self.ws)?;
+                    for ((r, d), f) in res_x.iter_mut().zip(xd).zip(&cs.xdot) {
+                        *r = d - f;
+                    }
+                }
+                None => res_x[0] = xd[0],
+            }
             return Ok(());
         }
         let (nv, m) = (plan.nv, plan.loops.m());
@@ -990,6 +1176,15 @@ impl MultibodyDae {
             kinematics::position_velocity(plan, &mut self.ws, q, v);
         }
         forces::applied_forces(plan, &mut self.ws, t, q, v);
+        if let Some(cs) = self.comps.as_deref_mut() {
+            let at = Point { t, q, v, x };
+            if let Err(f) = cs.evaluate(&plan.components, &at, &mut self.ws.tau_applied) {
+                self.ws.fault.get_or_insert(f);
+            }
+            for ((r, d), f) in res_x.iter_mut().zip(xd).zip(&cs.xdot) {
+                *r = d - f;
+            }
+        }
         fault_check(&self.ws)?;
         if let (Some(cs), Some(cp)) = (self.contact.as_mut(), self.contact_plan.as_deref()) {
             if quotient {

@@ -3,6 +3,7 @@
 //! forces, recursive Newton–Euler inverse dynamics. Touches scene data (read-only) and its own
 //! workspace.
 
+pub(crate) mod components;
 pub(crate) mod forces;
 pub(crate) mod ids;
 pub(crate) mod kinematics;

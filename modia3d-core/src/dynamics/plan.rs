@@ -134,6 +134,12 @@ pub(crate) struct Plan {
     /// The cut joints of closed loops and their kept constraint rows (`dynamics/loops.rs`);
     /// the rows are chosen by `loops::assemble_initial` when the model is built.
     pub loops: super::loops::LoopPlan,
+    /// The components with states (`dynamics/components.rs`); their states follow `[q; v]`
+    /// and the loops' multipliers in `y`.
+    pub components: super::components::ComponentPlan,
+    /// Per velocity coordinate, the inertia rigidly geared to it by components' flanges
+    /// ([kg·m²] or \[kg\]; `M_kk += armature_k`); empty when there is none.
+    pub armature: Vec<f64>,
 }
 
 fn iso_to_transform(iso: &Isometry3<f64>) -> Transform {
@@ -386,8 +392,16 @@ impl Plan {
         let (nq, nv) = (q0.len(), v0.len());
         let (inputs, n_inputs, prescribed) = input_layout(&scene, &joints, &tree_joint_of, nv);
         let loops = super::loops::cut_plans(&scene, &in_ref, &cluster_body);
+        let (components, armature) = super::components::ComponentPlan::compile(
+            &scene.components,
+            &tree_joint_of,
+            &joints,
+            nv,
+        );
         Plan {
             loops,
+            components,
+            armature,
             inputs,
             n_inputs,
             prescribed,
@@ -460,5 +474,9 @@ impl Plan {
     /// Initial state `y0 = [q0; v0]`.
     pub(crate) fn y0(&self) -> Vec<f64> {
         [self.q0.as_slice(), self.v0.as_slice()].concat()
+    }
+    /// Offset of the components' states in `y` (after `[q; v]` and the loops' multipliers).
+    pub(crate) fn x_offset(&self) -> usize {
+        self.nq + self.nv + 2 * self.loops.m()
     }
 }

@@ -108,6 +108,12 @@ fn newton_euler(
         let (v0, nvj) = (j.v_offset, j.coord.nv());
         let tau_j = &mut tau[v0..v0 + nvj];
         j.coord.project_at(&ws.xj[i], qj, &f, tau_j);
+        // Inertias geared to the coordinates by components' flanges (a drive's N²·J_motor).
+        if !plan.armature.is_empty() {
+            for (k, t) in tau_j.iter_mut().enumerate() {
+                *t += plan.armature[v0 + k] * vd[v0 + k];
+            }
+        }
         if let Some(p) = b.parent {
             let mut pass = f;
             if decouple {

@@ -291,6 +291,9 @@ pub struct SimulationResult {
     limit_signals: Vec<(String, &'static str)>,
     /// Their values, `limit_signals.len()` per time point.
     limit_forces: Vec<f64>,
+    /// The components' signals per time point: their continuous states, outputs and discrete
+    /// states (`dynamics/components.rs`); empty without components.
+    component_values: Vec<f64>,
     /// The names of the joint limits' stops (`"<joint>.<coordinate>.lower"`, `".upper"`).
     limit_stops: Vec<String>,
     /// The velocity index of each limited coordinate (the row its force enters; for loads).
@@ -439,6 +442,7 @@ impl SimulationResult {
             multipliers: vec![],
             limit_signals: vec![],
             limit_forces: vec![],
+            component_values: vec![],
             limit_stops: vec![],
             limit_v: vec![],
             dense: DenseOutput::default(),
@@ -545,6 +549,70 @@ impl SimulationResult {
         if !self.limit_signals.is_empty() {
             self.limit_forces.extend_from_slice(f);
         }
+    }
+
+    /// Appends the components' signals of one time point.
+    pub(crate) fn push_components(&mut self, values: &[f64]) {
+        self.component_values.extend_from_slice(values);
+    }
+
+    /// The components' signals by name (`<component>.<state, output or discrete state>`),
+    /// with their index in a time point's values and unit.
+    fn component_signal_list(&self) -> Vec<(String, usize, &'static str)> {
+        let cp = &self.model.plan.components;
+        let mut v: Vec<(String, usize, &'static str)> = vec![];
+        let mut seen = std::collections::HashSet::new();
+        let mut push = |name: String, k: usize, unit: &'static str| {
+            if seen.insert(name.clone()) {
+                v.push((name, k, unit));
+            }
+        };
+        for c in &cp.comps {
+            for (k, o) in c.outputs.iter().enumerate() {
+                push(
+                    format!("{}.{}", c.name, o.name),
+                    cp.nx + c.y.start + k,
+                    o.unit,
+                );
+            }
+            for (k, x) in c.states.iter().enumerate() {
+                push(format!("{}.{}", c.name, x.name), c.x.start + k, x.unit);
+            }
+            for (k, d) in c.discrete.iter().enumerate() {
+                push(
+                    format!("{}.{}", c.name, d.name),
+                    cp.nx + cp.ny + c.d.start + k,
+                    d.unit,
+                );
+            }
+        }
+        v
+    }
+
+    /// A component's signal (`servo.pi.x`, `drive.motor_w`).
+    fn component_signal(&self, owner: &str, field: &str) -> Option<Signal> {
+        let cp = &self.model.plan.components;
+        if cp.comps.is_empty() {
+            return None;
+        }
+        let full = format!("{owner}.{field}");
+        let (name, k, unit) = self
+            .component_signal_list()
+            .into_iter()
+            .find(|(n, _, _)| *n == full)?;
+        let n = cp.nx + cp.ny + cp.nd;
+        Some(Signal {
+            name,
+            unit,
+            dim: 1,
+            data: self
+                .component_values
+                .iter()
+                .skip(k)
+                .step_by(n.max(1))
+                .copied()
+                .collect(),
+        })
     }
 
     /// `<joint>.limit_f` (or `.limit_f_<coordinate>`): a joint limit's generalised force.
@@ -883,6 +951,7 @@ impl SimulationResult {
         }
         names.extend(self.load_signal_names());
         names.extend(self.limit_signals.iter().map(|(n, _)| n.clone()));
+        names.extend(self.component_signal_list().into_iter().map(|(n, _, _)| n));
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
                 names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
@@ -951,6 +1020,7 @@ impl SimulationResult {
             .or_else(|| self.contact_signal(owner, field))
             .or_else(|| self.loop_signal(owner, field))
             .or_else(|| self.limit_signal(owner, field))
+            .or_else(|| self.component_signal(owner, field))
         {
             Some(s) => Some(s),
             None => self.load_signal(owner, field).transpose()?,

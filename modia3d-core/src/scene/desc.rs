@@ -904,12 +904,20 @@ pub struct SceneDesc {
     pub inputs: Vec<Input>,
     /// Scheduled structure changes (attach, release, delete; see [`crate::scene::Action`]).
     pub actions: Vec<crate::scene::Action>,
+    /// Components with states in the DAE: controllers, sources, drives
+    /// (docs/drive-trains.md).
+    pub components: Vec<crate::scene::ComponentDecl>,
 }
 
 impl SceneDesc {
     /// Declares an input.
     pub fn add_input(&mut self, input: Input) -> &mut Self {
         self.inputs.push(input);
+        self
+    }
+    /// Adds a component (see [`crate::scene::ComponentDecl`]).
+    pub fn add_component(&mut self, component: crate::scene::ComponentDecl) -> &mut Self {
+        self.components.push(component);
         self
     }
     /// An empty scene description.

@@ -2,6 +2,8 @@
 //! Touches only plain data; nothing here knows about dynamics or the solver.
 
 mod actions;
+pub mod blocks;
+mod components;
 mod contact_rules;
 mod desc;
 mod force_laws;
@@ -10,6 +12,10 @@ mod topology;
 pub(crate) mod validate;
 
 pub use actions::{Action, ActionKind};
+pub use components::{
+    Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec, Src,
+    SrcFn, StateSpec,
+};
 #[cfg(feature = "solver")]
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
 pub use desc::*;

@@ -259,12 +259,22 @@ impl Simulation {
         }
         let mut y = model.plan.y0();
         y.resize(DaeSystem::len(&dae), 0.0);
+        carry_components(&self.model.plan, self.ida.y(), &model.plan, &mut y);
+        if let (Some(old), Some(new)) = (
+            self.ida
+                .system_mut()
+                .component_discrete_mut()
+                .map(|d| d.to_vec()),
+            dae.component_discrete_mut(),
+        ) {
+            carry_discrete(&self.model.plan, &old, &model.plan, new);
+        }
         dae.handle_event(t, &y)?;
         let yp = dae
             .consistent_derivative(t, &mut y)
             .map_err(|e| derivative_error(e, t))?;
         let roots = dae.num_roots_public();
-        let ida_opts = ida_options(&model.plan, &self.opts, y.len(), roots);
+        let ida_opts = ida_options(&model.plan, &self.opts, y.len(), dae.root_directions());
         let ida = Ida::new(dae, t, &y, &yp, &ida_opts)?;
         // Nothing fails from here on: the run switches to the new structure.
         let old_ida = std::mem::replace(&mut self.ida, ida);
@@ -294,6 +304,40 @@ impl Simulation {
         self.stalled = 0;
         self.update_stats();
         Ok(())
+    }
+}
+
+/// The components' continuous states of `y_old` (of `old`) written into `y` (of `new`), by
+/// component name (components keep their states across structure changes; a new one starts
+/// at its initial values).
+fn carry_components(old: &Plan, y_old: &[f64], new: &Plan, y: &mut [f64]) {
+    let (xo_old, xo) = (old.x_offset(), new.x_offset());
+    let xs = new.components.x0.iter().copied();
+    for (slot, v) in y.iter_mut().skip(xo).zip(xs) {
+        *slot = v;
+    }
+    for c in &new.components.comps {
+        if let Some(o) = old.components.comps.iter().find(|o| o.name == c.name) {
+            if o.x.len() == c.x.len() {
+                let src = y_old.get(xo_old + o.x.start..xo_old + o.x.end);
+                if let (Some(src), Some(dst)) = (src, y.get_mut(xo + c.x.start..xo + c.x.end)) {
+                    dst.copy_from_slice(src);
+                }
+            }
+        }
+    }
+}
+
+/// The components' discrete states carried as [`carry_components`] carries the continuous.
+fn carry_discrete(old: &Plan, d_old: &[f64], new: &Plan, d: &mut [f64]) {
+    for c in &new.components.comps {
+        if let Some(o) = old.components.comps.iter().find(|o| o.name == c.name) {
+            if let (Some(dst), Some(src)) = (d.get_mut(c.d.clone()), d_old.get(o.d.clone())) {
+                if dst.len() == src.len() {
+                    dst.copy_from_slice(src);
+                }
+            }
+        }
     }
 }
 

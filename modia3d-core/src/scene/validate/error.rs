@@ -301,6 +301,64 @@ pub enum SceneError {
         /// Its coordinates, listed.
         coordinates: String,
     },
+    /// A component whose parameters are invalid ([`crate::scene::Component::check`]).
+    #[error("component `{component}` ({kind}): {reason}")]
+    ComponentParameter {
+        /// The component.
+        component: String,
+        /// Its kind (`"PI"`).
+        kind: &'static str,
+        /// What is wrong and what to do.
+        reason: String,
+    },
+    /// A component input wired to a signal that does not exist.
+    #[error("component `{component}`'s input `{port}` reads unknown signal `{path}`{}; a signal is `time`, a component's output or state (`pi.y`, `pi.x`) or a joint coordinate's position or velocity (`rev.phi`, `rev.w`)", hint_text(.hint))]
+    UnknownSignal {
+        /// The component.
+        component: String,
+        /// Its input port.
+        port: String,
+        /// The path read.
+        path: String,
+        /// A close existing signal, if any.
+        hint: Option<String>,
+    },
+    /// A component input wired that the component does not have, or wired twice.
+    #[error("component `{component}` ({kind}) has no input `{port}` or wires it twice; its inputs are {ports}")]
+    UnknownPort {
+        /// The component.
+        component: String,
+        /// Its kind.
+        kind: &'static str,
+        /// The port named.
+        port: String,
+        /// Its ports, listed.
+        ports: String,
+    },
+    /// A component input left unwired.
+    #[error("component `{component}` ({kind}): input `{port}` is not wired; give it a source (a signal path, an expression or a constant)")]
+    UnwiredInput {
+        /// The component.
+        component: String,
+        /// Its kind.
+        kind: &'static str,
+        /// The port.
+        port: String,
+    },
+    /// Components that read each other's outputs at the same instant with no state between.
+    #[error("algebraic loop through components {}: each reads the next one's output at the same instant and no state lies between; put a state in the loop (a FirstOrder filter, an Integrator) or sample one of them (`Sampled`)", list(.cycle))]
+    AlgebraicLoop {
+        /// The components on the loop, in order.
+        cycle: Vec<String>,
+    },
+    /// A component's flange or input on a cut joint of a kinematic loop.
+    #[error("component `{component}` uses joint `{joint}`, which closes a kinematic loop (its coordinates are no states of the model); mark another joint of the loop `cut = true` so this one stays in the tree")]
+    ComponentOnCutJoint {
+        /// The component.
+        component: String,
+        /// The joint.
+        joint: String,
+    },
 }
 
 fn list(names: &[String]) -> String {

@@ -281,7 +281,7 @@ pub(super) fn coordinate_index(
 /// The validated joint and the index of its scalar coordinate `coordinate` (`None`: its only
 /// one) that a spring-damper or input (`referrer`) acts on; errors for an unknown joint, a kind
 /// without scalar coordinates, an unknown coordinate name, or no name where several exist.
-fn joint_coordinate(
+pub(super) fn joint_coordinate(
     c: &mut Checker,
     desc: &SceneDesc,
     names: &Names,

@@ -14,6 +14,7 @@
 #![cfg_attr(not(feature = "solver"), allow(dead_code))]
 
 mod actions;
+pub(crate) mod components;
 pub(crate) mod error;
 mod forces;
 mod joints;
@@ -226,6 +227,8 @@ pub(crate) struct ValidScene {
     pub contact_pairs: Vec<(String, String, ContactPairMaterial)>,
     /// Inputs with resolved joint/object indices.
     pub inputs: Vec<ValidInput>,
+    /// Components with their inputs resolved and their order of evaluation.
+    pub components: components::ValidComponents,
     /// Rigid clusters and the spanning joint tree (`scene/topology.rs`).
     pub topology: super::topology::Topology,
 }
@@ -402,11 +405,14 @@ impl SceneDesc {
         }
         let forces = forces::forces(c, self, &names, &joints);
         let inputs = forces::inputs(c, self, &names, &joints);
+        let cut_joints: Vec<usize> = topology.cuts.iter().map(|cut| cut.joint).collect();
+        let components = components::components(c, self, &names, &joints, &cut_joints);
         options::contact_pair_materials(c, self);
         actions::actions(c, self, &names);
         let valid = ValidScene {
             contact_pairs: self.contact_pairs.clone(),
             inputs,
+            components,
             objects,
             joints,
             forces,
