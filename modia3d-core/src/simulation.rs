@@ -1146,9 +1146,25 @@ impl Simulation {
 
     /// A time event of the components at `t` \[s\]: their discrete states are set anew (the
     /// caller restarts IDA).
+    /// The event is logged and has an output point, as a contact's (a source's kink or a
+    /// sampler's jump bounds the interpolation of `signal_at`).
     fn time_event(&mut self, t: f64) -> Result<(), SimErrorKind> {
         let y = self.ida.y().to_vec();
-        self.ida.system_mut().component_event(t, &y)?;
+        let switched = self.ida.system_mut().component_event(t, &y)?;
+        let description = if switched {
+            "time event; a component switched"
+        } else {
+            "time event"
+        };
+        tracing::debug!(t, description, "event");
+        self.result.events.push(Event {
+            t,
+            description: description.into(),
+            started: vec![],
+            ended: vec![],
+        });
+        let contacts = self.opts.contact_results;
+        record(self.ida.system_mut(), &mut self.result, t, &y, contacts);
         Ok(())
     }
 

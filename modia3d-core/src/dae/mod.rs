@@ -474,7 +474,7 @@ impl MultibodyDae {
             t,
             q: &y[..nq],
             v: &y[nq..nq + nv],
-            x: y.get(xo..).unwrap_or(&[]),
+            x: y.get(xo..xo + plan.components.nx).unwrap_or(&[]),
         }
     }
     /// A component event at `(t, y)` (a time event, a zero crossing, the start): the
@@ -566,7 +566,8 @@ impl MultibodyDae {
     ) -> Result<Vec<f64>, DerivativeError> {
         let (nq, nv, m) = (self.plan.nq, self.plan.nv, self.plan.loops.m());
         let xo = self.plan.x_offset();
-        let x: Vec<f64> = y.get(xo..).unwrap_or(&[]).to_vec();
+        let nx = self.plan.components.nx;
+        let x: Vec<f64> = y.get(xo..xo + nx).unwrap_or(&[]).to_vec();
         if nq + nv == 0 {
             let mut yp = vec![0.0; self.len()];
             if let Some(cs) = self.comps.as_deref_mut() {
@@ -578,7 +579,7 @@ impl MultibodyDae {
                 };
                 cs.evaluate(&self.plan.components, &at, &mut [])
                     .map_err(DerivativeError::User)?;
-                yp[xo..].copy_from_slice(&cs.xdot);
+                yp[xo..xo + cs.xdot.len()].copy_from_slice(&cs.xdot);
             }
             return Ok(yp);
         }
@@ -641,7 +642,7 @@ impl MultibodyDae {
             mult[m..2 * m].fill(0.0);
         }
         if let Some(cs) = self.comps.as_deref() {
-            yp[xo..].copy_from_slice(&cs.xdot);
+            yp[xo..xo + cs.xdot.len()].copy_from_slice(&cs.xdot);
         }
         Ok(yp)
     }
@@ -783,7 +784,7 @@ impl DaeSystem for MultibodyDae {
                 t,
                 q: &y[..nq],
                 v: &y[nq..nq + nv],
-                x: &y[xo..],
+                x: &y[xo..xo + plan.components.nx],
             };
             let base = usize::from(self.contact.is_some() || self.limits.is_some()) * 2;
             g[base] = match cs.min_crossing(&plan.components, &at) {
@@ -1136,23 +1137,24 @@ impl MultibodyDae {
         let (yp, xd) = yp.split_at(xo.min(yp.len()));
         let (res, res_x) = res.split_at_mut(xo.min(res.len()));
         if nq + plan.nv == 0 {
-            match self.comps.as_deref_mut() {
-                Some(cs) => {
-                    let at = Point {
-                        t,
-                        q: &[],
-                        v: &[],
-                        x,
-                    };
-                    if let Err(f) = cs.evaluate(&plan.components, &at, &mut []) {
-                        self.ws.fault.get_or_insert(f);
-                    }
-                    fault_check(&self.ws)?;
-                    for ((r, d), f) in res_x.iter_mut().zip(xd).zip(&cs.xdot) {
-                        *r = d - f;
-                    }
+            if let Some(cs) = self.comps.as_deref_mut() {
+                let at = Point {
+                    t,
+                    q: &[],
+                    v: &[],
+                    x,
+                };
+                if let Err(f) = cs.evaluate(&plan.components, &at, &mut []) {
+                    self.ws.fault.get_or_insert(f);
                 }
-                None => res_x[0] = xd[0],
+                fault_check(&self.ws)?;
+                for ((r, d), f) in res_x.iter_mut().zip(xd).zip(&cs.xdot) {
+                    *r = d - f;
+                }
+            }
+            if plan.components.nx == 0 {
+                // The dummy state of a scene without unknowns (see `len`).
+                res_x[0] = xd[0];
             }
             return Ok(());
         }
