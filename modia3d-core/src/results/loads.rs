@@ -143,6 +143,15 @@ impl SimulationResult {
                 inputs.join(", ")
             )));
         }
+        if !plan.components.comps.is_empty() {
+            // Their flange forces and geared inertias are not in the stored states' pass.
+            return Some(Ok(
+                "the scene has components (drives, controllers) whose flange forces the \
+                 loads' Newton–Euler pass does not include yet; read a drive's `tau_load` \
+                 for the torque it puts on its joint"
+                    .to_string(),
+            ));
+        }
         if self.model.contact.is_some() && self.contacts.is_none() {
             return Some(Err(ResultError::ContactResultsOff {
                 what: format!("signal `{name}` (a joint load includes the contact forces)"),
