@@ -604,17 +604,13 @@ fn compare(
     worst
 }
 
-/// The tight run: rtol 1e-10 with atol 1e-10. With the default atol (0.01·rtol) these servos
-/// fail at t = 0 with IDA_ERR_FAIL from rtol 3e-9 down (4 s runs; a 40 s run already at
-/// 1e-8): every state starts at rest, so `y'(0) = 0` and IDA's first step is 0.001 of the span,
-/// while the ramp acts through the controller at once (`ẍ_PI(0) = 7800·2.5/s`); ten error-test
-/// failures cut the step only by 4⁻⁹ (to 1.5e-8 s here), too little for atol ≤ 3e-11. The
-/// library sets a first step only for scenes with loops. atol 1e-10 passes, and a `max_step`
-/// of 1e-4 s passes at any rtol.
+/// The tight run: rtol 1e-10 at the default atol. (Before the library gave scenes with
+/// component states a first step of 1e-6 of the span, these servos failed at t = 0 from
+/// rtol 3e-9 down: every state starts at rest, so IDA's own first step was 1e-3 of the span,
+/// while the ramp acts through the controller at once.)
 fn tight_options() -> SimOptions {
     SimOptions::new(4.0)
         .tolerance(1e-10)
-        .atol(1e-10)
         .interval(0.5)
         .quiet(true)
 }
