@@ -1183,6 +1183,14 @@ impl Simulation {
             .system_mut()
             .consistent_derivative(t, &mut y)
             .map_err(|e| derivative_error(e, t))?;
+        let plan = &self.model.plan;
+        if plan.components.nx > 0 && plan.loops.m() == 0 {
+            // The components' first step is for the start only (see `ida_options`): after a
+            // time event IDA's own estimate is better (a servo after a path's smooth
+            // segment switch, restarted at 1e-6 of the span, stayed at 6e-5 s steps with an
+            // error-test failure at each for 0.45 s: 3,890 steps instead of 476).
+            self.ida.set_init_step(0.0)?;
+        }
         self.ida.reinit(t, &y, &yp)?;
         Ok(())
     }

@@ -479,6 +479,16 @@ impl<S: DaeSystem> Ida<S> {
         self.check(rc, "IDASetStopTime")
     }
 
+    /// Sets the first step of the next integration start \[s\] (`IDASetInitStep`; 0: IDA
+    /// estimates it from `y'`). It holds for every later `reinit` until set again.
+    pub(crate) fn set_init_step(&mut self, h: f64) -> Result<(), IdaError> {
+        check_finite("init_step", h)?;
+        self.begin_call();
+        // SAFETY: mem is valid.
+        let rc = unsafe { sys::IDASetInitStep(self.mem, h) };
+        self.check(rc, "IDASetInitStep")
+    }
+
     /// Removes the stop time (`IDAClearStopTime`).
     pub(crate) fn clear_stop_time(&mut self) -> Result<(), IdaError> {
         self.begin_call();
