@@ -150,7 +150,7 @@ fn run_in_dae(model: &Model, rtol: f64) -> Result<Run, Box<dyn std::error::Error
     )?;
     Ok(Run {
         wall: t.elapsed().as_secs_f64(),
-        stats: result.stats.clone(),
+        stats: result.stats,
         result,
     })
 }
@@ -186,7 +186,7 @@ fn run_host(
     let result = sim.into_result();
     Ok(Run {
         wall: t0.elapsed().as_secs_f64(),
-        stats: result.stats.clone(),
+        stats: result.stats,
         result,
     })
 }
