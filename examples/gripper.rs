@@ -45,14 +45,14 @@ model! {
 }
 
 /// Shoulder height \[m\] and link lengths \[m\] of [`Gripper`].
-const SHOULDER: f64 = 0.6;
+pub const SHOULDER: f64 = 0.6;
 const L1: f64 = 0.4;
 const L2: f64 = 0.35;
 
 /// Joint angles \[rad\] that put the gripper's centre at `(x, z)` \[m\] (elbow bent one way).
 /// With both links hanging down at zero angles, the tip is at
 /// `x = −l1 sin φ1 − l2 sin(φ1 + φ2)`, `z = h − l1 cos φ1 − l2 cos(φ1 + φ2)`.
-fn ik(x: f64, z: f64) -> [f64; 2] {
+pub fn ik(x: f64, z: f64) -> [f64; 2] {
     let (a, b) = (-x, SHOULDER - z);
     let c = ((a * a + b * b - L1 * L1 - L2 * L2) / (2.0 * L1 * L2)).clamp(-1.0, 1.0);
     let phi2 = c.acos();
@@ -64,7 +64,7 @@ fn ik(x: f64, z: f64) -> [f64; 2] {
 /// its top (the sphere's radius is 1 cm), hold while gripping, up, over to x = −0.1 m where
 /// the second link has its gripping orientation again (so the box is level), hold while the
 /// box is dropped 5.5 cm, back up.
-const WAYPOINTS: [(f64, [f64; 2]); 7] = [
+pub const WAYPOINTS: [(f64, [f64; 2]); 7] = [
     (0.2, [-0.4, 0.165]),
     (0.9, [-0.4, 0.065]),
     (1.1, [-0.4, 0.065]),

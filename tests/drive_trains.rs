@@ -1000,3 +1000,85 @@ fn dc_motor_drive_matches_the_reference() -> Res<()> {
         TIGHT,
     )
 }
+
+/// A point mass `m` at distance `d` from a hinge about z, gravity −y, at angle `phi0`, held by
+/// the servo with a constant reference `phi0`: with `steady_state` the run starts holding it.
+/// Rigid gear: the PI's state carries the gravity torque, `k·x·N = m·g·d·cos φ0` (the speed
+/// error is zero at rest); the mass then never moves. Elastic gear: the joint sags by the
+/// spring's deflection `δ = m·g·d·cos(φ0 − δ)/c` below the motor's angle, which sits at the reference.
+#[test]
+fn steady_state_start_holds_the_load() -> Res<()> {
+    let (m, d, g, phi0) = (2.0, 0.3, G, 0.4);
+    let scene = |elastic: bool| -> Res<SceneDesc> {
+        let mut scene = SceneDesc::new();
+        scene
+            .add(world())
+            .add(Object3D::new("mass").solid(
+                Solid::new(Shape::Sphere { diameter: 0.02 }).mass_properties(
+                    m,
+                    Vector3::zeros(),
+                    Matrix3::zeros(),
+                ),
+            ))
+            .add(
+                Object3D::new("pivot")
+                    .parent("mass")
+                    .translation([-d, 0.0, 0.0]),
+            )
+            .add_joint(
+                Joint::new("rev", "world", "pivot", JointKind::revolute(3)).init_position(phi0),
+            );
+        scene.add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                offset: phi0,
+                ..Default::default()
+            },
+        ));
+        let mut drive = Drive::rigid("rev", 156.0, 0.0000135 + 0.000000409);
+        if elastic {
+            drive = drive.elastic(2e4, 5.0);
+        }
+        servo(&mut scene, "ramp.y", drive);
+        Ok(scene)
+    };
+    let torque = m * g * d * phi0.cos();
+    let opts = SimOptions::new(1.0)
+        .tolerance(1e-8)
+        .steady_state(true)
+        .quiet(true);
+    let r = scene(false)?.build()?.simulate(&opts)?;
+    let x0 = r.signal("servo.ppi.PI.x")?.values()[0];
+    // Newton's tolerance on the rates is 1e-9; the torque balance to rounding of that.
+    assert!((0.1 * x0 * 156.0 - torque).abs() < 1e-8 * torque, "{x0}");
+    let drift = r
+        .signal("rev.phi")?
+        .values()
+        .iter()
+        .fold(0.0f64, |a, p| a.max((p - phi0).abs()));
+    // At rest from the start: what moves is the integration's error, rtol-level.
+    assert!(drift < 1e-8, "drift {drift}");
+    // Started from the given values the same servo sags first.
+    let r0 = scene(false)?
+        .build()?
+        .simulate(&SimOptions::new(1.0).tolerance(1e-8).quiet(true))?;
+    let sag = r0
+        .signal("rev.phi")?
+        .values()
+        .iter()
+        .fold(0.0f64, |a, p| a.max((p - phi0).abs()));
+    assert!(sag > 1e3 * drift, "sag {sag}");
+    let re = scene(true)?.build()?.simulate(&opts)?;
+    let phi = re.signal("rev.phi")?.values()[0];
+    // c·δ = m·g·d·cos(φ0 − δ), by fixed-point iteration (contracts by m·g·d/c = 3e-4).
+    let mut dphi = 0.0;
+    for _ in 0..10 {
+        dphi = m * g * d * (phi0 - dphi).cos() / 2e4;
+    }
+    assert!(
+        (phi - (phi0 - dphi)).abs() < 1e-9,
+        "{phi} vs {}",
+        phi0 - dphi
+    );
+    Ok(())
+}

@@ -18,6 +18,7 @@ mod contact_phases;
 mod diagnosis;
 mod options;
 mod segments;
+mod steady_state;
 mod warnings;
 pub use diagnosis::{Budget, SlowCause, WorkDiagnosis};
 pub use options::{
@@ -42,6 +43,18 @@ pub enum SimErrorKind {
     /// The options are inconsistent.
     #[error("invalid simulation options: {0}")]
     InvalidOptions(String),
+    /// `SimOptions::steady_state` found no steady state.
+    #[error("no steady state at t = {t} s: Newton's method left the largest rate at {residual:.3e} (of {worst}) after {iterations} iterations; start from given values (`steady_state(false)`) or give initial values nearer one (a servo's reference at its joint's initial position)")]
+    SteadyState {
+        /// Time \[s\].
+        t: f64,
+        /// The largest remaining rate (an acceleration [rad/s² or m/s²] or a state's rate).
+        residual: f64,
+        /// The unknown whose equation it is.
+        worst: String,
+        /// Newton iterations taken.
+        iterations: usize,
+    },
     /// No consistent initial accelerations (singular mass matrix).
     #[error("no consistent accelerations at t = {t} s: the mass matrix is singular; check the masses and inertias of moving bodies")]
     Inconsistent {
@@ -339,6 +352,7 @@ impl SimErrorKind {
             SimErrorKind::Chattering { .. } => "Chattering",
             SimErrorKind::EventLoop { .. } => "EventLoop",
             SimErrorKind::TooDeep { .. } => "TooDeep",
+            SimErrorKind::SteadyState { .. } => "SteadyState",
         }
     }
 }
@@ -526,6 +540,11 @@ impl Simulation {
         // The initial contact set (event mode), then consistent derivatives including contacts.
         if let Err(e) = dae.handle_event(t0, &y0) {
             return Err(fail(e.into(), result));
+        }
+        if opts.steady_state {
+            if let Err(e) = steady_state::solve(&mut dae, t0, &mut y0) {
+                return Err(fail(e, result));
+            }
         }
         let yp0 = match dae.consistent_derivative(t0, &mut y0) {
             Ok(yp0) => yp0,

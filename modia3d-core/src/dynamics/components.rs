@@ -200,6 +200,20 @@ impl ComponentPlan {
         }
         (p, armature)
     }
+
+    /// The `(q, v)` indices of every coordinate a flange drives (repeats possible).
+    pub(crate) fn flange_coordinates(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.comps.iter().flat_map(|c| c.flanges.iter().copied())
+    }
+
+    /// `<component>.<state>` of every continuous state, in state order.
+    pub(crate) fn state_names(&self) -> impl Iterator<Item = String> + '_ {
+        self.comps.iter().flat_map(|c| {
+            c.states
+                .iter()
+                .map(move |s| format!("{}.{}", c.name, s.name))
+        })
+    }
 }
 
 /// The mutable scratch and discrete states of the components.

@@ -441,6 +441,18 @@ impl Component for PtpPath {
 }
 
 impl PtpPath {
+    /// The times \[s\] at which the path reaches each row of `positions` (at rest there):
+    /// `startTime` for the first. For scheduling what happens at a point (a grip, a
+    /// release). Assumes a path that passes [`Component::check`].
+    pub fn arrival_times(&self) -> Vec<f64> {
+        let mut t = vec![self.startTime];
+        for w in 0..self.positions.len().saturating_sub(1) {
+            let last = t[t.len() - 1];
+            t.push(last + self.segment(w).te);
+        }
+        t
+    }
+
     /// Segment `w` (from row `w` to `w + 1`), without allocating.
     fn segment(&self, w: usize) -> PtpSegment {
         let (a, b) = (&self.positions[w], &self.positions[w + 1]);

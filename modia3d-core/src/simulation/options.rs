@@ -67,6 +67,11 @@ pub struct SimOptions {
     /// (false, the default; for comparison: `examples/ball_pit.rs`). The results agree to
     /// rounding; only the time differs.
     pub dense_lu: bool,
+    /// Start the components in steady state (default false: their states start at their
+    /// given values): the components' states and the coordinates their flanges drive are
+    /// solved for `ẋ = 0` and `q̈ = 0` with `q̇ = 0` (Newton's method on the consistent
+    /// derivatives), so a servo starts holding its load against gravity (docs/drive-trains.md).
+    pub steady_state: bool,
     /// Work budget: IDA steps over the whole run, every restart included (default
     /// [`DEFAULT_MAX_STEPS`]; `None` = unlimited). Reaching it ends the run with
     /// [`SimErrorKind::WorkBudget`](crate::SimErrorKind::WorkBudget), whose diagnosis names the limiting cause.
@@ -132,6 +137,7 @@ impl SimOptions {
             jacobian_reuse: true,
             analytic_jacobian: true,
             dense_lu: false,
+            steady_state: false,
             max_steps: Some(DEFAULT_MAX_STEPS),
             max_wall_time: None,
             contact_tightening: DEFAULT_CONTACT_TIGHTENING,
@@ -198,6 +204,11 @@ impl SimOptions {
     /// (false, the default; see [`SimOptions::dense_lu`]).
     pub fn dense_lu(mut self, on: bool) -> Self {
         self.dense_lu = on;
+        self
+    }
+    /// Starts the components in steady state (see [`SimOptions::steady_state`]).
+    pub fn steady_state(mut self, on: bool) -> Self {
+        self.steady_state = on;
         self
     }
     /// Records per-pair contact signals (`"<a>|<b>.f_n"`, … see
