@@ -84,7 +84,7 @@ fn servo(scene: &mut SceneDesc, name: &str, joint: &str, axis: usize, sampled: b
 
 /// The scene: the gripper's arm and box with the servos, and the times of the grip and the
 /// release.
-fn scene(sampled: bool) -> Result<(SceneDesc, f64, f64), Box<dyn std::error::Error>> {
+pub fn scene(sampled: bool) -> Result<(SceneDesc, f64, f64), Box<dyn std::error::Error>> {
     let path = path();
     let arrive = path.arrival_times();
     let (t_pick, t_drop) = (arrive[1], arrive[3]);
@@ -106,7 +106,7 @@ fn scene(sampled: bool) -> Result<(SceneDesc, f64, f64), Box<dyn std::error::Err
 
 /// The largest |joint angle − path| over the run and over its first 0.2 s (before the path
 /// starts: the sag under gravity).
-fn tracking(r: &SimulationResult) -> Result<(f64, f64), Box<dyn std::error::Error>> {
+pub fn tracking(r: &SimulationResult) -> Result<(f64, f64), Box<dyn std::error::Error>> {
     let (mut all, mut start) = (0.0f64, 0.0f64);
     let t = r.time();
     for (q, reference) in [("shoulder.phi", "path.q1"), ("elbow.phi", "path.q2")] {
@@ -121,6 +121,7 @@ fn tracking(r: &SimulationResult) -> Result<(f64, f64), Box<dyn std::error::Erro
     Ok((all, start))
 }
 
+#[allow(dead_code)] // tests/drive_trains.rs includes this file for `scene`
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (sampled, steady) in [(false, false), (false, true), (true, false)] {
         let (scene, t_pick, t_drop) = scene(sampled)?;

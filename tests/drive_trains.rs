@@ -1082,3 +1082,37 @@ fn steady_state_start_holds_the_load() -> Res<()> {
     );
     Ok(())
 }
+
+#[path = "../examples/servo_gripper.rs"]
+#[allow(dead_code)]
+mod servo_gripper;
+
+/// The example `servo_gripper`: two elastic-gear servos move the arm along the path, grip the
+/// box, carry it and drop it. The path's drop point puts the gripper's centre at x = −0.18 m
+/// (`gripper.rs`'s waypoints), so the box lands within its own half-width (2.5 cm) of it;
+/// the joints follow the path to within 1 mrad (the gears' deflection and the loops' lag at
+/// 2 rad/s; the example measures 2.3e-4 rad), and the box rests on the table (z = its
+/// half-height 0.025 m, to the contact's static penetration, < 1 mm).
+#[test]
+fn servo_gripper_example_picks_and_places_the_box() -> Res<()> {
+    let (scene, t_pick, t_drop) = servo_gripper::scene(false)?;
+    let t_end = t_drop + 1.0;
+    let r = scene.build()?.simulate(
+        &SimOptions::new(t_end)
+            .tolerance(1e-6)
+            .interval(0.005)
+            .steady_state(true)
+            .quiet(true),
+    )?;
+    let (err, sag) = servo_gripper::tracking(&r)?;
+    assert!(err < 1e-3 && sag < 1e-4, "tracking {err}, sag {sag}");
+    let carried = r.signal_at("cube.r_abs", 0.5 * (t_pick + t_drop))?;
+    assert!(carried[2] > 0.2, "carried at {carried:?}");
+    let end = r.signal_at("cube.r_abs", t_end)?;
+    assert!(
+        (end[0] + 0.18).abs() < 0.025 && (end[2] - 0.025).abs() < 1e-3,
+        "{end:?}"
+    );
+    assert_eq!(r.segment_count(), 3);
+    Ok(())
+}

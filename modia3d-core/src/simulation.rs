@@ -43,6 +43,14 @@ pub enum SimErrorKind {
     /// The options are inconsistent.
     #[error("invalid simulation options: {0}")]
     InvalidOptions(String),
+    /// At a restart (an event, an input change) the state or its derivative is not finite.
+    #[error("the solution diverged by t = {t} s: {what} or its rate is not finite at a restart; an input or a force grew without bound (a controller closed from host code at too long a period is unstable: put it in the model as components, or shorten the period)")]
+    Diverged {
+        /// Time \[s\].
+        t: f64,
+        /// Which value, by name.
+        what: String,
+    },
     /// `SimOptions::steady_state` found no steady state.
     #[error("no steady state at t = {t} s: Newton's method left the largest rate at {residual:.3e} (of {worst}) after {iterations} iterations; start from given values (`steady_state(false)`) or give initial values nearer one (a servo's reference at its joint's initial position)")]
     SteadyState {
@@ -353,6 +361,7 @@ impl SimErrorKind {
             SimErrorKind::EventLoop { .. } => "EventLoop",
             SimErrorKind::TooDeep { .. } => "TooDeep",
             SimErrorKind::SteadyState { .. } => "SteadyState",
+            SimErrorKind::Diverged { .. } => "Diverged",
         }
     }
 }
@@ -1202,6 +1211,14 @@ impl Simulation {
             .system_mut()
             .consistent_derivative(t, &mut y)
             .map_err(|e| derivative_error(e, t))?;
+        if let Some(k) = (0..y.len()).find(|&k| {
+            !(y.get(k).is_some_and(|v| v.is_finite()) && yp.get(k).is_some_and(|v| v.is_finite()))
+        }) {
+            return Err(SimErrorKind::Diverged {
+                t,
+                what: self.unknown_name(k),
+            });
+        }
         let plan = &self.model.plan;
         if plan.components.nx > 0 && plan.loops.m() == 0 {
             // The components' first step is for the start only (see `ida_options`): after a
@@ -1212,6 +1229,28 @@ impl Simulation {
         }
         self.ida.reinit(t, &y, &yp)?;
         Ok(())
+    }
+
+    /// The name of unknown `k` of `y` (a joint coordinate's signal, a loop multiplier, a
+    /// component's state), for messages.
+    fn unknown_name(&self, k: usize) -> String {
+        let plan = &self.model.plan;
+        for j in &plan.joints {
+            for c in j.coord.coordinates() {
+                if j.q_offset + c.q == k {
+                    return format!("`{}.{}`", j.name, c.name);
+                }
+                if plan.nq + j.v_offset + c.v == k {
+                    return format!("the velocity of `{}.{}`", j.name, c.name);
+                }
+            }
+        }
+        if let Some(i) = k.checked_sub(plan.x_offset()) {
+            if let Some(n) = plan.components.state_names().nth(i) {
+                return format!("`{n}`");
+            }
+        }
+        format!("unknown {k} of the state vector")
     }
 
     /// Names of the declared inputs, then of the `Input` components.

@@ -439,3 +439,76 @@ fn force_elements_and_point_gravity_do_not_allocate() {
     dae.residual(0.0, &y, &yp, &mut res).unwrap();
     assert!(res.iter().all(|r| r.abs() < 1e-9), "{res:?}");
 }
+
+/// The components' stage allocates nothing: residual and root functions of a link driven by
+/// an elastic-gear servo with a limited PID, a limiter, a sampled PI and a path reference,
+/// once warmed up.
+#[test]
+fn components_do_not_allocate() {
+    use crate::scene::blocks::{Drive, Feedback, Gain, LimPID, Limiter, PtpPath, Sampled, PI};
+    use crate::scene::{ComponentDecl, Src};
+    let mut s = SceneDesc::new();
+    s.add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("link").solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(1.0)))
+        .add(
+            Object3D::new("pivot")
+                .parent("link")
+                .translation([0.3, 0.0, 0.0]),
+        )
+        .add_joint(Joint::new("rev", "world", "pivot", JointKind::revolute(2)));
+    s.add_component(ComponentDecl::new(
+        "path",
+        PtpPath {
+            positions: vec![vec![0.0], vec![0.5], vec![0.0]],
+            v_max: vec![1.0],
+            a_max: vec![2.0],
+            startTime: 0.0,
+        },
+    ))
+    .add_component(ComponentDecl::new("ref", Gain { k: 50.0 }).input("u", "path.q"))
+    .add_component(
+        ComponentDecl::new("err", Feedback)
+            .input("u1", "ref.y")
+            .input("u2", "drive.motor_phi"),
+    )
+    .add_component(
+        ComponentDecl::new("pid", LimPID::default())
+            .input(
+                "u_s",
+                Src::expr(&["err.y", "time"], |t, v| v[0] * (1.0 + t)),
+            )
+            .input("u_m", "drive.motor_w"),
+    )
+    .add_component(ComponentDecl::new("lim", Limiter::new(-5.0, 5.0)).input("u", "pid.y"))
+    .add_component(
+        ComponentDecl::new("dig", Sampled::new(1e-3, PI::new(1.0, 0.1))).input("u", "err.y"),
+    )
+    .add_component(
+        ComponentDecl::new("drive", Drive::rigid("rev", 50.0, 1e-4).elastic(1e3, 1.0)).input(
+            "tau",
+            Src::expr(&["lim.y", "dig.y"], |_, v| v[0] + 1e-3 * v[1]),
+        ),
+    );
+    let model = s.build().unwrap();
+    let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+    let n = dae.len();
+    let mut y = model.plan.y0();
+    y.resize(n, 0.0);
+    dae.component_event(0.0, &y).unwrap();
+    let yp = dae.consistent_derivative(0.0, &mut y).unwrap();
+    let mut res = vec![0.0; n];
+    let mut g = vec![0.0; dae.num_roots()];
+    assert_eq!(g.len(), 1, "one root function: the components' crossings");
+    for _ in 0..3 {
+        dae.residual(0.1, &y, &yp, &mut res).unwrap();
+        dae.roots(0.1, &y, &yp, &mut g);
+    }
+    let before = allocs();
+    for k in 0..100 {
+        let t = 0.01 * k as f64;
+        dae.residual(t, &y, &yp, &mut res).unwrap();
+        dae.roots(t, &y, &yp, &mut g);
+    }
+    assert_eq!(allocs() - before, 0, "allocations in the components' stage");
+    assert!(res.iter().all(|r| r.is_finite()) && g[0].is_finite());
+}

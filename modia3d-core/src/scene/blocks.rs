@@ -1121,8 +1121,9 @@ impl Component for Sampled {
         self.inner.check()
     }
     fn outputs_at(&self, io: &ComponentIo<'_>, y: &mut [f64]) {
-        let (nx, ny) = self.counts();
-        y[..ny].copy_from_slice(&io.d[1 + nx..1 + nx + ny]);
+        // The held outputs end the discrete states (no allocation: the residual calls this).
+        let n = io.d.len();
+        y.copy_from_slice(&io.d[n - y.len()..]);
     }
     fn next_time_event(&self, t: f64, _d: &[f64]) -> Option<f64> {
         let k = ((t - self.startTime) / self.period).floor() + 1.0;
