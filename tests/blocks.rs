@@ -304,6 +304,19 @@ fn input_component_is_set_by_the_host() -> Res {
     let r = sim.into_result();
     // 1·1 s, then −3·1 s.
     assert!((value(&r, "int.y", 2.0)? + 2.0).abs() < 1e-9);
+    // The components' signals are exported like the others.
+    let path = std::env::temp_dir().join(format!("blocks_input_{}.csv", std::process::id()));
+    r.write_csv(&path)?;
+    let header = std::fs::read_to_string(&path)?
+        .lines()
+        .next()
+        .unwrap_or_default()
+        .to_string();
+    std::fs::remove_file(&path)?;
+    assert!(
+        header.contains("int.y") && header.contains("int.x") && header.contains("cmd.y"),
+        "{header}"
+    );
     Ok(())
 }
 

@@ -1058,6 +1058,16 @@ fn steady_state_start_holds_the_load() -> Res<()> {
         .fold(0.0f64, |a, p| a.max((p - phi0).abs()));
     // At rest from the start: what moves is the integration's error, rtol-level.
     assert!(drift < 1e-8, "drift {drift}");
+    // The joint's load at rest (computed from the stored states with the drive's flange
+    // force): it carries the weight, `m·g` up, and the drive's torque about the axis balances
+    // gravity's, `m·g·d·cos φ0`, both resolved in the world (obj1).
+    let f = r.signal_at("rev.f", 0.5)?;
+    let t = r.signal_at("rev.t", 0.5)?;
+    assert!(
+        (f[1] - m * g).abs() < 1e-6 * m * g && f[0].abs() < 1e-6,
+        "{f:?}"
+    );
+    assert!((t[2] - torque).abs() < 1e-6 * torque, "{t:?} vs {torque}");
     // Started from the given values the same servo sags first.
     let r0 = scene(false)?
         .build()?

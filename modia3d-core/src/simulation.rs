@@ -1393,6 +1393,9 @@ fn record(
         let mut values = Vec::new();
         dae.component_values(t, y, &mut values);
         result.push_components(&values);
+        values.clear();
+        dae.component_flange_forces(t, y, &mut values);
+        result.push_flange_forces(&values);
     }
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.

@@ -508,6 +508,25 @@ impl MultibodyDae {
         }
         out.extend_from_slice(&cs.d);
     }
+    /// The components' flange forces at `(t, y)` on the coordinates of
+    /// `ComponentPlan::flange_velocities`, in that order, appended to `out` (for the joint
+    /// loads of output points; NaN if a component fails there).
+    pub(crate) fn component_flange_forces(&mut self, t: f64, y: &[f64], out: &mut Vec<f64>) {
+        let Some(cs) = self.comps.as_deref_mut() else {
+            return;
+        };
+        let plan = &*self.plan;
+        let at = Self::component_point(plan, t, y);
+        let mut tau = vec![0.0; plan.nv];
+        let ok = cs.evaluate(&plan.components, &at, &mut tau).is_ok();
+        out.extend(plan.components.flange_velocities().into_iter().map(|v| {
+            if ok {
+                tau[v]
+            } else {
+                f64::NAN
+            }
+        }));
+    }
     /// The components' discrete states.
     pub(crate) fn component_discrete_mut(&mut self) -> Option<&mut [f64]> {
         self.comps.as_deref_mut().map(|c| &mut c.d[..])

@@ -206,6 +206,14 @@ impl ComponentPlan {
         self.comps.iter().flat_map(|c| c.flanges.iter().copied())
     }
 
+    /// The velocity indices of the coordinates flanges drive, sorted, each once.
+    pub(crate) fn flange_velocities(&self) -> Vec<usize> {
+        let mut v: Vec<usize> = self.flange_coordinates().map(|(_, v)| v).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    }
+
     /// `<component>.<state>` of every continuous state, in state order.
     pub(crate) fn state_names(&self) -> impl Iterator<Item = String> + '_ {
         self.comps.iter().flat_map(|c| {

@@ -143,15 +143,6 @@ impl SimulationResult {
                 inputs.join(", ")
             )));
         }
-        if !plan.components.comps.is_empty() {
-            // Their flange forces and geared inertias are not in the stored states' pass.
-            return Some(Ok(
-                "the scene has components (drives, controllers) whose flange forces the \
-                 loads' Newton–Euler pass does not include yet; read a drive's `tau_load` \
-                 for the torque it puts on its joint"
-                    .to_string(),
-            ));
-        }
         if self.model.contact.is_some() && self.contacts.is_none() {
             return Some(Err(ResultError::ContactResultsOff {
                 what: format!("signal `{name}` (a joint load includes the contact forces)"),
@@ -165,11 +156,18 @@ impl SimulationResult {
     fn limit_forces_at(&self, k: usize) -> Vec<(usize, f64)> {
         let n = self.limit_v.len();
         let recorded = self.limit_forces.get(k * n..(k + 1) * n).unwrap_or(&[]);
-        self.limit_v
+        let mut forces: Vec<(usize, f64)> = self
+            .limit_v
             .iter()
             .copied()
             .zip(recorded.iter().copied())
-            .collect()
+            .collect();
+        // The components' flange forces (their geared inertias are in the mass matrix).
+        let fv = self.model.plan.components.flange_velocities();
+        let nf = fv.len();
+        let flanges = self.flange_forces.get(k * nf..(k + 1) * nf).unwrap_or(&[]);
+        forces.extend(fv.into_iter().zip(flanges.iter().copied()));
+        forces
     }
 
     /// The contact wrenches on objects recorded at time point `k` (with `contact_results`).

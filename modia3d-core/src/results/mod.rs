@@ -294,6 +294,9 @@ pub struct SimulationResult {
     /// The components' signals per time point: their continuous states, outputs and discrete
     /// states (`dynamics/components.rs`); empty without components.
     component_values: Vec<f64>,
+    /// The components' flange forces per time point, on the coordinates of
+    /// `ComponentPlan::flange_velocities` (for the joint loads).
+    flange_forces: Vec<f64>,
     /// The names of the joint limits' stops (`"<joint>.<coordinate>.lower"`, `".upper"`).
     limit_stops: Vec<String>,
     /// The velocity index of each limited coordinate (the row its force enters; for loads).
@@ -443,6 +446,7 @@ impl SimulationResult {
             limit_signals: vec![],
             limit_forces: vec![],
             component_values: vec![],
+            flange_forces: vec![],
             limit_stops: vec![],
             limit_v: vec![],
             dense: DenseOutput::default(),
@@ -549,6 +553,11 @@ impl SimulationResult {
         if !self.limit_signals.is_empty() {
             self.limit_forces.extend_from_slice(f);
         }
+    }
+
+    /// Appends the components' flange forces of one time point.
+    pub(crate) fn push_flange_forces(&mut self, values: &[f64]) {
+        self.flange_forces.extend_from_slice(values);
     }
 
     /// Appends the components' signals of one time point.
@@ -1245,7 +1254,8 @@ impl SimulationResult {
     }
 
     /// The signals [`Self::write_csv`] writes by default: every joint coordinate, the
-    /// positions `r_abs` of moving objects and, when recorded, every contact signal.
+    /// positions `r_abs` of moving objects, the components' states, outputs and discrete
+    /// states and, when recorded, every contact signal.
     pub fn default_export_signals(&self) -> Vec<String> {
         let mut names: Vec<String> = self.joint_signal_names().collect();
         for o in &self.model.plan.objects {
@@ -1253,6 +1263,8 @@ impl SimulationResult {
                 names.push(format!("{}.r_abs", o.name));
             }
         }
+        // The components' states and outputs (drive-trains.md: signals like the others).
+        names.extend(self.component_signal_list().into_iter().map(|(n, _, _)| n));
         if self.contacts.is_some() {
             for p in self.contact_pairs() {
                 names.extend(CONTACT_FIELDS.iter().map(|f| format!("{p}.{f}")));
