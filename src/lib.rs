@@ -56,6 +56,23 @@ pub mod __private {
     pub struct JointPath;
     /// The type of a hidden item that names a force element or material of a `model!` type.
     pub struct OtherPath;
+    /// The type of a hidden item that names a signal a block of a `model!` type reads
+    /// (`pi.y`, `rev.w`).
+    pub struct SignalPath;
+
+    /// A block's list of numbers (`v_max = [1.0, 2.0]`) from an array, a `Vec` or any iterable.
+    pub fn numbers(v: impl IntoIterator<Item = f64>) -> Vec<f64> {
+        v.into_iter().collect()
+    }
+    /// A block's rows of numbers (`positions = [[0.0], [1.0]]`) from arrays, `Vec`s or any
+    /// iterables.
+    pub fn rows<R: IntoIterator<Item = f64>>(v: impl IntoIterator<Item = R>) -> Vec<Vec<f64>> {
+        v.into_iter().map(|r| r.into_iter().collect()).collect()
+    }
+    /// A block's `(time, value)` rows (`table = [(0.0, 1.0), (1.0, 2.0)]`).
+    pub fn pairs(v: impl IntoIterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+        v.into_iter().collect()
+    }
 
     /// What `model!` accepts where the builder wants a `Vector3<f64>`.
     #[diagnostic::on_unimplemented(

@@ -8,7 +8,7 @@
 #![allow(clippy::large_enum_variant)]
 
 use crate::vocab::Kind;
-use modia3d_core::{JointKindSpec, ShapeKindSpec};
+use modia3d_core::{BlockKindSpec, JointKindSpec, ShapeKindSpec};
 use proc_macro2::{Ident, Span};
 use syn::Expr;
 
@@ -409,6 +409,51 @@ pub(crate) struct ContactPairIr {
     pub w_min: Option<Num>,
 }
 
+/// Where a block's input port reads its value from.
+#[derive(Clone, Debug)]
+pub(crate) enum WireIr {
+    /// An expression of parameters only: `Src::Const`.
+    Const(Expr),
+    /// One signal by path, relative to the block's prefix (`ramp.y`, `arm.rev.phi`), or
+    /// `time` (absolute): `Src::signal`.
+    Signal(String),
+    /// An expression over `time` and the signals `deps` (relative paths, in order of first
+    /// use): `expr` is the user's with each path replaced by the closure's values `v[i]`
+    /// and `time` by its time argument (both locals of [`wire_locals`]).
+    Expr {
+        /// The signals read.
+        deps: Vec<String>,
+        /// The rewritten expression.
+        expr: Expr,
+    },
+}
+
+/// The closure arguments of a [`WireIr::Expr`]: time \[s\] and the values of its signals
+/// (mixed-site hygiene: the user's expression cannot name them).
+pub(crate) fn wire_locals() -> (Ident, Ident) {
+    (
+        Ident::new("__modia3d_time", Span::mixed_site()),
+        Ident::new("__modia3d_values", Span::mixed_site()),
+    )
+}
+
+/// A block (`name = PI(k = …, u = …)`, [`Item::Block`]).
+#[derive(Clone, Debug)]
+pub(crate) struct BlockIr {
+    /// Component name.
+    pub name: Ident,
+    /// The kind's row of the core's table.
+    pub spec: &'static BlockKindSpec,
+    /// The parameters given (numbers and lists), by key in the row's order.
+    pub params: Vec<(&'static str, Expr)>,
+    /// A `Drive`'s joint.
+    pub joint: Option<NameRef>,
+    /// A `Drive`'s `coordinate = "…"`.
+    pub coordinate: Option<Expr>,
+    /// Each input port's source, in the row's order.
+    pub inputs: Vec<(&'static str, WireIr)>,
+}
+
 /// One component. The variants that both consumers of the IR (the rules' scene of literal
 /// values, `rules/`, and the expansion's builder calls, `expand/`) read field by field are
 /// named structs, so each reads the fields it needs by name.
@@ -451,6 +496,8 @@ pub(crate) enum Item {
     },
     /// `ContactPair(…)`.
     ContactPair(ContactPairIr),
+    /// A block with ports and states.
+    Block(BlockIr),
     /// A sub-assembly: `Type { params… }.add_to(scene, prefix.name., parent)`.
     Assembly {
         /// Component name.
@@ -471,8 +518,19 @@ pub(crate) struct PathCheck {
     pub ty: syn::Path,
     /// The path inside it.
     pub rest: Vec<Ident>,
-    /// Whether it must be a joint (else an object).
-    pub joint: bool,
+    /// What it must name.
+    pub want: PathWant,
+}
+
+/// What a [`PathCheck`]'s path must name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PathWant {
+    /// An object.
+    Object,
+    /// A joint.
+    Joint,
+    /// A signal a block reads (`pi.y`, `rev.phi`).
+    Signal,
 }
 
 /// The checked model.

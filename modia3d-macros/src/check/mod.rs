@@ -9,11 +9,12 @@
 //! What the macro cannot see (objects inside another `model!`'s expansion, types of values) is
 //! left to rustc through spanned code (`ir::PathCheck`, `expand/`).
 
+mod blocks;
 mod joints;
 mod values;
 
 use crate::ast::{push, Arg, Ctor, ModelDef};
-use crate::ir::{Ir, Item, LitNum, MaterialIr, Num, Parent, PathCheck};
+use crate::ir::{Ir, Item, LitNum, MaterialIr, Num, Parent, PathCheck, PathWant};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
 use crate::vocab::{components, is_nested, nested_hint, Kind, SYNONYMS};
 use proc_macro2::{Ident, Span};
@@ -70,6 +71,8 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         errors: Errors::new(),
         kinds: HashMap::new(),
         assembly_types: HashMap::new(),
+        ctors: HashMap::new(),
+        feedthrough_reads: vec![],
         params: def.params.iter().map(|p| p.name.to_string()).collect(),
         path_checks: vec![],
         scene_spans: vec![],
@@ -103,6 +106,7 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         }
         if let Some(k) = kind {
             c.kinds.insert(name.clone(), k);
+            c.ctors.insert(name.clone(), comp.ctor.name().to_string());
             if k == Kind::Assembly {
                 c.assembly_types.insert(name, comp.ctor.path.clone());
             }
@@ -118,7 +122,8 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
             c.component(&comp.name, kind, &comp.ctor)
         })
         .collect();
-    // Pass 3: where the `Scene` may be.
+    // Pass 3: algebraic loops among the blocks; where the `Scene` may be.
+    c.algebraic_loops(&items);
     c.scenes(def);
     crate::names::attach_roots(&mut items);
     let has_scene = !c.scene_spans.is_empty();
@@ -135,6 +140,10 @@ pub(crate) struct Checker {
     pub(crate) errors: Errors,
     kinds: HashMap<String, Kind>,
     assembly_types: HashMap<String, syn::Path>,
+    /// The constructor of each component, by name (a joint's or block's kind).
+    ctors: HashMap<String, String>,
+    /// Blocks' reads of other blocks' feedthrough outputs (`blocks.rs`'s loop check).
+    feedthrough_reads: Vec<blocks::FeedthroughRead>,
     params: HashSet<String>,
     path_checks: Vec<PathCheck>,
     /// Spans of the `Scene` constructors, and the span of the scene object's `parent` key.
@@ -475,6 +484,7 @@ impl Checker {
             Kind::ContactPair => self.contact_pair(name, ctor),
             Kind::Input => self.input(name, ctor),
             Kind::Action => self.action(name, ctor),
+            Kind::Block => self.block(name, ctor),
             Kind::Assembly => Some(self.assembly(name, ctor)),
         }
     }
@@ -570,7 +580,11 @@ impl Checker {
             self.path_checks.push(PathCheck {
                 ty: self.assembly_types[&fname].clone(),
                 rest: segs[1..].to_vec(),
-                joint: want == Kind::Joint,
+                want: if want == Kind::Joint {
+                    PathWant::Joint
+                } else {
+                    PathWant::Object
+                },
             });
         }
         Some(NameRef {

@@ -4,17 +4,19 @@
 
 use super::{local, paths_module_at, prefix, scoped};
 use crate::ir::{
-    shape_arg, ActionIr, AxisIr, ContactPairIr, FeatureIr, ForceIr, InputIr, Item, JointAxis,
-    JointIr, JointKindIr, MassIr, MaterialIr, MaterialName, Num, ObjectIr, Parent, PathCheck,
-    Profile, SceneIr, ShapeArg, ShapeIr, SolidIr, SpringDamperIr,
+    shape_arg, wire_locals, ActionIr, AxisIr, BlockIr, ContactPairIr, FeatureIr, ForceIr, InputIr,
+    Item, JointAxis, JointIr, JointKindIr, MassIr, MaterialIr, MaterialName, Num, ObjectIr, Parent,
+    PathCheck, PathWant, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr, SpringDamperIr, WireIr,
 };
-use modia3d_core::{ParamValue, ShapeValue};
+use modia3d_core::{BlockValue, ParamValue, ShapeValue};
+use proc_macro2::Ident;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
 use syn::Expr;
 
-/// The statement that adds one component to the scene.
-pub(super) fn item(it: &Item) -> TokenStream {
+/// The statement that adds one component to the scene (`params`: the model's parameters,
+/// which a block's input closures clone).
+pub(super) fn item(it: &Item, params: &[&Ident]) -> TokenStream {
     let scene = local("scene");
     let attach = local("parent");
     let obj = local("object");
@@ -179,6 +181,98 @@ pub(super) fn item(it: &Item) -> TokenStream {
             parent,
             fields,
         } => assembly(name, ty, parent, fields),
+        Item::Block(b) => block(b, params),
+    }
+}
+
+/// `scene.add_component(ComponentDecl::new(name, blocks::Kind { … }).input(port, src)…);`
+fn block(b: &BlockIr, params: &[&Ident]) -> TokenStream {
+    let scene = local("scene");
+    let core = quote!(::modia3d::core);
+    let n = scoped(&b.name.to_string());
+    let spec = b.spec;
+    let given = |key: &str| b.params.iter().find(|(k, _)| *k == key).map(|(_, e)| e);
+    let private = quote!(::modia3d::__private);
+    let mut fields = vec![];
+    for p in spec.params {
+        let field = format_ident!("{}", p.key);
+        let value = match (p.value, given(p.key)) {
+            (BlockValue::Number, Some(e)) => quote!(#e),
+            (BlockValue::Numbers, Some(e)) => quote!(#private::numbers(#e)),
+            (BlockValue::Rows, Some(e)) => quote!(#private::rows(#e)),
+            (BlockValue::Pairs, Some(e)) => quote!(#private::pairs(#e)),
+            (BlockValue::Joint, _) => {
+                let j = b.joint.as_ref().map(|j| scoped(&j.path));
+                quote!(::std::string::ToString::to_string(#j))
+            }
+            (BlockValue::Coordinate, _) => match &b.coordinate {
+                Some(c) => {
+                    quote!(::core::option::Option::Some(::std::string::ToString::to_string(#c)))
+                }
+                None => quote!(::core::option::Option::None),
+            },
+            (BlockValue::Other, _) => {
+                // The row's default, a variant of the field's type (`Gear::Rigid`).
+                let ty = format_ident!("{}", to_camel(p.key));
+                let v = format_ident!("{}", p.default.unwrap_or("Default"));
+                quote!(#core::blocks::#ty::#v)
+            }
+            // Not given: the negation of another key (`uMin = -uMax`) when that one is given,
+            // else the struct's default.
+            (_, None) => match p.default.and_then(|d| d.strip_prefix('-')).and_then(given) {
+                Some(other) => quote!(-(#other)),
+                None if spec.has_default => continue,
+                None => quote!(::core::default::Default::default()),
+            },
+        };
+        fields.push(quote!(#field: #value));
+    }
+    let ty = format_ident!("{}", spec.name);
+    let rest = spec
+        .has_default
+        .then(|| quote!(..::core::default::Default::default()));
+    let value = quote!(#core::blocks::#ty { #(#fields,)* #rest });
+    let inputs = b.inputs.iter().map(|(port, w)| {
+        let src = wire(w, params);
+        quote!(.input(#port, #src))
+    });
+    quote! {
+        #scene.add_component(#core::ComponentDecl::new(#n, #value) #(#inputs)*);
+    }
+}
+
+/// `gear` → `Gear`.
+fn to_camel(key: &str) -> String {
+    let mut c = key.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}
+
+/// An input's `Src`: a constant, a signal by its full name, or a closure of time and the
+/// signals' values (the parameters it reads cloned into it).
+fn wire(w: &WireIr, params: &[&Ident]) -> TokenStream {
+    let src = quote!(::modia3d::core::Src);
+    match w {
+        WireIr::Const(e) => quote!(#src::Const(#e)),
+        WireIr::Signal(p) if p == "time" => quote!(#src::signal("time")),
+        WireIr::Signal(p) => {
+            let p = scoped(p);
+            quote!(#src::signal(#p))
+        }
+        WireIr::Expr { deps, expr } => {
+            let (t, v) = wire_locals();
+            let deps = deps.iter().map(|d| {
+                let d = scoped(d);
+                quote!(::std::string::String::as_str(#d))
+            });
+            quote! {
+                #src::expr(&[#(#deps),*], {
+                    #(let #params = ::core::clone::Clone::clone(&#params);)*
+                    move |#t: f64, #v: &[f64]| -> f64 { #expr }
+                })
+            }
+        }
     }
 }
 
@@ -226,10 +320,10 @@ fn assembly(
 pub(super) fn path_check(c: &PathCheck) -> TokenStream {
     let rest = &c.rest;
     let module = paths_module_at(&c.ty, rest[0].span());
-    let marker = if c.joint {
-        quote!(JointPath)
-    } else {
-        quote!(ObjectPath)
+    let marker = match c.want {
+        PathWant::Joint => quote!(JointPath),
+        PathWant::Object => quote!(ObjectPath),
+        PathWant::Signal => quote!(SignalPath),
     };
     let last_span = rest.last().expect("non-empty").span();
     let marker = quote_spanned!(last_span=> ::modia3d::__private::#marker);
