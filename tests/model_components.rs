@@ -202,3 +202,70 @@ fn a_servo_sub_assembly_used_twice_with_different_parameters() -> Res<()> {
     assert!((v[3] - (v[0] - v[1])).abs() <= 1e-9, "{v:?}");
     Ok(())
 }
+
+model! {
+    /// The servo's load driven through an elastic gear by a DC motor, the PI's output its
+    /// voltage.
+    pub DcServo(k1: f64 = 156.0, k2: f64 = 50.0) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[0.32, 0.0, 0.0], [0.0, 0.32, 0.0], [0.0, 0.0, 0.32]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        pi = PI(k = 0.1, T = 1.0, u = k2 * (k1 * ramp.y - drive.motor_phi) - drive.motor_w),
+        drive = Drive(joint = rev, ratio = 156.0, J_motor = 1.3909e-5,
+                      gear = Elastic(c = 1e4, d = 10.0), motor = Dc(R = 0.5, L = 1e-3, k = 0.3),
+                      v = pi.y),
+    }
+}
+
+#[test]
+fn elastic_gear_and_dc_motor_in_model_equal_the_builder_scene_bit_for_bit() -> Res<()> {
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(0.32),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene
+        .add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                height: 2.95,
+                duration: 1.18,
+                ..Default::default()
+            },
+        ))
+        .add_component(ComponentDecl::new("pi", PI::new(0.1, 1.0)).input(
+            "u",
+            Src::expr(&["ramp.y", "drive.motor_phi", "drive.motor_w"], |_, v| {
+                50.0 * (156.0 * v[0] - v[1]) - v[2]
+            }),
+        ))
+        .add_component(
+            ComponentDecl::new(
+                "drive",
+                Drive::rigid("rev", 156.0, 1.3909e-5)
+                    .elastic(1e4, 10.0)
+                    .dc_motor(0.5, 1e-3, 0.3),
+            )
+            .input("v", "pi.y"),
+        );
+    let names = ["pi.x", "rev.phi", "rev.w", "drive.phi_gear", "drive.i"];
+    let built = final_values(scene, &names)?;
+    let macro_ = final_values(DcServo::default().scene(), &names)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    assert!(built.iter().all(|v| v.is_finite()), "{built:?}");
+    Ok(())
+}

@@ -93,7 +93,10 @@ pub use results::{
     ContactPhase, Event, JointLoadPeak, PlotFormat, PlotOptions, ResultError, Signal, SimStats,
     SimWarning, SimulationResult, EVENT_MARKER_COLOR,
 };
-pub use scene::{block_kind, BlockKindSpec, BlockOutput, BlockParam, BlockValue, BLOCK_KINDS};
+pub use scene::{
+    block_kind, BlockKindSpec, BlockOutput, BlockParam, BlockValue, BlockVariant, BlockVariants,
+    BLOCK_KINDS,
+};
 pub use scene::{
     blocks, Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec,
     Src, SrcFn, StateSpec,

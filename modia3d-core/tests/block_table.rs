@@ -86,7 +86,7 @@ fn rows_keys_are_the_structs_fields() {
 #[test]
 fn rows_ports_are_their_example_blocks() {
     for row in BLOCK_KINDS {
-        let b = (row.example)();
+        let b = (row.example)(&|_| None);
         assert_eq!(b.kind(), row.name);
         let inputs: Vec<String> = b.inputs().into_iter().map(|p| p.name).collect();
         assert_eq!(inputs, row.inputs, "{}: inputs", row.name);
@@ -127,4 +127,43 @@ fn numbered_outputs_are_per_axis() {
     assert_eq!(names, ["q1", "qd1", "qdd1", "q2", "qd2", "qdd2"]);
     let row = modia3d_core::block_kind("PtpPath").unwrap();
     assert!(row.numbered_outputs);
+}
+
+/// Every variant of an enum-valued parameter makes a valid block of the kind; the `Drive`'s
+/// change its ports as its docs say.
+#[test]
+fn variants_make_valid_blocks() {
+    use modia3d_core::BlockValue;
+    for row in BLOCK_KINDS {
+        for p in row.params {
+            let BlockValue::Variant(vs) = p.value else {
+                continue;
+            };
+            assert_eq!(
+                p.default,
+                Some(vs[0].name),
+                "{}: the default is the first",
+                row.name
+            );
+            for v in vs {
+                let b = (row.example)(&|k| (k == p.key).then_some(v.name));
+                assert_eq!(b.kind(), row.name);
+                assert_eq!(
+                    b.check(),
+                    Ok(()),
+                    "{} with {} = {}",
+                    row.name,
+                    p.key,
+                    v.name
+                );
+            }
+        }
+    }
+    let drive = modia3d_core::block_kind("Drive").unwrap();
+    let dc = (drive.example)(&|k| (k == "motor").then_some("Dc"));
+    let inputs: Vec<String> = dc.inputs().into_iter().map(|p| p.name).collect();
+    assert_eq!(inputs, ["v"]);
+    let elastic = (drive.example)(&|k| (k == "gear").then_some("Elastic"));
+    let states: Vec<String> = elastic.states().into_iter().map(|s| s.name).collect();
+    assert_eq!(states, ["phi_gear", "motor_w"]);
 }

@@ -8,7 +8,7 @@
 #![allow(clippy::large_enum_variant)]
 
 use crate::vocab::Kind;
-use modia3d_core::{BlockKindSpec, JointKindSpec, ShapeKindSpec};
+use modia3d_core::{BlockKindSpec, BlockVariant, JointKindSpec, ShapeKindSpec};
 use proc_macro2::{Ident, Span};
 use syn::Expr;
 
@@ -437,6 +437,45 @@ pub(crate) fn wire_locals() -> (Ident, Ident) {
     )
 }
 
+/// What a block offers and takes, for the variants chosen (a `Drive` with a DC motor takes
+/// `v`, not `tau`): from the core's example block of the kind.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BlockPorts {
+    /// Input ports, in order.
+    pub inputs: Vec<String>,
+    /// Outputs with their feedthrough flags.
+    pub outputs: Vec<(String, bool)>,
+    /// Continuous, then discrete states.
+    pub states: Vec<String>,
+    /// A variant key's value is no variant (an error): the ports are not known, and keys
+    /// that are no parameter are not checked against them (no follow-up errors).
+    pub uncertain: bool,
+}
+
+impl BlockPorts {
+    /// Every signal: outputs, then states (a state named as an output is listed once).
+    pub(crate) fn signals(&self) -> Vec<&str> {
+        let mut v: Vec<&str> = self.outputs.iter().map(|(n, _)| n.as_str()).collect();
+        for s in &self.states {
+            if !v.contains(&s.as_str()) {
+                v.push(s);
+            }
+        }
+        v
+    }
+}
+
+/// A variant chosen for an enum-valued parameter (`gear = Elastic(c = …, d = …)`).
+#[derive(Clone, Debug)]
+pub(crate) struct VariantIr {
+    /// The parameter (`gear`).
+    pub key: &'static str,
+    /// The variant (the core's table).
+    pub variant: &'static BlockVariant,
+    /// Its fields' values, in the table's order.
+    pub fields: Vec<(&'static str, Expr)>,
+}
+
 /// A block (`name = PI(k = …, u = …)`, [`Item::Block`]).
 #[derive(Clone, Debug)]
 pub(crate) struct BlockIr {
@@ -450,8 +489,12 @@ pub(crate) struct BlockIr {
     pub joint: Option<NameRef>,
     /// A `Drive`'s `coordinate = "…"`.
     pub coordinate: Option<Expr>,
-    /// Each input port's source, in the row's order.
-    pub inputs: Vec<(&'static str, WireIr)>,
+    /// The variants chosen for enum-valued parameters (others take the row's default).
+    pub variants: Vec<VariantIr>,
+    /// Its ports and signals with these variants.
+    pub ports: BlockPorts,
+    /// Each input port's source, in the ports' order.
+    pub inputs: Vec<(String, WireIr)>,
 }
 
 /// One component. The variants that both consumers of the IR (the rules' scene of literal

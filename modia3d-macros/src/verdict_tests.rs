@@ -432,6 +432,12 @@ fn macro_and_build_agree_on_blocks() {
             },
         ),
         (
+            "drive = Drive(joint = rev, ratio = 10.0, J_motor = 1e-4, gear = Elastic(c = 100.0, d = 1.0), motor = Dc(R = 1.0, L = 1e-3, k = 0.1), v = -drive.i - drive.motor_w - drive.phi_gear),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("rev", 10.0, 1e-4).elastic(100.0, 1.0).dc_motor(1.0, 1e-3, 0.1)).input("v", Src::expr(&["drive.i", "drive.motor_w", "drive.phi_gear"], |_, v| -v[0] - v[1] - v[2])));
+            },
+        ),
+        (
             "g = Gain(k = 1.0, u = rev.v),",
             |d| {
                 d.add_component(ComponentDecl::new("g", Gain { k: 1.0 }).input("u", "rev.v"));
@@ -486,5 +492,5 @@ fn macro_and_build_agree_on_blocks() {
             valid += 1;
         }
     }
-    assert_eq!((valid, invalid), (4, 8));
+    assert_eq!((valid, invalid), (5, 8));
 }

@@ -231,6 +231,9 @@ pub(crate) const SYNONYMS: &[(&str, &str)] = &[
     ("frame_coord", "resolved_in"),
     ("force", "torque"),
     ("torque", "force"),
+    // A `Drive`'s input: `tau` for a torque source, `v` for a DC motor.
+    ("tau", "v"),
+    ("v", "tau"),
 ];
 
 /// What a component is.

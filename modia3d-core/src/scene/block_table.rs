@@ -26,10 +26,27 @@ pub enum BlockValue {
     /// A scalar coordinate of that joint, as a string (`"phi2"`); needed on a joint with
     /// several.
     Coordinate,
-    /// A value of another type (a `Drive`'s `Gear` and `Motor`, a `Sampled` block's inner
-    /// component) that changes the block's ports: not taken by `model!` yet.
+    /// One of the variants of an enum field (a `Drive`'s `gear`: `Rigid` or
+    /// `Elastic { c, d }`), which may change the block's ports and states (see
+    /// [`BlockKindSpec::example`]); the first is the default.
+    Variant(&'static [BlockVariant]),
+    /// A value of another type that changes the block's ports (a `Sampled` block's inner
+    /// component): not taken by `model!` yet.
     Other,
 }
+
+/// A variant of an enum-valued block parameter ([`BlockValue::Variant`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlockVariant {
+    /// The variant's name (`"Elastic"`), the constructor in `model!` (`Elastic(c = …, d = …)`).
+    pub name: &'static str,
+    /// Its fields, all required (`["c", "d"]`).
+    pub fields: &'static [&'static str],
+}
+
+/// The variants chosen for a block's enum-valued parameters, by key (`"gear"` →
+/// `Some("Elastic")`); `None`: the default (the first).
+pub type BlockVariants<'a> = dyn Fn(&str) -> Option<&'static str> + 'a;
 
 /// A parameter of a block kind: a field of its struct.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -74,9 +91,12 @@ pub struct BlockKindSpec {
     pub states: &'static [&'static str],
     /// Its discrete states (signals too).
     pub discrete_states: &'static [&'static str],
-    /// The block with every parameter at its default, and the required ones at a valid value;
-    /// the table's test compares the row's ports with this block's.
-    pub example: fn() -> Arc<dyn Component>,
+    /// The block with every parameter at its default, the required ones at a valid value and
+    /// the enum-valued ones at the variants chosen: its ports, outputs and states are those of
+    /// every block of the kind with these variants (`model!` reads a configured `Drive`'s
+    /// from it). With every variant at its default they are the row's lists (the table's test
+    /// checks).
+    pub example: fn(&BlockVariants<'_>) -> Arc<dyn Component>,
 }
 
 impl std::fmt::Debug for BlockKindSpec {
@@ -126,7 +146,7 @@ fn arc(c: impl Component + 'static) -> Arc<dyn Component> {
 /// A row for a block whose `Default` is its example.
 macro_rules! default_example {
     ($t:ident) => {
-        || arc(super::blocks::$t::default())
+        |_| arc(super::blocks::$t::default())
     };
 }
 
@@ -172,7 +192,7 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: false,
         states: &[],
         discrete_states: &[],
-        example: || {
+        example: |_| {
             arc(Ramp {
                 height: 1.0,
                 duration: 1.0,
@@ -249,7 +269,7 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: true,
         states: &[],
         discrete_states: &[],
-        example: || {
+        example: |_| {
             arc(PtpPath {
                 positions: vec![vec![0.0], vec![1.0]],
                 v_max: vec![1.0],
@@ -267,7 +287,7 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: false,
         states: &[],
         discrete_states: &[],
-        example: || arc(Gain { k: 2.0 }),
+        example: |_| arc(Gain { k: 2.0 }),
     },
     BlockKindSpec {
         name: "Feedback",
@@ -315,7 +335,7 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: false,
         states: &[],
         discrete_states: &["mode"],
-        example: || arc(Limiter::new(-1.0, 1.0)),
+        example: |_| arc(Limiter::new(-1.0, 1.0)),
     },
     BlockKindSpec {
         name: "Integrator",
@@ -356,7 +376,7 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: false,
         states: &["x"],
         discrete_states: &[],
-        example: || arc(PI::new(1.0, 1.0)),
+        example: |_| arc(PI::new(1.0, 1.0)),
     },
     BlockKindSpec {
         name: "PID",
@@ -418,7 +438,7 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: false,
         states: &[],
         discrete_states: &["tick", "y_held"],
-        example: || arc(Sampled::new(0.001, Gain { k: 2.0 })),
+        example: |_| arc(Sampled::new(0.001, Gain { k: 2.0 })),
     },
     BlockKindSpec {
         name: "Drive",
@@ -437,18 +457,37 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
             num("J_motor", None),
             BlockParam {
                 key: "gear",
-                value: BlockValue::Other,
+                value: BlockValue::Variant(&[
+                    BlockVariant {
+                        name: "Rigid",
+                        fields: &[],
+                    },
+                    BlockVariant {
+                        name: "Elastic",
+                        fields: &["c", "d"],
+                    },
+                ]),
                 default: Some("Rigid"),
             },
             BlockParam {
                 key: "motor",
-                value: BlockValue::Other,
+                value: BlockValue::Variant(&[
+                    BlockVariant {
+                        name: "Torque",
+                        fields: &[],
+                    },
+                    BlockVariant {
+                        name: "Dc",
+                        fields: &["R", "L", "k"],
+                    },
+                ]),
                 default: Some("Torque"),
             },
         ],
         has_default: false,
-        // A torque source on a rigid gear (an elastic gear adds states `phi_gear`, `motor_w`;
-        // a DC motor takes `v` instead of `tau` and adds the current `i`).
+        // A torque source on a rigid gear; an elastic gear adds states `phi_gear`, `motor_w`
+        // (and `tau_load` loses its feedthrough), a DC motor takes `v` instead of `tau` and
+        // adds the current `i` (`example` with the variants chosen).
         inputs: &["tau"],
         outputs: &[
             out("motor_phi", false),
@@ -459,7 +498,16 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
         numbered_outputs: false,
         states: &[],
         discrete_states: &[],
-        example: || arc(Drive::rigid("rev", 100.0, 1e-5)),
+        example: |v| {
+            let mut d = Drive::rigid("rev", 100.0, 1e-5);
+            if v("gear") == Some("Elastic") {
+                d = d.elastic(1e3, 1.0);
+            }
+            if v("motor") == Some("Dc") {
+                d = d.dc_motor(1.0, 1e-3, 0.1);
+            }
+            arc(d)
+        },
     },
 ];
 

@@ -14,7 +14,8 @@ pub(crate) mod validate;
 
 pub use actions::{Action, ActionKind};
 pub use block_table::{
-    block_kind, BlockKindSpec, BlockOutput, BlockParam, BlockValue, BLOCK_KINDS,
+    block_kind, BlockKindSpec, BlockOutput, BlockParam, BlockValue, BlockVariant, BlockVariants,
+    BLOCK_KINDS,
 };
 pub use components::{
     Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec, Src,

@@ -8,10 +8,10 @@
 
 use super::{lit_str, Args, Checker};
 use crate::ast::Ctor;
-use crate::ir::{wire_locals, BlockIr, Item, PathCheck, PathWant, WireIr};
+use crate::ir::{wire_locals, BlockIr, BlockPorts, Item, PathCheck, PathWant, VariantIr, WireIr};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
 use crate::vocab::{block_kind, joint_kind, Kind};
-use modia3d_core::{BlockKindSpec, BlockValue};
+use modia3d_core::{BlockKindSpec, BlockValue, BlockVariant};
 use proc_macro2::{Ident, Span};
 use std::collections::HashMap;
 use syn::spanned::Spanned;
@@ -93,6 +93,47 @@ impl VisitMut for Rewriter<'_> {
     }
 }
 
+/// The ports of a block of kind `spec` as written in `ctor`: with the variants its
+/// enum-valued keys name (`gear = Elastic(…)`; an unknown one counts as the default, reported
+/// when the block is lowered).
+pub(super) fn block_ports(spec: &BlockKindSpec, ctor: &Ctor) -> BlockPorts {
+    let uncertain = std::cell::Cell::new(false);
+    let chosen = |key: &str| -> Option<&'static str> {
+        let p = spec.param(key)?;
+        let BlockValue::Variant(vs) = p.value else {
+            return None;
+        };
+        let arg = ctor.args.iter().find(|a| a.key == key)?;
+        let name = match &arg.value {
+            Expr::Call(c) => match &*c.func {
+                Expr::Path(p) => p.path.get_ident().map(Ident::to_string),
+                _ => None,
+            },
+            Expr::Path(p) => p.path.get_ident().map(Ident::to_string),
+            _ => None,
+        };
+        let v = vs.iter().find(|v| Some(v.name) == name.as_deref());
+        uncertain.set(uncertain.get() || v.is_none());
+        v.map(|v| v.name)
+    };
+    let b = (spec.example)(&chosen);
+    BlockPorts {
+        inputs: b.inputs().into_iter().map(|p| p.name).collect(),
+        outputs: b
+            .outputs()
+            .into_iter()
+            .map(|o| (o.name, o.feedthrough))
+            .collect(),
+        states: b
+            .states()
+            .into_iter()
+            .chain(b.discrete_states())
+            .map(|x| x.name)
+            .collect(),
+        uncertain: uncertain.get(),
+    }
+}
+
 impl Checker {
     /// The row of the joint named `name` in this block, if it is one of its joints.
     fn local_joint(&self, name: &str) -> Option<&'static modia3d_core::JointKindSpec> {
@@ -108,14 +149,12 @@ impl Checker {
             .flatten()
     }
 
-    /// The signals a block of kind `spec` offers: outputs, then states.
-    fn block_signals(spec: &BlockKindSpec) -> Vec<&'static str> {
-        spec.outputs
-            .iter()
-            .map(|o| o.name)
-            .chain(spec.states.iter().copied())
-            .chain(spec.discrete_states.iter().copied())
-            .collect()
+    /// The signals the block named `name` offers: outputs, then states.
+    fn block_signals(&self, name: &str) -> Vec<String> {
+        self.block_ports
+            .get(name)
+            .map(|p| p.signals().into_iter().map(String::from).collect())
+            .unwrap_or_default()
     }
 
     /// Every signal path of this block's own blocks and joints, and `time` (for hints).
@@ -124,8 +163,8 @@ impl Checker {
         let mut names: Vec<&String> = self.kinds.keys().collect();
         names.sort();
         for n in names {
-            if let Some(spec) = self.local_block(n) {
-                all.extend(Self::block_signals(spec).iter().map(|s| format!("{n}.{s}")));
+            if self.local_block(n).is_some() {
+                all.extend(self.block_signals(n).iter().map(|s| format!("{n}.{s}")));
             } else if let Some(spec) = self.local_joint(n) {
                 for (p, v) in spec.coordinate_signals() {
                     all.push(format!("{n}.{p}"));
@@ -139,7 +178,24 @@ impl Checker {
     /// Lowers a block: its parameters, a `Drive`'s joint, and each input's source.
     pub(super) fn block(&mut self, name: &Ident, ctor: &Ctor) -> Option<Item> {
         let spec = block_kind(&ctor.name().to_string())?;
-        let keys: Vec<&str> = spec.keys().collect();
+        let ports = self
+            .block_ports
+            .get(&name.to_string())
+            .cloned()
+            .unwrap_or_default();
+        let written: Vec<String> = ctor.args.iter().map(|a| a.key.to_string()).collect();
+        let keys: Vec<&str> = spec
+            .params
+            .iter()
+            .map(|p| p.key)
+            .chain(ports.inputs.iter().map(String::as_str))
+            .chain(
+                written
+                    .iter()
+                    .map(String::as_str)
+                    .filter(|_| ports.uncertain),
+            )
+            .collect();
         let a = self.args(ctor, &keys);
         if spec.params.iter().any(|p| p.key == "inner") {
             self.err(
@@ -153,6 +209,7 @@ impl Checker {
         }
         let mut ok = true;
         let mut params = vec![];
+        let mut variants = vec![];
         let (mut joint, mut coordinate) = (None, None);
         for p in spec.params {
             match p.value {
@@ -163,16 +220,21 @@ impl Checker {
                     ok &= joint.is_some();
                 }
                 BlockValue::Coordinate => coordinate = a.get(p.key).cloned(),
+                BlockValue::Variant(vs) => {
+                    if let Some(e) = a.get(p.key) {
+                        match self.variant(spec, p.key, vs, e) {
+                            Some(v) => variants.push(v),
+                            None => ok = false,
+                        }
+                    }
+                }
                 BlockValue::Other => {
                     if let Some(k) = a.key(p.key) {
                         self.err(
                             k.span(),
                             format!(
-                                "`{}` of `{}(…)` is not available in `model!` yet (hint: the macro's `{}` has the default `{}`; build another with the builder API, `ComponentDecl::new`)",
-                                p.key,
-                                spec.name,
-                                p.key,
-                                p.default.unwrap_or("")
+                                "`{}` of `{}(…)` is not available in `model!` yet (hint: build this block with the builder API, `ComponentDecl::new`)",
+                                p.key, spec.name
                             ),
                         );
                         ok = false;
@@ -194,9 +256,10 @@ impl Checker {
             self.flange(spec, j, coordinate.as_ref(), &a);
         }
         let mut inputs = vec![];
-        for port in spec.inputs {
+        for port in &ports.inputs {
+            let port = port.as_str();
             let Some(e) = a.get(port) else {
-                if !a.suggested.iter().any(|s| s == port) {
+                if !a.suggested.iter().any(|s| s == port) && !ports.uncertain {
                     self.err(
                         a.span,
                         format!(
@@ -208,8 +271,9 @@ impl Checker {
                 ok = false;
                 continue;
             };
-            match self.wire(name, spec, e) {
-                Some(w) => inputs.push((*port, w)),
+            let reads_through = ports.outputs.iter().any(|(_, ft)| *ft);
+            match self.wire(name, reads_through, e) {
+                Some(w) => inputs.push((port.to_string(), w)),
                 None => ok = false,
             }
         }
@@ -220,8 +284,49 @@ impl Checker {
                 params,
                 joint,
                 coordinate,
+                variants,
+                ports,
                 inputs,
             })
+        })
+    }
+
+    /// `key = Variant(field = …, …)` or a bare `Variant` of an enum-valued parameter.
+    fn variant(
+        &mut self,
+        spec: &BlockKindSpec,
+        key: &'static str,
+        vs: &'static [BlockVariant],
+        e: &Expr,
+    ) -> Option<VariantIr> {
+        let names: Vec<&str> = vs.iter().map(|v| v.name).collect();
+        let written = |v: &BlockVariant| {
+            if v.fields.is_empty() {
+                format!("`{}`", v.name)
+            } else {
+                let f: Vec<String> = v.fields.iter().map(|f| format!("{f} = …")).collect();
+                format!("`{}({})`", v.name, f.join(", "))
+            }
+        };
+        let list = vs.iter().map(written).collect::<Vec<_>>().join(" or ");
+        let vc = match self.nested(e, &names, key) {
+            Ok(Some(vc)) => vc,
+            Ok(None) => return None,
+            Err(e) => {
+                self.err_spanned(e, format!("`{key}` of `{}(…)` takes {list}", spec.name));
+                return None;
+            }
+        };
+        let variant = vs.iter().find(|v| *vc.name() == v.name)?;
+        let a = self.args(&vc, variant.fields);
+        let mut fields = vec![];
+        for f in variant.fields {
+            fields.push((*f, self.required(&a, f)?.clone()));
+        }
+        Some(VariantIr {
+            key,
+            variant,
+            fields,
         })
     }
 
@@ -282,7 +387,7 @@ impl Checker {
 
     /// The source of an input port of block `reader`: its signal paths resolved, the
     /// expression rewritten.
-    fn wire(&mut self, reader: &Ident, reader_spec: &BlockKindSpec, e: &Expr) -> Option<WireIr> {
+    fn wire(&mut self, reader: &Ident, reads_through: bool, e: &Expr) -> Option<WireIr> {
         // A lone path or `time`: a signal.
         let mut segs = vec![];
         let mut expr = e.clone();
@@ -308,11 +413,15 @@ impl Checker {
         for id in lone {
             let n = id.to_string();
             let what = self.kind(&n).map_or("a component", |k| k.article());
-            let signals = match self.local_block(&n) {
-                Some(s) => Self::block_signals(s),
+            let signals: Vec<String> = match self.local_block(&n) {
+                Some(_) => self.block_signals(&n),
                 None => self
                     .local_joint(&n)
-                    .map(|s| s.coordinate_signals().flat_map(|(p, v)| [p, v]).collect())
+                    .map(|s| {
+                        s.coordinate_signals()
+                            .flat_map(|(p, v)| [p.to_string(), v.to_string()])
+                            .collect()
+                    })
                     .unwrap_or_default(),
             };
             let h = match signals.first() {
@@ -325,7 +434,6 @@ impl Checker {
             );
             ok = false;
         }
-        let reads_through = reader_spec.outputs.iter().any(|o| o.feedthrough);
         for (segs, tokens) in &found {
             ok &= self.signal(reader, reads_through, segs, tokens);
         }
@@ -381,7 +489,8 @@ impl Checker {
                 let Some(spec) = self.local_block(&root) else {
                     return false;
                 };
-                let signals = Self::block_signals(spec);
+                let signals = self.block_signals(&root);
+                let signals: Vec<&str> = signals.iter().map(String::as_str).collect();
                 let numbered = |s: &str| {
                     spec.numbered_outputs
                         && spec.outputs.iter().any(|o| {
@@ -411,11 +520,11 @@ impl Checker {
                     self.err(span, format!("{what}: its signals are {list}{}", hint(h)));
                     return false;
                 }
-                let through = spec
-                    .outputs
-                    .iter()
-                    .find(|o| o.name == f)
-                    .is_some_and(|o| o.feedthrough);
+                let through = self
+                    .block_ports
+                    .get(&root)
+                    .and_then(|p| p.outputs.iter().find(|(o, _)| *o == f))
+                    .is_some_and(|(_, ft)| *ft);
                 if through && reads_through {
                     self.feedthrough_reads.push(FeedthroughRead {
                         from: root,

@@ -73,6 +73,7 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         assembly_types: HashMap::new(),
         ctors: HashMap::new(),
         feedthrough_reads: vec![],
+        block_ports: HashMap::new(),
         params: def.params.iter().map(|p| p.name.to_string()).collect(),
         path_checks: vec![],
         scene_spans: vec![],
@@ -107,6 +108,10 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         if let Some(k) = kind {
             c.kinds.insert(name.clone(), k);
             c.ctors.insert(name.clone(), comp.ctor.name().to_string());
+            if let Some(spec) = crate::vocab::block_kind(&comp.ctor.name().to_string()) {
+                c.block_ports
+                    .insert(name.clone(), blocks::block_ports(spec, &comp.ctor));
+            }
             if k == Kind::Assembly {
                 c.assembly_types.insert(name, comp.ctor.path.clone());
             }
@@ -144,6 +149,8 @@ pub(crate) struct Checker {
     ctors: HashMap<String, String>,
     /// Blocks' reads of other blocks' feedthrough outputs (`blocks.rs`'s loop check).
     feedthrough_reads: Vec<blocks::FeedthroughRead>,
+    /// The ports and signals of each block, for its variants (`blocks::block_ports`).
+    block_ports: HashMap<String, crate::ir::BlockPorts>,
     params: HashSet<String>,
     path_checks: Vec<PathCheck>,
     /// Spans of the `Scene` constructors, and the span of the scene object's `parent` key.

@@ -211,12 +211,31 @@ fn block(b: &BlockIr, params: &[&Ident]) -> TokenStream {
                 }
                 None => quote!(::core::option::Option::None),
             },
-            (BlockValue::Other, _) => {
-                // The row's default, a variant of the field's type (`Gear::Rigid`).
+            // The variant chosen or the row's default (the first), of the field's type, named
+            // as the key (`gear` → `Gear::Elastic { c, d }`).
+            (BlockValue::Variant(vs), _) => {
                 let ty = format_ident!("{}", to_camel(p.key));
-                let v = format_ident!("{}", p.default.unwrap_or("Default"));
-                quote!(#core::blocks::#ty::#v)
+                match b.variants.iter().find(|v| v.key == p.key) {
+                    Some(v) => {
+                        let id = format_ident!("{}", v.variant.name);
+                        let fs = v.fields.iter().map(|(f, e)| {
+                            let f = format_ident!("{}", f);
+                            quote!(#f: #e)
+                        });
+                        if v.fields.is_empty() {
+                            quote!(#core::blocks::#ty::#id)
+                        } else {
+                            quote!(#core::blocks::#ty::#id { #(#fs),* })
+                        }
+                    }
+                    None => {
+                        let id = format_ident!("{}", vs[0].name);
+                        quote!(#core::blocks::#ty::#id)
+                    }
+                }
             }
+            // Rejected by the check stage (`Sampled`).
+            (BlockValue::Other, _) => quote!(::core::unreachable!()),
             // Not given: the negation of another key (`uMin = -uMax`) when that one is given,
             // else the struct's default.
             (_, None) => match p.default.and_then(|d| d.strip_prefix('-')).and_then(given) {

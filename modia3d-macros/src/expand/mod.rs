@@ -109,15 +109,7 @@ pub(crate) fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
                 .items
                 .iter()
                 .find_map(|it| match it {
-                    Item::Block(b) if b.name == *n => Some(
-                        b.spec
-                            .outputs
-                            .iter()
-                            .map(|o| o.name)
-                            .chain(b.spec.states.iter().copied())
-                            .chain(b.spec.discrete_states.iter().copied())
-                            .collect(),
-                    ),
+                    Item::Block(b) if b.name == *n => Some(b.ports.signals()),
                     Item::Joint(j) if j.name == *n => Some(
                         j.kind
                             .spec

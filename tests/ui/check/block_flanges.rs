@@ -18,6 +18,8 @@ model! {
         d5    = Drive(joint = free, ratio = 100.0, J_motor = 1e-5, tau = 0.0),
         d6    = Drive(joint = a, ratio = 100.0, J_motor = 1e-5, tau = 0.0),
         d7    = Drive(joint = rev, ratio = 100.0, J_motor = 1e-5, motor = Motor::Dc { R: 1.0, L: 1e-3, k: 0.1 }, v = 0.0),
+        d8    = Drive(joint = rev, ratio = 100.0, J_motor = 1e-5, motor = Dc(R = 1.0, L = 1e-3), tau = 0.0),
+        d9    = Drive(joint = rev, ratio = 100.0, J_motor = 1e-5, gear = Elastik(c = 1.0, d = 0.0), tau = 0.0),
     }
 }
 

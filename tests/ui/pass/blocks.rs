@@ -16,7 +16,9 @@ model! {
     pub M(k: f64 = 2.0, label: String = String::from("x")) {
         world = Object3D(feature = Scene()),
         c     = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
+        e     = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = "Steel")),
         cyl   = Cylindrical(obj1 = world, obj2 = c),
+        slide = Prismatic(obj1 = world, obj2 = e),
         axis  = Axis(parent = world, gain = k),
         k0    = Constant(k = k),
         st    = Step(height = 1, startTime = 0.5),
@@ -36,10 +38,13 @@ model! {
         lpid  = LimPID(Ti = 0.5, Td = 0.1, yMax = 10.0, u_s = ramp.y, u_m = cyl.s + label.len() as f64),
         drive = Drive(joint = cyl, coordinate = "phi", ratio = 10.0, J_motor = 1e-4, tau = lpid.y + pid.y),
         far   = Gain(k = 1.0, u = axis.drive.motor_w + axis.rev.phi + axis.pi.x),
+        dc    = Drive(joint = slide, ratio = 100.0, J_motor = 1e-5, gear = Elastic(c = 1e4, d = k),
+                      motor = Dc(R = 1.0, L = 1e-3, k = 0.1), v = -dc.i - dc.phi_gear + slide.v),
+        rigid = Drive(joint = cyl, coordinate = "s", ratio = 1.0, J_motor = 0.0, gear = Rigid, motor = Torque, tau = dc.motor_w),
     }
 }
 
 fn main() {
     let scene = M::default().scene();
-    assert_eq!(scene.components.len(), 20);
+    assert_eq!(scene.components.len(), 22);
 }
