@@ -4,7 +4,7 @@
 //! builder scene's bit for bit; the spec's compact form (one PI whose input is an expression
 //! over signals) and a servo used twice as a sub-assembly with different parameters.
 
-use modia3d::core::blocks::{Drive, Feedback, Gain, Ramp, PI};
+use modia3d::core::blocks::{Drive, Feedback, Gain, Ramp, Sampled, PI};
 use modia3d::prelude::*;
 
 type Res<T> = Result<T, Box<dyn std::error::Error>>;
@@ -129,9 +129,14 @@ model! {
 
 /// The final values of `names` after Modia3D's 4 s at tolerance 1e-6.
 fn final_values(scene: SceneDesc, names: &[&str]) -> Res<Vec<f64>> {
+    final_values_at(scene, names, 4.0)
+}
+
+/// The final values of `names` after `stop` s at tolerance 1e-6.
+fn final_values_at(scene: SceneDesc, names: &[&str], stop: f64) -> Res<Vec<f64>> {
     let r = scene
         .build()?
-        .simulate(&SimOptions::new(4.0).tolerance(1e-6))?;
+        .simulate(&SimOptions::new(stop).tolerance(1e-6))?;
     names
         .iter()
         .map(|s| Ok(r.signal(s)?.last().ok_or("no output point")?[0]))
@@ -267,5 +272,74 @@ fn elastic_gear_and_dc_motor_in_model_equal_the_builder_scene_bit_for_bit() -> R
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
     assert!(built.iter().all(|v| v.is_finite()), "{built:?}");
+    Ok(())
+}
+
+model! {
+    /// The compact servo with a digital PI: sampled at 10 kHz (zero-order hold, forward Euler
+    /// from tick to tick). The cascade's speed loop has a pole near 3700 rad/s (156 · 0.1 ·
+    /// 156 N·m·s/rad on 0.66 kg·m²): at 1 kHz (h·a ≈ 3.7 > 2) the sampled loop diverges.
+    pub DigitalServo(k1: f64 = 156.0, k2: f64 = 50.0) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[0.32, 0.0, 0.0], [0.0, 0.32, 0.0], [0.0, 0.0, 0.32]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        pi = Sampled(period = 1e-4, inner = PI(k = 0.1, T = 1.0),
+                     u = k2 * (k1 * ramp.y - drive.motor_phi) - drive.motor_w),
+        drive = Drive(joint = rev, ratio = 156.0, J_motor = 1.3909e-5, tau = pi.y),
+    }
+}
+
+#[test]
+fn sampled_pi_in_model_equals_the_builder_scene_bit_for_bit() -> Res<()> {
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(0.32),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene
+        .add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                height: 2.95,
+                duration: 1.18,
+                ..Default::default()
+            },
+        ))
+        .add_component(
+            ComponentDecl::new("pi", Sampled::new(1e-4, PI::new(0.1, 1.0))).input(
+                "u",
+                Src::expr(&["ramp.y", "drive.motor_phi", "drive.motor_w"], |_, v| {
+                    50.0 * (156.0 * v[0] - v[1]) - v[2]
+                }),
+            ),
+        )
+        .add_component(
+            ComponentDecl::new("drive", Drive::rigid("rev", 156.0, 1.3909e-5)).input("tau", "pi.y"),
+        );
+    // 2 s (20,000 ticks, each a time event): the ramp has ended at 1.18 s.
+    let names = ["pi.x", "pi.y", "rev.phi", "rev.w"];
+    let built = final_values_at(scene, &names, 2.0)?;
+    let macro_ = final_values_at(DigitalServo::default().scene(), &names, 2.0)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    // The digital loop follows the ramp as the continuous one does.
+    let continuous = final_values_at(CompactServo::default().scene(), &["rev.phi"], 2.0)?;
+    assert!(
+        (built[2] - continuous[0]).abs() < 1e-2,
+        "{built:?} vs {continuous:?}"
+    );
     Ok(())
 }

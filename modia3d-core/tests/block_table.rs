@@ -159,6 +159,16 @@ fn variants_make_valid_blocks() {
             }
         }
     }
+    // A sampled block takes its inner block's ports (every kind as `inner`).
+    let sampled = modia3d_core::block_kind("Sampled").unwrap();
+    for row in BLOCK_KINDS {
+        let s = (sampled.example)(&|k| (k == "inner").then_some(row.name));
+        let inner = (row.example)(&|_| None);
+        assert_eq!(s.kind(), "Sampled");
+        assert_eq!(s.inputs(), inner.inputs(), "Sampled with {}", row.name);
+        assert_eq!(s.outputs().len(), inner.outputs().len());
+        assert!(s.outputs().iter().all(|o| !o.feedthrough));
+    }
     let drive = modia3d_core::block_kind("Drive").unwrap();
     let dc = (drive.example)(&|k| (k == "motor").then_some("Dc"));
     let inputs: Vec<String> = dc.inputs().into_iter().map(|p| p.name).collect();

@@ -491,6 +491,8 @@ pub(crate) struct BlockIr {
     pub coordinate: Option<Expr>,
     /// The variants chosen for enum-valued parameters (others take the row's default).
     pub variants: Vec<VariantIr>,
+    /// A `Sampled` block's inner block (its parameters only; its inputs are the outer's).
+    pub inner: Option<Box<BlockIr>>,
     /// Its ports and signals with these variants.
     pub ports: BlockPorts,
     /// Each input port's source, in the ports' order.

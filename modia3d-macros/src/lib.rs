@@ -129,8 +129,7 @@ use proc_macro::TokenStream;
 /// | `PID` | `k = 1`, `Ti*`, `Td*` (s), `Nd = 10`, `xi_start = 0`, `xd_start = 0` | `u` | `y` →, `xi`, `xd` |
 /// | `LimPID` | `k = 1`, `Ti*`, `Td*`, `yMax*`, `yMin = −yMax`, `wp = 1`, `wd = 0`, `Ni = 0.9`, `Nd = 10`, `xi_start`, `xd_start` | `u_s`, `u_m` | `y` →, `xi`, `xd`, `mode` |
 /// | `Drive` | `joint*` (a joint with a scalar coordinate), `coordinate` (`"phi"`, …; needed on a joint with several), `ratio*` (motor angle per joint coordinate), `J_motor*` (kg·m²), `gear = Rigid` or `Elastic(c = …, d = …)` (N·m/rad, N·m·s/rad), `motor = Torque` or `Dc(R = …, L = …, k = …)` (Ω, H, N·m/A) | `tau` (N·m); with `Dc`: `v` (V) | `motor_phi`, `motor_w`, `tau_motor` → (not with `Dc`), `tau_load` → (rigid torque drive only); `Elastic`: `phi_gear`; `Dc`: `i` |
-///
-/// Not yet in `model!` (use the builder API): `Sampled` (its ports are its inner block's).
+/// | `Sampled` | `period*` (s), `startTime = 0`, `inner*`: a block with continuous states and outputs only, as its constructor without inputs (`inner = PI(k = …, T = …)`) | the inner block's | the inner block's outputs (held, no feedthrough), `tick`, its states, `<output>_held` |
 ///
 /// Checked at compile time, each on its token: unknown keys, missing required parameters and
 /// inputs, unknown signal paths (with did-you-mean hints; paths into sub-assemblies by rustc),

@@ -362,7 +362,7 @@ fn macro_and_build_agree_on_200_generated_scenes() {
 /// scene of a revolute, a cylindrical and a spherical joint.
 #[test]
 fn macro_and_build_agree_on_blocks() {
-    use modia3d_core::blocks::{Drive, Feedback, Gain, Integrator, Ramp, PI};
+    use modia3d_core::blocks::{Drive, Feedback, Gain, Integrator, Limiter, Ramp, Sampled, PI};
     use modia3d_core::{ComponentDecl, Src};
     type Builder = fn(&mut SceneDesc);
     let cases: Vec<(&str, Builder)> = vec![
@@ -438,6 +438,20 @@ fn macro_and_build_agree_on_blocks() {
             },
         ),
         (
+            "s = Sampled(period = 0.01, inner = Limiter(uMax = 1.0), u = time),",
+            |d| {
+                d.add_component(ComponentDecl::new("s", Sampled::new(0.01, Limiter::new(-1.0, 1.0))).input("u", "time"));
+            },
+        ),
+        (
+            "s = Sampled(period = 0.01, inner = PI(T = 1.0), u = time - s.x), g = Gain(k = 2.0, u = s.y), f = Feedback(u1 = g.y, u2 = s.y_held),",
+            |d| {
+                d.add_component(ComponentDecl::new("s", Sampled::new(0.01, PI::new(1.0, 1.0))).input("u", Src::expr(&["s.x"], |t, v| t - v[0])));
+                d.add_component(ComponentDecl::new("g", Gain { k: 2.0 }).input("u", "s.y"));
+                d.add_component(ComponentDecl::new("f", Feedback).input("u1", "g.y").input("u2", "s.y_held"));
+            },
+        ),
+        (
             "g = Gain(k = 1.0, u = rev.v),",
             |d| {
                 d.add_component(ComponentDecl::new("g", Gain { k: 1.0 }).input("u", "rev.v"));
@@ -492,5 +506,5 @@ fn macro_and_build_agree_on_blocks() {
             valid += 1;
         }
     }
-    assert_eq!((valid, invalid), (5, 8));
+    assert_eq!((valid, invalid), (6, 9));
 }

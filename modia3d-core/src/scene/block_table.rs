@@ -30,9 +30,10 @@ pub enum BlockValue {
     /// `Elastic { c, d }`), which may change the block's ports and states (see
     /// [`BlockKindSpec::example`]); the first is the default.
     Variant(&'static [BlockVariant]),
-    /// A value of another type that changes the block's ports (a `Sampled` block's inner
-    /// component): not taken by `model!` yet.
-    Other,
+    /// A block of another kind without its inputs, written as its constructor (a `Sampled`
+    /// block's `inner = PI(k = …, T = …)`), whose kind changes the block's ports (see
+    /// [`BlockKindSpec::example`]: chosen by the kind's name).
+    Block,
 }
 
 /// A variant of an enum-valued block parameter ([`BlockValue::Variant`]).
@@ -426,19 +427,29 @@ pub static BLOCK_KINDS: &[BlockKindSpec] = &[
             num("startTime", Some("0")),
             BlockParam {
                 key: "inner",
-                value: BlockValue::Other,
+                value: BlockValue::Block,
                 default: None,
             },
         ],
         has_default: false,
         // The inner block's ports, outputs without feedthrough; discrete states `tick`, the
-        // inner states and `<output>_held`: listed here for the example (a `Gain`).
+        // inner states and `<output>_held`: listed here for the default example's inner
+        // block (a `Gain`), `example` with `inner` chosen for the others.
         inputs: &["u"],
         outputs: Y,
         numbered_outputs: false,
         states: &[],
         discrete_states: &["tick", "y_held"],
-        example: |_| arc(Sampled::new(0.001, Gain { k: 2.0 })),
+        example: |v| {
+            let inner = v("inner")
+                .and_then(block_kind)
+                .map_or_else(|| arc(Gain { k: 2.0 }), |k| (k.example)(&|_| None));
+            arc(Sampled {
+                period: 0.001,
+                startTime: 0.0,
+                inner,
+            })
+        },
     },
     BlockKindSpec {
         name: "Drive",

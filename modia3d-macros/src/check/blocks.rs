@@ -100,10 +100,25 @@ pub(super) fn block_ports(spec: &BlockKindSpec, ctor: &Ctor) -> BlockPorts {
     let uncertain = std::cell::Cell::new(false);
     let chosen = |key: &str| -> Option<&'static str> {
         let p = spec.param(key)?;
-        let BlockValue::Variant(vs) = p.value else {
-            return None;
-        };
         let arg = ctor.args.iter().find(|a| a.key == key)?;
+        let vs = match p.value {
+            BlockValue::Variant(vs) => vs,
+            // A block kind by its constructor's name (a `Sampled` block's `inner`).
+            BlockValue::Block => {
+                let k = match &arg.value {
+                    Expr::Call(c) => match &*c.func {
+                        Expr::Path(p) => {
+                            p.path.get_ident().and_then(|i| block_kind(&i.to_string()))
+                        }
+                        _ => None,
+                    },
+                    _ => None,
+                };
+                uncertain.set(uncertain.get() || k.is_none());
+                return k.map(|k| k.name);
+            }
+            _ => return None,
+        };
         let name = match &arg.value {
             Expr::Call(c) => match &*c.func {
                 Expr::Path(p) => p.path.get_ident().map(Ident::to_string),
@@ -197,19 +212,10 @@ impl Checker {
             )
             .collect();
         let a = self.args(ctor, &keys);
-        if spec.params.iter().any(|p| p.key == "inner") {
-            self.err(
-                ctor.span(),
-                format!(
-                    "`{}` is not available in `model!` yet: its ports are its inner block's (hint: add it with the builder API, `scene.add_component(ComponentDecl::new(\"{name}\", Sampled::new(period, inner)))`)",
-                    spec.name
-                ),
-            );
-            return None;
-        }
         let mut ok = true;
         let mut params = vec![];
         let mut variants = vec![];
+        let mut inner = None;
         let (mut joint, mut coordinate) = (None, None);
         for p in spec.params {
             match p.value {
@@ -228,18 +234,13 @@ impl Checker {
                         }
                     }
                 }
-                BlockValue::Other => {
-                    if let Some(k) = a.key(p.key) {
-                        self.err(
-                            k.span(),
-                            format!(
-                                "`{}` of `{}(…)` is not available in `model!` yet (hint: build this block with the builder API, `ComponentDecl::new`)",
-                                p.key, spec.name
-                            ),
-                        );
-                        ok = false;
+                BlockValue::Block => match self.required(&a, p.key) {
+                    Some(e) => {
+                        inner = self.inner_block(spec, e).map(Box::new);
+                        ok &= inner.is_some();
                     }
-                }
+                    None => ok = false,
+                },
                 BlockValue::Number | BlockValue::Numbers | BlockValue::Rows | BlockValue::Pairs => {
                     let v = match p.default {
                         None => self.required(&a, p.key),
@@ -285,9 +286,72 @@ impl Checker {
                 joint,
                 coordinate,
                 variants,
+                inner,
                 ports,
                 inputs,
             })
+        })
+    }
+
+    /// A `Sampled` block's `inner = PI(k = …, T = …)`: a block kind with continuous states
+    /// and outputs only, its parameters (its inputs are the outer block's keys).
+    fn inner_block(&mut self, outer: &BlockKindSpec, e: &Expr) -> Option<BlockIr> {
+        let names: Vec<&str> = modia3d_core::BLOCK_KINDS.iter().map(|k| k.name).collect();
+        let vc = match self.nested(e, &names, "block") {
+            Ok(Some(vc)) => vc,
+            Ok(None) => return None,
+            Err(e) => {
+                self.err_spanned(
+                    e,
+                    format!(
+                        "`inner` of `{}(…)` takes a block, like `PI(k = …, T = …)` (its inputs are keys of `{}(…)`)",
+                        outer.name, outer.name
+                    ),
+                );
+                return None;
+            }
+        };
+        let spec = block_kind(&vc.name().to_string())?;
+        let plain = |v: BlockValue| {
+            matches!(
+                v,
+                BlockValue::Number | BlockValue::Numbers | BlockValue::Rows | BlockValue::Pairs
+            )
+        };
+        if !spec.params.iter().all(|p| plain(p.value)) || !spec.discrete_states.is_empty() {
+            self.err(
+                vc.span(),
+                format!(
+                    "`{}` cannot be sampled: a sampled block has continuous states and outputs only, no flange, discrete state or zero crossing (hint: sample a `PI`, `PID`, `FirstOrder` or `Gain`)",
+                    spec.name
+                ),
+            );
+            return None;
+        }
+        let keys: Vec<&str> = spec.params.iter().map(|p| p.key).collect();
+        let a = self.args(&vc, &keys);
+        let mut params = vec![];
+        let mut ok = true;
+        for p in spec.params {
+            let v = match p.default {
+                None => self.required(&a, p.key),
+                Some(_) => a.get(p.key),
+            };
+            match v {
+                Some(v) => params.push((p.key, v.clone())),
+                None => ok &= p.default.is_some(),
+            }
+        }
+        ok.then(|| BlockIr {
+            name: vc.name().clone(),
+            spec,
+            params,
+            joint: None,
+            coordinate: None,
+            variants: vec![],
+            inner: None,
+            ports: BlockPorts::default(),
+            inputs: vec![],
         })
     }
 

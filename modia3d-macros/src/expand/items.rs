@@ -190,6 +190,19 @@ fn block(b: &BlockIr, params: &[&Ident]) -> TokenStream {
     let scene = local("scene");
     let core = quote!(::modia3d::core);
     let n = scoped(&b.name.to_string());
+    let value = block_value(b);
+    let inputs = b.inputs.iter().map(|(port, w)| {
+        let src = wire(w, params);
+        quote!(.input(#port, #src))
+    });
+    quote! {
+        #scene.add_component(#core::ComponentDecl::new(#n, #value) #(#inputs)*);
+    }
+}
+
+/// The block's struct literal, `blocks::Kind { field: value, …, ..Default::default() }`.
+fn block_value(b: &BlockIr) -> TokenStream {
+    let core = quote!(::modia3d::core);
     let spec = b.spec;
     let given = |key: &str| b.params.iter().find(|(k, _)| *k == key).map(|(_, e)| e);
     let private = quote!(::modia3d::__private);
@@ -234,8 +247,14 @@ fn block(b: &BlockIr, params: &[&Ident]) -> TokenStream {
                     }
                 }
             }
-            // Rejected by the check stage (`Sampled`).
-            (BlockValue::Other, _) => quote!(::core::unreachable!()),
+            // A `Sampled` block's inner block (the check stage requires it).
+            (BlockValue::Block, _) => match &b.inner {
+                Some(inner) => {
+                    let v = block_value(inner);
+                    quote!(::std::sync::Arc::new(#v))
+                }
+                None => quote!(::core::unreachable!()),
+            },
             // Not given: the negation of another key (`uMin = -uMax`) when that one is given,
             // else the struct's default.
             (_, None) => match p.default.and_then(|d| d.strip_prefix('-')).and_then(given) {
@@ -250,14 +269,7 @@ fn block(b: &BlockIr, params: &[&Ident]) -> TokenStream {
     let rest = spec
         .has_default
         .then(|| quote!(..::core::default::Default::default()));
-    let value = quote!(#core::blocks::#ty { #(#fields,)* #rest });
-    let inputs = b.inputs.iter().map(|(port, w)| {
-        let src = wire(w, params);
-        quote!(.input(#port, #src))
-    });
-    quote! {
-        #scene.add_component(#core::ComponentDecl::new(#n, #value) #(#inputs)*);
-    }
+    quote!(#core::blocks::#ty { #(#fields,)* #rest })
 }
 
 /// `gear` → `Gear`.

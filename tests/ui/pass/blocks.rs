@@ -40,11 +40,12 @@ model! {
         far   = Gain(k = 1.0, u = axis.drive.motor_w + axis.rev.phi + axis.pi.x),
         dc    = Drive(joint = slide, ratio = 100.0, J_motor = 1e-5, gear = Elastic(c = 1e4, d = k),
                       motor = Dc(R = 1.0, L = 1e-3, k = 0.1), v = -dc.i - dc.phi_gear + slide.v),
+        dig   = Sampled(period = 0.01, startTime = 0.005, inner = PID(Ti = 0.5, Td = 0.1), u = ramp.y - dig.xi),
         rigid = Drive(joint = cyl, coordinate = "s", ratio = 1.0, J_motor = 0.0, gear = Rigid, motor = Torque, tau = dc.motor_w),
     }
 }
 
 fn main() {
     let scene = M::default().scene();
-    assert_eq!(scene.components.len(), 22);
+    assert_eq!(scene.components.len(), 23);
 }
