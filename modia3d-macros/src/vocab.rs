@@ -21,6 +21,18 @@ pub(crate) fn block_kind(ctor: &str) -> Option<&'static BlockKindSpec> {
     modia3d_core::block_kind(ctor)
 }
 
+/// Whether `ctor` is a constructor inside a block's values: a block kind (a `Sampled` block's
+/// `inner`) or a variant of an enum-valued parameter (`Elastic`, `Dc`).
+pub(crate) fn is_block_value(ctor: &str) -> bool {
+    block_kind(ctor).is_some()
+        || modia3d_core::BLOCK_KINDS.iter().any(|k| {
+            k.params.iter().any(|p| match p.value {
+                modia3d_core::BlockValue::Variant(vs) => vs.iter().any(|v| v.name == ctor),
+                _ => false,
+            })
+        })
+}
+
 /// Whether `name` is a constructor of a component ([`components`] or a block kind).
 pub(crate) fn is_component(name: &str) -> bool {
     components().any(|c| c == name) || block_kind(name).is_some()

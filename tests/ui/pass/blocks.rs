@@ -24,7 +24,7 @@ model! {
         st    = Step(height = 1, startTime = 0.5),
         ramp  = Ramp(height = 1.0, duration = 2.0, offset = 0.1),
         sine  = Sine(amplitude = 1.0, f = 2.0),
-        tab   = Table(table = [(0.0, 0.0), (1.0, 2.0)]),
+        tab   = Table(table = [(0, 0), (1.0, 2)]),
         inp   = Input(start = 1.0),
         ptp   = PtpPath(positions = [[0.0, 0.0], [1.0, 2.0]], v_max = [1.0, 1.0], a_max = vec![2.0, 2.0]),
         g     = Gain(k = k, u = time),
@@ -38,9 +38,9 @@ model! {
         lpid  = LimPID(Ti = 0.5, Td = 0.1, yMax = 10.0, u_s = ramp.y, u_m = cyl.s + label.len() as f64),
         drive = Drive(joint = cyl, coordinate = "phi", ratio = 10.0, J_motor = 1e-4, tau = lpid.y + pid.y),
         far   = Gain(k = 1.0, u = axis.drive.motor_w + axis.rev.phi + axis.pi.x),
-        dc    = Drive(joint = slide, ratio = 100.0, J_motor = 1e-5, gear = Elastic(c = 1e4, d = k),
+        dc    = Drive(joint = slide, ratio = 100.0, J_motor = 1e-5, gear = Elastic(c = 10000, d = k),
                       motor = Dc(R = 1.0, L = 1e-3, k = 0.1), v = -dc.i - dc.phi_gear + slide.v),
-        dig   = Sampled(period = 0.01, startTime = 0.005, inner = PID(Ti = 0.5, Td = 0.1), u = ramp.y - dig.xi),
+        dig   = Sampled(period = 0.01, startTime = 0.005, inner = PID(Ti = 1, Td = 0.1), u = ramp.y - dig.xi),
         rigid = Drive(joint = cyl, coordinate = "s", ratio = 1.0, J_motor = 0.0, gear = Rigid, motor = Torque, tau = dc.motor_w),
     }
 }
