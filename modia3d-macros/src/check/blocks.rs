@@ -645,7 +645,7 @@ impl Checker {
 
     /// Algebraic loops: a cycle of blocks, each reading another's feedthrough output (and
     /// having one itself). Each cycle is reported once, on the path that closes it.
-    pub(super) fn algebraic_loops(&mut self, _items: &[Item]) {
+    pub(super) fn algebraic_loops(&mut self) {
         let reads = std::mem::take(&mut self.feedthrough_reads);
         let mut succ: HashMap<&str, Vec<&FeedthroughRead>> = HashMap::new();
         for r in &reads {

@@ -128,7 +128,7 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         })
         .collect();
     // Pass 3: algebraic loops among the blocks; where the `Scene` may be.
-    c.algebraic_loops(&items);
+    c.algebraic_loops();
     c.scenes(def);
     crate::names::attach_roots(&mut items);
     let has_scene = !c.scene_spans.is_empty();
