@@ -343,3 +343,111 @@ fn sampled_pi_in_model_equals_the_builder_scene_bit_for_bit() -> Res<()> {
     );
     Ok(())
 }
+
+model! {
+    /// Modia3D's `PPI` controller: a P loop on the motor angle around a PI loop on its speed;
+    /// the reference and the measured angle and speed are signals of the outer model.
+    pub assembly Ppi(reference: SignalRef = SignalRef::time(),
+                     phi: SignalRef = SignalRef::time(),
+                     w: SignalRef = SignalRef::time()) {
+        gainOuter = Gain(k = 156.0, u = reference),
+        angleFeedback = Feedback(u1 = gainOuter.y, u2 = phi),
+        gainInner = Gain(k = 50.0, u = angleFeedback.y),
+        speedFeedback = Feedback(u1 = gainInner.y, u2 = w),
+        PI = PI(k = 0.1, T = 1.0, u = speedFeedback.y),
+    }
+}
+
+model! {
+    /// Modia3D's `Servo`: the PPI controller and a motor with an ideal gear on a joint of the
+    /// outer model, following one of its signals.
+    pub assembly Servo(joint: JointRef = JointRef::default(),
+                       reference: SignalRef = SignalRef::time()) {
+        ppi = Ppi(reference = reference, phi = drive.motor_phi, w = drive.motor_w),
+        drive = Drive(joint = joint, ratio = 156.0, J_motor = 0.0000135 + 0.000000409,
+                      tau = ppi.PI.y),
+    }
+}
+
+model! {
+    /// ServoWithRamp as Modia3D writes it: the servo a sub-model on the outer joint.
+    pub NestedServoWithRamp(j: f64 = 0.32) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[j, 0.0, 0.0], [0.0, j, 0.0], [0.0, 0.0, j]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        servo = Servo(joint = rev, reference = ramp.y),
+    }
+}
+
+/// tests/drive_trains.rs's `servo`: Modia3D's controller and drive on joint `joint`, under
+/// `servo.`, built with the builder API.
+fn builder_servo(scene: &mut SceneDesc, joint: &str, reference: &str) {
+    scene
+        .add_component(
+            ComponentDecl::new("servo.ppi.gainOuter", Gain { k: 156.0 }).input("u", reference),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.angleFeedback", Feedback)
+                .input("u1", "servo.ppi.gainOuter.y")
+                .input("u2", "servo.drive.motor_phi"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.gainInner", Gain { k: 50.0 })
+                .input("u", "servo.ppi.angleFeedback.y"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.speedFeedback", Feedback)
+                .input("u1", "servo.ppi.gainInner.y")
+                .input("u2", "servo.drive.motor_w"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.PI", PI::new(0.1, 1.0))
+                .input("u", "servo.ppi.speedFeedback.y"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.drive", Drive::rigid(joint, 156.0, J_MOTOR))
+                .input("tau", "servo.ppi.PI.y"),
+        );
+}
+
+#[test]
+fn servo_sub_models_on_an_outer_joint_equal_drive_trains_scene_bit_for_bit() -> Res<()> {
+    // tests/drive_trains.rs's scene, names and all.
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(0.32),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene.add_component(ComponentDecl::new(
+        "ramp",
+        Ramp {
+            height: 2.95,
+            duration: 1.18,
+            ..Default::default()
+        },
+    ));
+    builder_servo(&mut scene, "rev", "ramp.y");
+    let nested = NestedServoWithRamp::default().scene();
+    let names =
+        |s: &SceneDesc| -> Vec<String> { s.components.iter().map(|c| c.name.clone()).collect() };
+    assert_eq!(names(&nested), names(&scene));
+    let states = ["servo.ppi.PI.x", "rev.phi", "rev.w"];
+    let built = final_values(scene, &states)?;
+    let macro_ = final_values(nested, &states)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    Ok(())
+}

@@ -409,20 +409,30 @@ pub(crate) struct ContactPairIr {
     pub w_min: Option<Num>,
 }
 
+/// A signal a block's input reads.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Dep {
+    /// By path, relative to the block's prefix (`ramp.y`, `arm.rev.phi`), or `time`
+    /// (absolute).
+    Path(String),
+    /// A parameter of type `SignalRef`: the outer model's signal handed to this assembly
+    /// (absolute).
+    Param(Ident),
+}
+
 /// Where a block's input port reads its value from.
 #[derive(Clone, Debug)]
 pub(crate) enum WireIr {
     /// An expression of parameters only: `Src::Const`.
     Const(Expr),
-    /// One signal by path, relative to the block's prefix (`ramp.y`, `arm.rev.phi`), or
-    /// `time` (absolute): `Src::signal`.
-    Signal(String),
-    /// An expression over `time` and the signals `deps` (relative paths, in order of first
-    /// use): `expr` is the user's with each path replaced by the closure's values `v[i]`
-    /// and `time` by its time argument (both locals of [`wire_locals`]).
+    /// One signal: `Src::signal`.
+    Signal(Dep),
+    /// An expression over `time` and the signals `deps` (in order of first use): `expr` is
+    /// the user's with each signal replaced by the closure's values `v[i]` and `time` by its
+    /// time argument (both locals of [`wire_locals`]).
     Expr {
         /// The signals read.
-        deps: Vec<String>,
+        deps: Vec<Dep>,
         /// The rewritten expression.
         expr: Expr,
     },
@@ -476,6 +486,15 @@ pub(crate) struct VariantIr {
     pub fields: Vec<(&'static str, Expr)>,
 }
 
+/// A block's joint.
+#[derive(Clone, Debug)]
+pub(crate) enum JointArg {
+    /// A joint of this block or of a sub-assembly.
+    Ref(NameRef),
+    /// A parameter of type `JointRef` (absolute).
+    Param(Ident),
+}
+
 /// A block (`name = PI(k = …, u = …)`, [`Item::Block`]).
 #[derive(Clone, Debug)]
 pub(crate) struct BlockIr {
@@ -485,8 +504,9 @@ pub(crate) struct BlockIr {
     pub spec: &'static BlockKindSpec,
     /// The parameters given (numbers and lists), by key in the row's order.
     pub params: Vec<(&'static str, Expr)>,
-    /// A `Drive`'s joint.
-    pub joint: Option<NameRef>,
+    /// A `Drive`'s joint: of this block, or a parameter of type `JointRef` (the outer
+    /// model's joint handed to this assembly).
+    pub joint: Option<JointArg>,
     /// A `Drive`'s `coordinate = "…"`.
     pub coordinate: Option<Expr>,
     /// The variants chosen for enum-valued parameters (others take the row's default).
@@ -553,6 +573,9 @@ pub(crate) enum Item {
         parent: Parent,
         /// Parameter values.
         fields: Vec<(Ident, Expr)>,
+        /// Parameters given a signal or joint of this block by path (`reference = ramp.y`,
+        /// `joint = rev`): a `SignalRef` or `JointRef` of the path with this block's prefix.
+        paths: Vec<(Ident, String)>,
     },
 }
 

@@ -137,8 +137,24 @@ use proc_macro::TokenStream;
 /// algebraic loops among the block's blocks (a cycle of blocks each reading another's `→`
 /// output at the same instant; one through a sub-assembly is reported by `build()`). In a
 /// sub-assembly blocks are named with its prefix (`axis1.pi`, signals `axis1.pi.y`), so an
-/// assembly with blocks is used several times with different parameters; its blocks read
-/// its own signals (a signal of the outer model reaches it only as a parameter value).
+/// assembly with blocks is used several times with different parameters.
+///
+/// An assembly reaches the outer model's signals and joints through parameters of type
+/// `SignalRef` and `JointRef` (`modia3d::SignalRef`, in the prelude): inside, a `SignalRef`
+/// parameter is a signal in an input (`u = k * reference`) and a `JointRef` parameter a
+/// `Drive`'s joint; outside, the parameter is given a path of the outer block
+/// (`servo1 = Servo(joint = shoulder, reference = ramp.y)`, checked like a block's signal
+/// paths; a path given to a parameter of another type is a type error on the key):
+///
+/// ```text
+/// pub assembly Servo(joint: JointRef = JointRef::default(), reference: SignalRef = SignalRef::time()) {
+///     pi    = PI(k = 0.1, T = 1.0, u = 50.0 * (156.0 * reference - drive.motor_phi) - drive.motor_w),
+///     drive = Drive(joint = joint, ratio = 156.0, J_motor = 1.3909e-5, tau = pi.y),
+/// }
+/// ```
+///
+/// Checks that need the other block's contents (a loop through a sub-assembly, a flange on a
+/// `JointRef`) are `build()`'s.
 ///
 /// ## Values of `feature`, `shape`, `mass_properties`
 ///

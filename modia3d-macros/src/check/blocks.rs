@@ -8,7 +8,9 @@
 
 use super::{lit_str, Args, Checker};
 use crate::ast::Ctor;
-use crate::ir::{wire_locals, BlockIr, BlockPorts, Item, PathCheck, PathWant, VariantIr, WireIr};
+use crate::ir::{
+    wire_locals, BlockIr, BlockPorts, Dep, Item, JointArg, PathCheck, PathWant, VariantIr, WireIr,
+};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
 use crate::vocab::{block_kind, joint_kind, Kind};
 use modia3d_core::{BlockKindSpec, BlockValue, BlockVariant};
@@ -40,14 +42,30 @@ struct Rewriter<'a> {
     is_component: &'a dyn Fn(&str) -> bool,
     /// Whether `time` is a parameter (then it is the parameter).
     time_is_param: bool,
-    /// Every occurrence: its segments and its tokens.
+    /// Parameters of type `SignalRef`: signals of the outer model.
+    signal_params: &'a std::collections::HashSet<String>,
+    /// Every occurrence of a path: its segments and its tokens.
     found: Vec<(Vec<Ident>, Expr)>,
-    /// The distinct paths, in order of first use.
-    paths: Vec<String>,
+    /// The distinct signals, in order of first use.
+    paths: Vec<Dep>,
     /// Whether `time` was read.
     time: bool,
     /// Components used alone (`u = ramp`).
     lone: Vec<Ident>,
+}
+
+impl Rewriter<'_> {
+    /// The index of signal `d` among the closure's values (added at first use).
+    fn index(&mut self, d: Dep) -> syn::Index {
+        let i = match self.paths.iter().position(|p| *p == d) {
+            Some(i) => i,
+            None => {
+                self.paths.push(d);
+                self.paths.len() - 1
+            }
+        };
+        syn::Index::from(i)
+    }
 }
 
 impl VisitMut for Rewriter<'_> {
@@ -61,15 +79,8 @@ impl VisitMut for Rewriter<'_> {
                     .map(Ident::to_string)
                     .collect::<Vec<_>>()
                     .join(".");
-                let i = match self.paths.iter().position(|p| *p == path) {
-                    Some(i) => i,
-                    None => {
-                        self.paths.push(path);
-                        self.paths.len() - 1
-                    }
-                };
+                let i = self.index(Dep::Path(path));
                 self.found.push((segs, e.clone()));
-                let i = syn::Index::from(i);
                 let span = e.span();
                 *e = syn::parse_quote_spanned!(span=> #v[#i]);
                 return;
@@ -78,6 +89,12 @@ impl VisitMut for Rewriter<'_> {
         if let Expr::Path(p) = e {
             if let (None, Some(id)) = (&p.qself, p.path.get_ident()) {
                 let n = id.to_string();
+                if self.signal_params.contains(&n) {
+                    let i = self.index(Dep::Param(id.clone()));
+                    let span = id.span();
+                    *e = syn::parse_quote_spanned!(span=> #v[#i]);
+                    return;
+                }
                 if n == "time" && !self.time_is_param {
                     self.time = true;
                     let span = id.span();
@@ -220,9 +237,19 @@ impl Checker {
         for p in spec.params {
             match p.value {
                 BlockValue::Joint => {
-                    joint = self
-                        .required(&a, p.key)
-                        .and_then(|e| self.reference(e, Kind::Joint, "joint"));
+                    joint = self.required(&a, p.key).and_then(|e| {
+                        let param = match e {
+                            Expr::Path(p) => p
+                                .path
+                                .get_ident()
+                                .filter(|i| self.joint_params.contains(&i.to_string())),
+                            _ => None,
+                        };
+                        match param {
+                            Some(id) => Some(JointArg::Param(id.clone())),
+                            None => self.reference(e, Kind::Joint, "joint").map(JointArg::Ref),
+                        }
+                    });
                     ok &= joint.is_some();
                 }
                 BlockValue::Coordinate => coordinate = a.get(p.key).cloned(),
@@ -253,7 +280,7 @@ impl Checker {
                 }
             }
         }
-        if let Some(j) = &joint {
+        if let Some(JointArg::Ref(j)) = &joint {
             self.flange(spec, j, coordinate.as_ref(), &a);
         }
         let mut inputs = vec![];
@@ -291,6 +318,56 @@ impl Checker {
                 inputs,
             })
         })
+    }
+
+    /// A sub-assembly's parameter given a path of this block: a signal (`ramp.y`, `rev.w`,
+    /// `arm.pi.y`), `time`, or a joint (`rev`, `arm.rev`), for a `SignalRef` or `JointRef`
+    /// parameter. `None`: not such a path (a Rust value); `Some(None)`: a wrong path (reported).
+    /// Paths into sub-assemblies are left to `build()` (a signal or a joint: the parameter's
+    /// type decides).
+    pub(super) fn path_argument(&mut self, e: &Expr) -> Option<Option<String>> {
+        let mut segs = vec![];
+        if !path_segments(e, &mut segs) {
+            return None;
+        }
+        let root = segs[0].to_string();
+        if self.params.contains(&root) {
+            return None;
+        }
+        if segs.len() == 1 && root == "time" {
+            return Some(Some(root));
+        }
+        let kind = self.kind(&root)?;
+        let path = segs
+            .iter()
+            .map(Ident::to_string)
+            .collect::<Vec<_>>()
+            .join(".");
+        let ok = match (kind, segs.len()) {
+            (Kind::Joint, 1) | (Kind::Assembly, 2..) => true,
+            (Kind::Block | Kind::Joint, 2..) => {
+                let reader = Ident::new("__modia3d_outer", Span::call_site());
+                self.signal(&reader, false, &segs, e)
+            }
+            (Kind::Assembly, _) => {
+                self.err(
+                    segs[0].span(),
+                    format!("`{root}` is a sub-assembly: a parameter takes one of its signals (`{root}.<block>.y`) or joints (`{root}.<joint>`)"),
+                );
+                false
+            }
+            (k, _) => {
+                self.err(
+                    segs[0].span(),
+                    format!(
+                        "`{root}` is {}: a sub-assembly's parameter takes a signal (`ramp.y`, `rev.phi`) or a joint (`rev`) of this block",
+                        k.article()
+                    ),
+                );
+                false
+            }
+        };
+        Some(ok.then_some(path))
     }
 
     /// A `Sampled` block's `inner = PI(k = …, T = …)`: a block kind with continuous states
@@ -466,6 +543,7 @@ impl Checker {
             is_root: &is_root,
             is_component: &is_component,
             time_is_param: params.contains("time"),
+            signal_params: &self.signal_params,
             found: vec![],
             paths: vec![],
             time: false,
@@ -505,13 +583,15 @@ impl Checker {
             return None;
         }
         path_segments(e, &mut segs);
-        let lone_path = !paths.is_empty() && segs.len() > 1 && found.len() == 1;
+        let lone_path = paths.len() == 1
+            && (segs.len() > 1 && found.len() == 1
+                || segs.len() == 1 && matches!(paths[0], Dep::Param(_)));
         Some(if lone_path {
             WireIr::Signal(paths[0].clone())
         } else if paths.is_empty() && !time {
             WireIr::Const(e.clone())
         } else if matches!(e, Expr::Path(p) if p.path.is_ident("time")) && time {
-            WireIr::Signal("time".into())
+            WireIr::Signal(Dep::Path("time".into()))
         } else {
             WireIr::Expr { deps: paths, expr }
         })

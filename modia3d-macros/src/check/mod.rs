@@ -65,6 +65,19 @@ impl Errors {
     }
 }
 
+/// The parameters whose type is `ty` (its last path segment: `SignalRef`,
+/// `modia3d::SignalRef`).
+fn typed_params(def: &ModelDef, ty: &str) -> HashSet<String> {
+    def.params
+        .iter()
+        .filter(|p| {
+            matches!(&p.ty, syn::Type::Path(t)
+                if t.path.segments.last().is_some_and(|s| s.ident == ty))
+        })
+        .map(|p| p.name.to_string())
+        .collect()
+}
+
 /// Checks a block and lowers it; the errors found (not yet those of the core's scene rules).
 pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
     let mut c = Checker {
@@ -72,6 +85,8 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         kinds: HashMap::new(),
         assembly_types: HashMap::new(),
         ctors: HashMap::new(),
+        signal_params: typed_params(def, "SignalRef"),
+        joint_params: typed_params(def, "JointRef"),
         feedthrough_reads: vec![],
         block_ports: HashMap::new(),
         params: def.params.iter().map(|p| p.name.to_string()).collect(),
@@ -147,6 +162,11 @@ pub(crate) struct Checker {
     assembly_types: HashMap<String, syn::Path>,
     /// The constructor of each component, by name (a joint's or block's kind).
     ctors: HashMap<String, String>,
+    /// Parameters of type `SignalRef` (signals of an outer model a block reads) and
+    /// `JointRef` (joints of an outer model a `Drive` acts on).
+    signal_params: HashSet<String>,
+    /// See `signal_params`.
+    joint_params: HashSet<String>,
     /// Blocks' reads of other blocks' feedthrough outputs (`blocks.rs`'s loop check).
     feedthrough_reads: Vec<blocks::FeedthroughRead>,
     /// The ports and signals of each block, for its variants (`blocks::block_ports`).
@@ -499,6 +519,7 @@ impl Checker {
     fn assembly(&mut self, name: &Ident, ctor: &Ctor) -> Item {
         let mut parent = Parent::Attach;
         let mut fields = vec![];
+        let mut paths = vec![];
         let mut seen = HashSet::new();
         for a in &ctor.args {
             if !seen.insert(a.key.to_string()) {
@@ -517,6 +538,10 @@ impl Checker {
                     a.key.span(),
                     format!("`can_collide` is a key of joints, not of the sub-assembly `{name}`"),
                 );
+            } else if let Some(path) = self.path_argument(&a.value) {
+                if let Some(path) = path {
+                    paths.push((a.key.clone(), path));
+                }
             } else {
                 fields.push((a.key.clone(), a.value.clone()));
             }
@@ -526,6 +551,7 @@ impl Checker {
             ty: ctor.path.clone(),
             parent,
             fields,
+            paths,
         }
     }
 

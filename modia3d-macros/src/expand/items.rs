@@ -4,9 +4,10 @@
 
 use super::{local, paths_module_at, prefix, scoped};
 use crate::ir::{
-    shape_arg, wire_locals, ActionIr, AxisIr, BlockIr, ContactPairIr, FeatureIr, ForceIr, InputIr,
-    Item, JointAxis, JointIr, JointKindIr, MassIr, MaterialIr, MaterialName, Num, ObjectIr, Parent,
-    PathCheck, PathWant, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr, SpringDamperIr, WireIr,
+    shape_arg, wire_locals, ActionIr, AxisIr, BlockIr, ContactPairIr, Dep, FeatureIr, ForceIr,
+    InputIr, Item, JointArg, JointAxis, JointIr, JointKindIr, MassIr, MaterialIr, MaterialName,
+    Num, ObjectIr, Parent, PathCheck, PathWant, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr,
+    SpringDamperIr, WireIr,
 };
 use modia3d_core::{BlockValue, ParamValue, ShapeValue};
 use proc_macro2::Ident;
@@ -180,7 +181,8 @@ pub(super) fn item(it: &Item, params: &[&Ident]) -> TokenStream {
             ty,
             parent,
             fields,
-        } => assembly(name, ty, parent, fields),
+            paths,
+        } => assembly(name, ty, parent, fields, paths),
         Item::Block(b) => block(b, params),
     }
 }
@@ -215,7 +217,11 @@ fn block_value(b: &BlockIr) -> TokenStream {
             (BlockValue::Rows, Some(e)) => quote!(#private::rows(#e)),
             (BlockValue::Pairs, Some(e)) => quote!(#private::pairs(#e)),
             (BlockValue::Joint, _) => {
-                let j = b.joint.as_ref().map(|j| scoped(&j.path));
+                let j = match &b.joint {
+                    Some(JointArg::Ref(j)) => scoped(&j.path),
+                    Some(JointArg::Param(p)) => quote!(::modia3d::JointRef::path(&#p)),
+                    None => quote!(::core::unreachable!()),
+                };
                 quote!(::std::string::ToString::to_string(#j))
             }
             (BlockValue::Coordinate, _) => match &b.coordinate {
@@ -280,23 +286,32 @@ fn to_camel(key: &str) -> String {
         .unwrap_or_default()
 }
 
+/// A signal's full name as a `&str`: a path with this block's prefix (`time` without), or a
+/// `SignalRef` parameter's.
+fn dep(d: &Dep) -> TokenStream {
+    match d {
+        Dep::Path(p) if p == "time" => quote!("time"),
+        Dep::Path(p) => {
+            let p = scoped(p);
+            quote!(::std::string::String::as_str(#p))
+        }
+        Dep::Param(id) => quote!(::modia3d::SignalRef::path(&#id)),
+    }
+}
+
 /// An input's `Src`: a constant, a signal by its full name, or a closure of time and the
 /// signals' values (the parameters it reads cloned into it).
 fn wire(w: &WireIr, params: &[&Ident]) -> TokenStream {
     let src = quote!(::modia3d::core::Src);
     match w {
         WireIr::Const(e) => quote!(#src::Const(#e)),
-        WireIr::Signal(p) if p == "time" => quote!(#src::signal("time")),
-        WireIr::Signal(p) => {
-            let p = scoped(p);
+        WireIr::Signal(d) => {
+            let p = dep(d);
             quote!(#src::signal(#p))
         }
         WireIr::Expr { deps, expr } => {
             let (t, v) = wire_locals();
-            let deps = deps.iter().map(|d| {
-                let d = scoped(d);
-                quote!(::std::string::String::as_str(#d))
-            });
+            let deps = deps.iter().map(dep);
             quote! {
                 #src::expr(&[#(#deps),*], {
                     #(let #params = ::core::clone::Clone::clone(&#params);)*
@@ -312,6 +327,7 @@ fn assembly(
     ty: &syn::Path,
     parent: &Parent,
     fields: &[(proc_macro2::Ident, syn::Expr)],
+    paths: &[(proc_macro2::Ident, String)],
 ) -> TokenStream {
     let scene = local("scene");
     let attach = local("parent");
@@ -337,10 +353,18 @@ fn assembly(
     };
     let ks = fields.iter().map(|(k, _)| k);
     let vs = fields.iter().map(|(_, v)| v);
+    // A signal or joint of this block: its full name, as the parameter's `SignalRef` or
+    // `JointRef`.
+    let pks = paths.iter().map(|(k, _)| k);
+    let pvs = paths.iter().map(|(k, path)| {
+        let full = dep(&Dep::Path(path.clone()));
+        quote_spanned!(k.span()=> ::modia3d::__private::FromPath::from_path(#full))
+    });
     quote! {
         #assert
         #ty {
             #(#ks: #vs,)*
+            #(#pks: #pvs,)*
             ..::core::default::Default::default()
         }
         .add_to(#scene, #p, #parent);
