@@ -46,6 +46,53 @@
 pub use modia3d_core as core;
 pub use modia3d_macros::model;
 
+/// A signal of the outer model handed to a `model!` sub-assembly as a parameter, so that its
+/// blocks read it: `pub assembly Servo(reference: SignalRef = SignalRef::time()) { pi = PI(…,
+/// u = reference - drive.motor_phi / 156.0) }`, used as `axis1 = Servo(reference = ramp.y)`
+/// (the outer `model!` resolves `ramp.y` and names it with its prefix).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SignalRef(String);
+
+impl SignalRef {
+    /// The signal named `path` in the built scene (`"ramp.y"`, `"arm1.rev.phi"`).
+    pub fn new(path: &str) -> Self {
+        SignalRef(path.to_string())
+    }
+    /// Time \[s\].
+    pub fn time() -> Self {
+        SignalRef::new("time")
+    }
+    /// The signal's name in the built scene.
+    pub fn path(&self) -> &str {
+        &self.0
+    }
+}
+
+impl Default for SignalRef {
+    /// Time (a parameter needs a default; give the signal when using the assembly).
+    fn default() -> Self {
+        SignalRef::time()
+    }
+}
+
+/// A joint of the outer model handed to a `model!` sub-assembly as a parameter, so that its
+/// `Drive` acts on it: `pub assembly Servo(joint: JointRef = JointRef::default()) { drive =
+/// Drive(joint = joint, …) }`, used as `axis1 = Servo(joint = shoulder)`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct JointRef(String);
+
+impl JointRef {
+    /// The joint named `path` in the built scene (`"rev"`, `"arm1.shoulder"`).
+    pub fn new(path: &str) -> Self {
+        JointRef(path.to_string())
+    }
+    /// The joint's name in the built scene (empty by default: `build()` then reports an
+    /// unknown joint).
+    pub fn path(&self) -> &str {
+        &self.0
+    }
+}
+
 /// Support items for the code `model!` generates; not part of the API.
 #[doc(hidden)]
 pub mod __private {
@@ -56,6 +103,45 @@ pub mod __private {
     pub struct JointPath;
     /// The type of a hidden item that names a force element or material of a `model!` type.
     pub struct OtherPath;
+    /// The type of a hidden item that names a signal a block of a `model!` type reads
+    /// (`pi.y`, `rev.w`).
+    pub struct SignalPath;
+
+    /// What a sub-assembly's parameter given a path of the outer model (`reference = ramp.y`,
+    /// `joint = rev`) is: a `SignalRef` or a `JointRef`, whichever the parameter is.
+    #[diagnostic::on_unimplemented(
+        message = "a signal or joint of this model is given to a parameter of type `{Self}`",
+        label = "a path of this model",
+        note = "a sub-assembly takes a signal as a `SignalRef` parameter and a joint as a `JointRef` parameter"
+    )]
+    pub trait FromPath {
+        /// The reference to the signal or joint named `path` in the built scene.
+        fn from_path(path: &str) -> Self;
+    }
+    impl FromPath for crate::SignalRef {
+        fn from_path(path: &str) -> Self {
+            crate::SignalRef::new(path)
+        }
+    }
+    impl FromPath for crate::JointRef {
+        fn from_path(path: &str) -> Self {
+            crate::JointRef::new(path)
+        }
+    }
+
+    /// A block's list of numbers (`v_max = [1.0, 2.0]`) from an array, a `Vec` or any iterable.
+    pub fn numbers(v: impl IntoIterator<Item = f64>) -> Vec<f64> {
+        v.into_iter().collect()
+    }
+    /// A block's rows of numbers (`positions = [[0.0], [1.0]]`) from arrays, `Vec`s or any
+    /// iterables.
+    pub fn rows<R: IntoIterator<Item = f64>>(v: impl IntoIterator<Item = R>) -> Vec<Vec<f64>> {
+        v.into_iter().map(|r| r.into_iter().collect()).collect()
+    }
+    /// A block's `(time, value)` rows (`table = [(0.0, 1.0), (1.0, 2.0)]`).
+    pub fn pairs(v: impl IntoIterator<Item = (f64, f64)>) -> Vec<(f64, f64)> {
+        v.into_iter().collect()
+    }
 
     /// What `model!` accepts where the builder wants a `Vector3<f64>`.
     #[diagnostic::on_unimplemented(
@@ -215,6 +301,7 @@ pub mod demo;
 
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
+    pub use crate::{JointRef, SignalRef};
     pub use modia3d_core::{blocks, Component, ComponentDecl, ComponentIo, Src};
     pub use modia3d_core::{
         linspace, ColumnInfo, Distribution, ParamPoints, Params, RunError, Sweep, SweepError,

@@ -94,6 +94,10 @@ pub use results::{
     SimWarning, SimulationResult, EVENT_MARKER_COLOR,
 };
 pub use scene::{
+    block_kind, BlockKindSpec, BlockOutput, BlockParam, BlockValue, BlockVariant, BlockVariants,
+    BLOCK_KINDS,
+};
+pub use scene::{
     blocks, Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec,
     Src, SrcFn, StateSpec,
 };

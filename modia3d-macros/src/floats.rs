@@ -8,7 +8,7 @@
 //! unchanged.
 
 use crate::ast::ModelDef;
-use crate::vocab::{is_component, is_nested, joint_kind};
+use crate::vocab::{is_block_value, is_component, is_nested, joint_kind};
 use syn::{Expr, Lit, LitFloat};
 
 /// Keys whose scalar value is an integer (an array value of such a key is still a float
@@ -57,10 +57,16 @@ fn value(e: &mut Expr, integer_scalar: bool) {
         Expr::Paren(p) => value(&mut p.expr, integer_scalar),
         Expr::Group(g) => value(&mut g.expr, integer_scalar),
         Expr::Array(arr) => arr.elems.iter_mut().for_each(|el| value(el, false)),
-        // A built-in nested constructor `Ctor(key = value, …)`.
+        // A `Table`'s `(time, value)` rows.
+        Expr::Tuple(t) => t.elems.iter_mut().for_each(|el| value(el, false)),
+        // A built-in nested constructor `Ctor(key = value, …)`, a block's variant
+        // (`Elastic(c = …, d = …)`) or inner block (`inner = PI(…)`).
         Expr::Call(call)
             if matches!(&*call.func, Expr::Path(p)
-                if p.path.get_ident().is_some_and(|i| is_nested(&i.to_string()))) =>
+            if p.path.get_ident().is_some_and(|i| {
+                let n = i.to_string();
+                is_nested(&n) || is_block_value(&n)
+            })) =>
         {
             for arg in call.args.iter_mut() {
                 if let Expr::Assign(asg) = arg {

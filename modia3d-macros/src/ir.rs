@@ -8,7 +8,7 @@
 #![allow(clippy::large_enum_variant)]
 
 use crate::vocab::Kind;
-use modia3d_core::{JointKindSpec, ShapeKindSpec};
+use modia3d_core::{BlockKindSpec, BlockVariant, JointKindSpec, ShapeKindSpec};
 use proc_macro2::{Ident, Span};
 use syn::Expr;
 
@@ -409,6 +409,116 @@ pub(crate) struct ContactPairIr {
     pub w_min: Option<Num>,
 }
 
+/// A signal a block's input reads.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Dep {
+    /// By path, relative to the block's prefix (`ramp.y`, `arm.rev.phi`), or `time`
+    /// (absolute).
+    Path(String),
+    /// A parameter of type `SignalRef`: the outer model's signal handed to this assembly
+    /// (absolute).
+    Param(Ident),
+}
+
+/// Where a block's input port reads its value from.
+#[derive(Clone, Debug)]
+pub(crate) enum WireIr {
+    /// An expression of parameters only: `Src::Const`.
+    Const(Expr),
+    /// One signal: `Src::signal`.
+    Signal(Dep),
+    /// An expression over `time` and the signals `deps` (in order of first use): `expr` is
+    /// the user's with each signal replaced by the closure's values `v[i]` and `time` by its
+    /// time argument (both locals of [`wire_locals`]).
+    Expr {
+        /// The signals read.
+        deps: Vec<Dep>,
+        /// The rewritten expression.
+        expr: Expr,
+    },
+}
+
+/// The closure arguments of a [`WireIr::Expr`]: time \[s\] and the values of its signals
+/// (mixed-site hygiene: the user's expression cannot name them).
+pub(crate) fn wire_locals() -> (Ident, Ident) {
+    (
+        Ident::new("__modia3d_time", Span::mixed_site()),
+        Ident::new("__modia3d_values", Span::mixed_site()),
+    )
+}
+
+/// What a block offers and takes, for the variants chosen (a `Drive` with a DC motor takes
+/// `v`, not `tau`): from the core's example block of the kind.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct BlockPorts {
+    /// Input ports, in order.
+    pub inputs: Vec<String>,
+    /// Outputs with their feedthrough flags.
+    pub outputs: Vec<(String, bool)>,
+    /// Continuous, then discrete states.
+    pub states: Vec<String>,
+    /// A variant key's value is no variant (an error): the ports are not known, and keys
+    /// that are no parameter are not checked against them (no follow-up errors).
+    pub uncertain: bool,
+}
+
+impl BlockPorts {
+    /// Every signal: outputs, then states (a state named as an output is listed once).
+    pub(crate) fn signals(&self) -> Vec<&str> {
+        let mut v: Vec<&str> = self.outputs.iter().map(|(n, _)| n.as_str()).collect();
+        for s in &self.states {
+            if !v.contains(&s.as_str()) {
+                v.push(s);
+            }
+        }
+        v
+    }
+}
+
+/// A variant chosen for an enum-valued parameter (`gear = Elastic(c = …, d = …)`).
+#[derive(Clone, Debug)]
+pub(crate) struct VariantIr {
+    /// The parameter (`gear`).
+    pub key: &'static str,
+    /// The variant (the core's table).
+    pub variant: &'static BlockVariant,
+    /// Its fields' values, in the table's order.
+    pub fields: Vec<(&'static str, Expr)>,
+}
+
+/// A block's joint.
+#[derive(Clone, Debug)]
+pub(crate) enum JointArg {
+    /// A joint of this block or of a sub-assembly.
+    Ref(NameRef),
+    /// A parameter of type `JointRef` (absolute).
+    Param(Ident),
+}
+
+/// A block (`name = PI(k = …, u = …)`, [`Item::Block`]).
+#[derive(Clone, Debug)]
+pub(crate) struct BlockIr {
+    /// Component name.
+    pub name: Ident,
+    /// The kind's row of the core's table.
+    pub spec: &'static BlockKindSpec,
+    /// The parameters given (numbers and lists), by key in the row's order.
+    pub params: Vec<(&'static str, Expr)>,
+    /// A `Drive`'s joint: of this block, or a parameter of type `JointRef` (the outer
+    /// model's joint handed to this assembly).
+    pub joint: Option<JointArg>,
+    /// A `Drive`'s `coordinate = "…"`.
+    pub coordinate: Option<Expr>,
+    /// The variants chosen for enum-valued parameters (others take the row's default).
+    pub variants: Vec<VariantIr>,
+    /// A `Sampled` block's inner block (its parameters only; its inputs are the outer's).
+    pub inner: Option<Box<BlockIr>>,
+    /// Its ports and signals with these variants.
+    pub ports: BlockPorts,
+    /// Each input port's source, in the ports' order.
+    pub inputs: Vec<(String, WireIr)>,
+}
+
 /// One component. The variants that both consumers of the IR (the rules' scene of literal
 /// values, `rules/`, and the expansion's builder calls, `expand/`) read field by field are
 /// named structs, so each reads the fields it needs by name.
@@ -451,6 +561,8 @@ pub(crate) enum Item {
     },
     /// `ContactPair(…)`.
     ContactPair(ContactPairIr),
+    /// A block with ports and states.
+    Block(BlockIr),
     /// A sub-assembly: `Type { params… }.add_to(scene, prefix.name., parent)`.
     Assembly {
         /// Component name.
@@ -461,6 +573,9 @@ pub(crate) enum Item {
         parent: Parent,
         /// Parameter values.
         fields: Vec<(Ident, Expr)>,
+        /// Parameters given a signal or joint of this block by path (`reference = ramp.y`,
+        /// `joint = rev`): a `SignalRef` or `JointRef` of the path with this block's prefix.
+        paths: Vec<(Ident, String)>,
     },
 }
 
@@ -471,8 +586,19 @@ pub(crate) struct PathCheck {
     pub ty: syn::Path,
     /// The path inside it.
     pub rest: Vec<Ident>,
-    /// Whether it must be a joint (else an object).
-    pub joint: bool,
+    /// What it must name.
+    pub want: PathWant,
+}
+
+/// What a [`PathCheck`]'s path must name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PathWant {
+    /// An object.
+    Object,
+    /// A joint.
+    Joint,
+    /// A signal a block reads (`pi.y`, `rev.phi`).
+    Signal,
 }
 
 /// The checked model.

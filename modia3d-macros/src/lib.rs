@@ -87,7 +87,74 @@ use proc_macro::TokenStream;
 /// | `ActionAttach` | `object*` (obj2 of a FreeMotion), `to*` (objects), `at*` (s, ≥ 0), `gap*` (m, ≥ 0) — at time `at`, fix `object` rigidly to `to` at their current relative pose if they are at most `gap` apart (`SceneDesc::add_action`; docs/segments.md) |
 /// | `ActionRelease` | `object*`, `at*` — give the attached `object` a FreeMotion again at its current pose and velocity |
 /// | `ActionDelete` | `object*`, `at*` — remove `object`, its children, joints, force elements and inputs |
+/// | a block kind (below) | a block with ports and states in the DAE: `pi = PI(k = k2, T = t2, u = …)` |
 /// | any other type | a sub-assembly: `arm1 = Arm(parent = base, length = 0.5)` |
+///
+/// ## Blocks
+///
+/// Controllers, sources and drives solved with the mechanism under one error control
+/// (docs/drive-trains.md; the builder's `SceneDesc::add_component`), from the core's table
+/// `BLOCK_KINDS` (the structs of `modia3d::core::blocks`, Modelica's names):
+///
+/// ```text
+/// ramp  = Ramp(height = 2.95, duration = 1.18),
+/// pi    = PI(k = k2, T = t2, u = k1 * (ratio * ramp.y - drive.motor_phi) - drive.motor_w),
+/// drive = Drive(joint = rev, ratio = 156.0, J_motor = 1.3909e-5, tau = pi.y),
+/// ```
+///
+/// A key is a parameter (a struct field: a Rust expression over the model's parameters) or an
+/// input port. An input is a Rust `f64` expression over the parameters, `time` \[s\] and
+/// signals by path: `<block>.<output or state>` (`ramp.y`, `pi.x`, `drive.motor_w`),
+/// `<joint>.<position or velocity>` of a scalar coordinate (`rev.phi`, `rev.w`, `slide.s`,
+/// `slide.v`), or the same inside a sub-assembly (`axis1.drive.motor_phi`). A lone path reads
+/// the signal (`Src::signal`), an expression becomes `Src::expr(&[paths…], |time, v| …)`
+/// with each path replaced by its value, one of parameters only a `Src::Const`.
+///
+/// | block | parameters (`*` required, `= default`) | inputs | signals (`→` feedthrough) |
+/// |---|---|---|---|
+/// | `Constant` | `k*` | | `y` |
+/// | `Step` | `height*`, `offset = 0`, `startTime = 0` (s) | | `y` |
+/// | `Ramp` | `height*`, `duration*` (s), `offset = 0`, `startTime = 0` | | `y` |
+/// | `Sine` | `amplitude*`, `f*` (Hz), `phase = 0` (rad), `offset = 0`, `startTime = 0` | | `y` |
+/// | `Table` | `table*` (`[(t, y), …]`) | | `y` |
+/// | `Input` | `start = 0` (set by `Simulation::set_input`) | | `y`, `value` |
+/// | `PtpPath` | `positions*` (rows of points `[[…], …]`), `v_max*`, `a_max*` (per axis), `startTime = 0` | | `q`, `qd`, `qdd` (several axes: `q1`, `qd1`, …) |
+/// | `Gain` | `k*` | `u` | `y` → |
+/// | `Feedback` | | `u1`, `u2` | `y = u1 − u2` → |
+/// | `Add`, `Add3` | `k1 = 1`, `k2 = 1` (, `k3 = 1`) | `u1`, `u2` (, `u3`) | `y` → |
+/// | `Limiter` | `uMax*`, `uMin = −uMax` | `u` | `y` →, `mode` |
+/// | `Integrator` | `k = 1`, `y_start = 0` | `u` | `y`, `x` |
+/// | `FirstOrder` | `k = 1`, `T*` (s), `y_start = 0` | `u` | `y`, `x` |
+/// | `PI` | `k = 1`, `T*` (s), `x_start = 0` | `u` | `y` →, `x` |
+/// | `PID` | `k = 1`, `Ti*`, `Td*` (s), `Nd = 10`, `xi_start = 0`, `xd_start = 0` | `u` | `y` →, `xi`, `xd` |
+/// | `LimPID` | `k = 1`, `Ti*`, `Td*`, `yMax*`, `yMin = −yMax`, `wp = 1`, `wd = 0`, `Ni = 0.9`, `Nd = 10`, `xi_start`, `xd_start` | `u_s`, `u_m` | `y` →, `xi`, `xd`, `mode` |
+/// | `Drive` | `joint*` (a joint with a scalar coordinate), `coordinate` (`"phi"`, …; needed on a joint with several), `ratio*` (motor angle per joint coordinate), `J_motor*` (kg·m²), `gear = Rigid` or `Elastic(c = …, d = …)` (N·m/rad, N·m·s/rad), `motor = Torque` or `Dc(R = …, L = …, k = …)` (Ω, H, N·m/A) | `tau` (N·m); with `Dc`: `v` (V) | `motor_phi`, `motor_w`, `tau_motor` → (not with `Dc`), `tau_load` → (rigid torque drive only); `Elastic`: `phi_gear`; `Dc`: `i` |
+/// | `Sampled` | `period*` (s), `startTime = 0`, `inner*`: a block with continuous states and outputs only, as its constructor without inputs (`inner = PI(k = …, T = …)`) | the inner block's | the inner block's outputs (held, no feedthrough), `tick`, its states, `<output>_held` |
+///
+/// Checked at compile time, each on its token: unknown keys, missing required parameters and
+/// inputs, unknown signal paths (with did-you-mean hints; paths into sub-assemblies by rustc),
+/// a `Drive` on a joint without a scalar coordinate or with a `coordinate` it lacks, and
+/// algebraic loops among the block's blocks (a cycle of blocks each reading another's `→`
+/// output at the same instant; one through a sub-assembly is reported by `build()`). In a
+/// sub-assembly blocks are named with its prefix (`axis1.pi`, signals `axis1.pi.y`), so an
+/// assembly with blocks is used several times with different parameters.
+///
+/// An assembly reaches the outer model's signals and joints through parameters of type
+/// `SignalRef` and `JointRef` (`modia3d::SignalRef`, in the prelude): inside, a `SignalRef`
+/// parameter is a signal in an input (`u = k * reference`) and a `JointRef` parameter a
+/// `Drive`'s joint; outside, the parameter is given a path of the outer block
+/// (`servo1 = Servo(joint = shoulder, reference = ramp.y)`, checked like a block's signal
+/// paths; a path given to a parameter of another type is a type error on the key):
+///
+/// ```text
+/// pub assembly Servo(joint: JointRef = JointRef::default(), reference: SignalRef = SignalRef::time()) {
+///     pi    = PI(k = 0.1, T = 1.0, u = 50.0 * (156.0 * reference - drive.motor_phi) - drive.motor_w),
+///     drive = Drive(joint = joint, ratio = 156.0, J_motor = 1.3909e-5, tau = pi.y),
+/// }
+/// ```
+///
+/// Checks that need the other block's contents (a loop through a sub-assembly, a flange on a
+/// `JointRef`) are `build()`'s.
 ///
 /// ## Values of `feature`, `shape`, `mass_properties`
 ///

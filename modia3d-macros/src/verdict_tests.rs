@@ -9,7 +9,9 @@
 //! attachment or a joint without `can_collide`).
 //!
 //! Not generated: scenes `build()` rejects only in the plan stage (a body without inertia) —
-//! every generated body has a solid with a mass.
+//! every generated body has a solid with a mass. Blocks, whose checks the macro makes itself
+//! (`check/blocks.rs`, beside the core's `validate/components.rs`), are held to `build()`'s
+//! verdict on hand-written cases (`macro_and_build_agree_on_blocks`).
 
 use modia3d_core::scene::{
     ContactPairMaterial, Joint, JointKind, Object3D, SceneDesc, SceneOptions, Solid, SolidMaterial,
@@ -352,4 +354,157 @@ fn macro_and_build_agree_on_200_generated_scenes() {
         valid >= 25 && invalid >= 25,
         "valid {valid}, invalid {invalid}"
     );
+}
+
+/// Blocks: the macro's own checks of a block entry (`check/blocks.rs`: signal paths,
+/// flanges, algebraic loops) give `build()`'s verdict (`scene/validate/components.rs`) on
+/// hand-written cases, each once as `model!` block entries and once as builder calls, on a
+/// scene of a revolute, a cylindrical and a spherical joint.
+#[test]
+fn macro_and_build_agree_on_blocks() {
+    use modia3d_core::blocks::{Drive, Feedback, Gain, Integrator, Limiter, Ramp, Sampled, PI};
+    use modia3d_core::{ComponentDecl, Src};
+    type Builder = fn(&mut SceneDesc);
+    let cases: Vec<(&str, Builder)> = vec![
+        (
+            "ramp = Ramp(height = 1.0, duration = 1.0), pi = PI(T = 1.0, u = 10.0 * (ramp.y - rev.phi) - drive.motor_w), drive = Drive(joint = rev, ratio = 10.0, J_motor = 1e-4, tau = pi.y),",
+            |d| {
+                d.add_component(ComponentDecl::new("ramp", Ramp { height: 1.0, duration: 1.0, ..Default::default() }));
+                d.add_component(ComponentDecl::new("pi", PI::new(1.0, 1.0)).input("u", Src::expr(&["ramp.y", "rev.phi", "drive.motor_w"], |_, v| 10.0 * (v[0] - v[1]) - v[2])));
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("rev", 10.0, 1e-4)).input("tau", "pi.y"));
+            },
+        ),
+        (
+            "g1 = Gain(k = 1.0, u = g2.y), g2 = Gain(k = 1.0, u = time + g1.y),",
+            |d| {
+                d.add_component(ComponentDecl::new("g1", Gain { k: 1.0 }).input("u", "g2.y"));
+                d.add_component(ComponentDecl::new("g2", Gain { k: 1.0 }).input("u", Src::expr(&["g1.y"], |t, v| t + v[0])));
+            },
+        ),
+        (
+            "g1 = Gain(k = 1.0, u = i.y), i = Integrator(u = g1.y),",
+            |d| {
+                d.add_component(ComponentDecl::new("g1", Gain { k: 1.0 }).input("u", "i.y"));
+                d.add_component(ComponentDecl::new("i", Integrator::default()).input("u", "g1.y"));
+            },
+        ),
+        (
+            "f = Feedback(u1 = time, u2 = pi.y), pi = PI(T = 1.0, u = f.y),",
+            |d| {
+                d.add_component(ComponentDecl::new("f", Feedback).input("u1", "time").input("u2", "pi.y"));
+                d.add_component(ComponentDecl::new("pi", PI::new(1.0, 1.0)).input("u", "f.y"));
+            },
+        ),
+        (
+            "drive = Drive(joint = rev, ratio = 10.0, J_motor = 1e-4, tau = -drive.tau_motor),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("rev", 10.0, 1e-4)).input("tau", Src::expr(&["drive.tau_motor"], |_, v| -v[0])));
+            },
+        ),
+        (
+            "drive = Drive(joint = rev, ratio = 10.0, J_motor = 1e-4, tau = -drive.motor_w + cyl.v),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("rev", 10.0, 1e-4)).input("tau", Src::expr(&["drive.motor_w", "cyl.v"], |_, v| -v[0] + v[1])));
+            },
+        ),
+        (
+            "drive = Drive(joint = ball, ratio = 10.0, J_motor = 1e-4, tau = 0.0),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("ball", 10.0, 1e-4)).input("tau", 0.0));
+            },
+        ),
+        (
+            "drive = Drive(joint = cyl, ratio = 10.0, J_motor = 1e-4, tau = 0.0),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("cyl", 10.0, 1e-4)).input("tau", 0.0));
+            },
+        ),
+        (
+            "drive = Drive(joint = cyl, coordinate = \"s\", ratio = 10.0, J_motor = 1e-4, tau = cyl.s),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("cyl", 10.0, 1e-4).coordinate("s")).input("tau", "cyl.s"));
+            },
+        ),
+        (
+            "drive = Drive(joint = rev, coordinate = \"s\", ratio = 10.0, J_motor = 1e-4, tau = 0.0),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("rev", 10.0, 1e-4).coordinate("s")).input("tau", 0.0));
+            },
+        ),
+        (
+            "drive = Drive(joint = rev, ratio = 10.0, J_motor = 1e-4, gear = Elastic(c = 100.0, d = 1.0), motor = Dc(R = 1.0, L = 1e-3, k = 0.1), v = -drive.i - drive.motor_w - drive.phi_gear),",
+            |d| {
+                d.add_component(ComponentDecl::new("drive", Drive::rigid("rev", 10.0, 1e-4).elastic(100.0, 1.0).dc_motor(1.0, 1e-3, 0.1)).input("v", Src::expr(&["drive.i", "drive.motor_w", "drive.phi_gear"], |_, v| -v[0] - v[1] - v[2])));
+            },
+        ),
+        (
+            "s = Sampled(period = 0.01, inner = Limiter(uMax = 1.0), u = time),",
+            |d| {
+                d.add_component(ComponentDecl::new("s", Sampled::new(0.01, Limiter::new(-1.0, 1.0))).input("u", "time"));
+            },
+        ),
+        (
+            "s = Sampled(period = 0.01, inner = PI(T = 1.0), u = time - s.x), g = Gain(k = 2.0, u = s.y), f = Feedback(u1 = g.y, u2 = s.y_held),",
+            |d| {
+                d.add_component(ComponentDecl::new("s", Sampled::new(0.01, PI::new(1.0, 1.0))).input("u", Src::expr(&["s.x"], |t, v| t - v[0])));
+                d.add_component(ComponentDecl::new("g", Gain { k: 2.0 }).input("u", "s.y"));
+                d.add_component(ComponentDecl::new("f", Feedback).input("u1", "g.y").input("u2", "s.y_held"));
+            },
+        ),
+        (
+            "g = Gain(k = 1.0, u = rev.v),",
+            |d| {
+                d.add_component(ComponentDecl::new("g", Gain { k: 1.0 }).input("u", "rev.v"));
+            },
+        ),
+        (
+            "g = Gain(k = 1.0, u = ball.w),",
+            |d| {
+                d.add_component(ComponentDecl::new("g", Gain { k: 1.0 }).input("u", "ball.w"));
+            },
+        ),
+    ];
+    let scene = "world = Object3D(feature = Scene()), \
+         a = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = \"Steel\")), \
+         b = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = \"Steel\")), \
+         c = Object3D(feature = Solid(shape = Sphere(diameter = 0.1), solid_material = \"Steel\")), \
+         rev = Revolute(obj1 = world, obj2 = a), \
+         cyl = Cylindrical(obj1 = world, obj2 = b), \
+         ball = Spherical(obj1 = world, obj2 = c),";
+    let (mut valid, mut invalid) = (0, 0);
+    for (i, (blocks, add)) in cases.iter().enumerate() {
+        let src = format!("pub M {{ {scene} {blocks} }}");
+        let def: crate::ast::ModelDef =
+            syn::parse_str(&src).unwrap_or_else(|e| panic!("case {i} does not parse: {e}\n{src}"));
+        let by_macro = crate::check_block(&def).err().map(|e| {
+            e.into_iter()
+                .map(|m| m.to_string())
+                .collect::<Vec<_>>()
+                .join("\n")
+        });
+        let mut d = SceneDesc::new();
+        d.add(Object3D::new("world").scene(SceneOptions::default()));
+        for o in ["a", "b", "c"] {
+            d.add(
+                Object3D::new(o)
+                    .solid(Solid::new(Shape::Sphere { diameter: 0.1 }).material("Steel")),
+            );
+        }
+        d.add_joint(Joint::new("rev", "world", "a", JointKind::revolute(3)));
+        d.add_joint(Joint::new("cyl", "world", "b", JointKind::cylindrical(3)));
+        d.add_joint(Joint::new("ball", "world", "c", JointKind::spherical()));
+        add(&mut d);
+        let by_build = d.build().err().map(|e| e.to_string());
+        assert_eq!(
+            by_macro.is_some(),
+            by_build.is_some(),
+            "case {i}: the macro says {by_macro:?}, build() says {by_build:?}\n{src}"
+        );
+        if by_build.is_some() {
+            invalid += 1;
+        } else {
+            valid += 1;
+        }
+    }
+    assert_eq!((valid, invalid), (6, 9));
 }

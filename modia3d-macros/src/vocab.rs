@@ -4,19 +4,38 @@
 //! kinds: their names, keys, defaults and units are the core's tables
 //! (`modia3d_core::JOINT_KINDS`, `modia3d_core::SHAPE_KINDS`).
 
-use modia3d_core::{JointKindSpec, ShapeKindSpec, JOINT_KINDS, SHAPE_KINDS};
+use modia3d_core::{BlockKindSpec, JointKindSpec, ShapeKindSpec, JOINT_KINDS, SHAPE_KINDS};
 
-/// Constructors of components: `Object3D`, the joint kinds (the core's table), then
-/// [`OTHER_COMPONENTS`].
+/// Constructors of components that a misspelt constructor is compared with: `Object3D`, the
+/// joint kinds (the core's table), then [`OTHER_COMPONENTS`]. Not the block kinds: their
+/// short Modelica names (`Add`, `PI`, `Step`) are near many a sub-assembly's name (`Arm`),
+/// which would then need a path; a misspelt block is an unknown type for rustc.
 pub(crate) fn components() -> impl Iterator<Item = &'static str> {
     std::iter::once("Object3D")
         .chain(JOINT_KINDS.iter().map(|k| k.name))
         .chain(OTHER_COMPONENTS.iter().copied())
 }
 
-/// Whether `name` is a constructor of a component ([`components`]).
+/// The row of the block kind `ctor` in the core's table; `None` for other names.
+pub(crate) fn block_kind(ctor: &str) -> Option<&'static BlockKindSpec> {
+    modia3d_core::block_kind(ctor)
+}
+
+/// Whether `ctor` is a constructor inside a block's values: a block kind (a `Sampled` block's
+/// `inner`) or a variant of an enum-valued parameter (`Elastic`, `Dc`).
+pub(crate) fn is_block_value(ctor: &str) -> bool {
+    block_kind(ctor).is_some()
+        || modia3d_core::BLOCK_KINDS.iter().any(|k| {
+            k.params.iter().any(|p| match p.value {
+                modia3d_core::BlockValue::Variant(vs) => vs.iter().any(|v| v.name == ctor),
+                _ => false,
+            })
+        })
+}
+
+/// Whether `name` is a constructor of a component ([`components`] or a block kind).
 pub(crate) fn is_component(name: &str) -> bool {
-    components().any(|c| c == name)
+    components().any(|c| c == name) || block_kind(name).is_some()
 }
 
 /// Constructors of components other than objects and joints.
@@ -224,6 +243,9 @@ pub(crate) const SYNONYMS: &[(&str, &str)] = &[
     ("frame_coord", "resolved_in"),
     ("force", "torque"),
     ("torque", "force"),
+    // A `Drive`'s input: `tau` for a torque source, `v` for a DC motor.
+    ("tau", "v"),
+    ("v", "tau"),
 ];
 
 /// What a component is.
@@ -243,6 +265,9 @@ pub(crate) enum Kind {
     Input,
     /// A scheduled structure change (attach, release, delete).
     Action,
+    /// A block with ports and states in the DAE (`PI`, `Ramp`, `Drive`; the core's
+    /// `BLOCK_KINDS`).
+    Block,
     /// A sub-assembly (another `model!` type).
     Assembly,
 }
@@ -259,6 +284,7 @@ impl Kind {
             "ContactPair" => Kind::ContactPair,
             "JointForce" | "JointAcceleration" | "ObjectWrench" => Kind::Input,
             "ActionAttach" | "ActionRelease" | "ActionDelete" => Kind::Action,
+            k if block_kind(k).is_some() => Kind::Block,
             _ => return None,
         })
     }
@@ -273,6 +299,7 @@ impl Kind {
             Kind::ContactPair => "a contact-pair material",
             Kind::Input => "an input",
             Kind::Action => "an action",
+            Kind::Block => "a block",
             Kind::Assembly => "a sub-assembly",
         }
     }

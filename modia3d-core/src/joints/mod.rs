@@ -573,6 +573,20 @@ mod tests {
                 assert_eq!(turns, c.unit == "rad", "{name}: {}", c.name);
                 assert_eq!(shifts, c.unit == "m", "{name}: {}", c.name);
             }
+            // `JointKindSpec::coordinate_signals` (what `model!` resolves `rev.w` with) names
+            // each coordinate's position and velocity signals.
+            for ((p, v), c) in f.spec.coordinate_signals().zip(f.spec.coordinates) {
+                let q = f
+                    .signals
+                    .iter()
+                    .find(|s| s.dim == 1 && s.source == Source::Q(c.q));
+                let w = f
+                    .signals
+                    .iter()
+                    .find(|s| s.dim == 1 && s.source == Source::V(c.v));
+                assert_eq!(q.map(|s| s.name), Some(p), "{name}: position of {}", c.name);
+                assert_eq!(w.map(|s| s.name), Some(v), "{name}: velocity of {}", c.name);
+            }
             assert!(f.turning.iter().all(|&(i, _)| i < f.nq), "{name}");
             assert!(f.shifting.iter().all(|&i| i < f.nq), "{name}");
         }

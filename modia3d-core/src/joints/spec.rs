@@ -51,6 +51,18 @@ impl JointKindSpec {
             .map(|a| a.key)
             .chain(initial.iter().map(|p| p.key))
     }
+
+    /// The signal names of each scalar coordinate: its position and its velocity (`("phi",
+    /// "w")`, `("s", "v")`), in the order of `coordinates`. The rows list the initial values
+    /// of scalar coordinates as the positions, then the velocities in `v` order (the joints'
+    /// unit test checks this against each kind's signals).
+    pub fn coordinate_signals(&self) -> impl Iterator<Item = (&'static str, &'static str)> {
+        let (initial, n) = (self.initial, self.coordinates.len());
+        self.coordinates.iter().map(move |c| {
+            let vel = initial.get(n + c.v).map_or("", |p| p.key);
+            (c.name, vel)
+        })
+    }
 }
 
 /// An axis parameter of a joint kind.

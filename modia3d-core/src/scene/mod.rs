@@ -2,6 +2,7 @@
 //! Touches only plain data; nothing here knows about dynamics or the solver.
 
 mod actions;
+mod block_table;
 pub mod blocks;
 mod components;
 mod contact_rules;
@@ -12,6 +13,10 @@ mod topology;
 pub(crate) mod validate;
 
 pub use actions::{Action, ActionKind};
+pub use block_table::{
+    block_kind, BlockKindSpec, BlockOutput, BlockParam, BlockValue, BlockVariant, BlockVariants,
+    BLOCK_KINDS,
+};
 pub use components::{
     Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec, Src,
     SrcFn, StateSpec,

@@ -9,11 +9,12 @@
 //! What the macro cannot see (objects inside another `model!`'s expansion, types of values) is
 //! left to rustc through spanned code (`ir::PathCheck`, `expand/`).
 
+mod blocks;
 mod joints;
 mod values;
 
 use crate::ast::{push, Arg, Ctor, ModelDef};
-use crate::ir::{Ir, Item, LitNum, MaterialIr, Num, Parent, PathCheck};
+use crate::ir::{Ir, Item, LitNum, MaterialIr, Num, Parent, PathCheck, PathWant};
 use crate::names::{did_you_mean, hint, path_segments, NameRef};
 use crate::vocab::{components, is_nested, nested_hint, Kind, SYNONYMS};
 use proc_macro2::{Ident, Span};
@@ -64,12 +65,30 @@ impl Errors {
     }
 }
 
+/// The parameters whose type is `ty` (its last path segment: `SignalRef`,
+/// `modia3d::SignalRef`).
+fn typed_params(def: &ModelDef, ty: &str) -> HashSet<String> {
+    def.params
+        .iter()
+        .filter(|p| {
+            matches!(&p.ty, syn::Type::Path(t)
+                if t.path.segments.last().is_some_and(|s| s.ident == ty))
+        })
+        .map(|p| p.name.to_string())
+        .collect()
+}
+
 /// Checks a block and lowers it; the errors found (not yet those of the core's scene rules).
 pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
     let mut c = Checker {
         errors: Errors::new(),
         kinds: HashMap::new(),
         assembly_types: HashMap::new(),
+        ctors: HashMap::new(),
+        signal_params: typed_params(def, "SignalRef"),
+        joint_params: typed_params(def, "JointRef"),
+        feedthrough_reads: vec![],
+        block_ports: HashMap::new(),
         params: def.params.iter().map(|p| p.name.to_string()).collect(),
         path_checks: vec![],
         scene_spans: vec![],
@@ -103,6 +122,11 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
         }
         if let Some(k) = kind {
             c.kinds.insert(name.clone(), k);
+            c.ctors.insert(name.clone(), comp.ctor.name().to_string());
+            if let Some(spec) = crate::vocab::block_kind(&comp.ctor.name().to_string()) {
+                c.block_ports
+                    .insert(name.clone(), blocks::block_ports(spec, &comp.ctor));
+            }
             if k == Kind::Assembly {
                 c.assembly_types.insert(name, comp.ctor.path.clone());
             }
@@ -118,7 +142,8 @@ pub(crate) fn check(def: &ModelDef) -> (Ir, Errors) {
             c.component(&comp.name, kind, &comp.ctor)
         })
         .collect();
-    // Pass 3: where the `Scene` may be.
+    // Pass 3: algebraic loops among the blocks; where the `Scene` may be.
+    c.algebraic_loops();
     c.scenes(def);
     crate::names::attach_roots(&mut items);
     let has_scene = !c.scene_spans.is_empty();
@@ -135,6 +160,17 @@ pub(crate) struct Checker {
     pub(crate) errors: Errors,
     kinds: HashMap<String, Kind>,
     assembly_types: HashMap<String, syn::Path>,
+    /// The constructor of each component, by name (a joint's or block's kind).
+    ctors: HashMap<String, String>,
+    /// Parameters of type `SignalRef` (signals of an outer model a block reads) and
+    /// `JointRef` (joints of an outer model a `Drive` acts on).
+    signal_params: HashSet<String>,
+    /// See `signal_params`.
+    joint_params: HashSet<String>,
+    /// Blocks' reads of other blocks' feedthrough outputs (`blocks.rs`'s loop check).
+    feedthrough_reads: Vec<blocks::FeedthroughRead>,
+    /// The ports and signals of each block, for its variants (`blocks::block_ports`).
+    block_ports: HashMap<String, crate::ir::BlockPorts>,
     params: HashSet<String>,
     path_checks: Vec<PathCheck>,
     /// Spans of the `Scene` constructors, and the span of the scene object's `parent` key.
@@ -475,6 +511,7 @@ impl Checker {
             Kind::ContactPair => self.contact_pair(name, ctor),
             Kind::Input => self.input(name, ctor),
             Kind::Action => self.action(name, ctor),
+            Kind::Block => self.block(name, ctor),
             Kind::Assembly => Some(self.assembly(name, ctor)),
         }
     }
@@ -482,6 +519,7 @@ impl Checker {
     fn assembly(&mut self, name: &Ident, ctor: &Ctor) -> Item {
         let mut parent = Parent::Attach;
         let mut fields = vec![];
+        let mut paths = vec![];
         let mut seen = HashSet::new();
         for a in &ctor.args {
             if !seen.insert(a.key.to_string()) {
@@ -500,6 +538,10 @@ impl Checker {
                     a.key.span(),
                     format!("`can_collide` is a key of joints, not of the sub-assembly `{name}`"),
                 );
+            } else if let Some(path) = self.path_argument(&a.value) {
+                if let Some(path) = path {
+                    paths.push((a.key.clone(), path));
+                }
             } else {
                 fields.push((a.key.clone(), a.value.clone()));
             }
@@ -509,6 +551,7 @@ impl Checker {
             ty: ctor.path.clone(),
             parent,
             fields,
+            paths,
         }
     }
 
@@ -570,7 +613,11 @@ impl Checker {
             self.path_checks.push(PathCheck {
                 ty: self.assembly_types[&fname].clone(),
                 rest: segs[1..].to_vec(),
-                joint: want == Kind::Joint,
+                want: if want == Kind::Joint {
+                    PathWant::Joint
+                } else {
+                    PathWant::Object
+                },
             });
         }
         Some(NameRef {

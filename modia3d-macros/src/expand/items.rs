@@ -4,17 +4,20 @@
 
 use super::{local, paths_module_at, prefix, scoped};
 use crate::ir::{
-    shape_arg, ActionIr, AxisIr, ContactPairIr, FeatureIr, ForceIr, InputIr, Item, JointAxis,
-    JointIr, JointKindIr, MassIr, MaterialIr, MaterialName, Num, ObjectIr, Parent, PathCheck,
-    Profile, SceneIr, ShapeArg, ShapeIr, SolidIr, SpringDamperIr,
+    shape_arg, wire_locals, ActionIr, AxisIr, BlockIr, ContactPairIr, Dep, FeatureIr, ForceIr,
+    InputIr, Item, JointArg, JointAxis, JointIr, JointKindIr, MassIr, MaterialIr, MaterialName,
+    Num, ObjectIr, Parent, PathCheck, PathWant, Profile, SceneIr, ShapeArg, ShapeIr, SolidIr,
+    SpringDamperIr, WireIr,
 };
-use modia3d_core::{ParamValue, ShapeValue};
+use modia3d_core::{BlockValue, ParamValue, ShapeValue};
+use proc_macro2::Ident;
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote, quote_spanned};
 use syn::Expr;
 
-/// The statement that adds one component to the scene.
-pub(super) fn item(it: &Item) -> TokenStream {
+/// The statement that adds one component to the scene (`params`: the model's parameters,
+/// which a block's input closures clone).
+pub(super) fn item(it: &Item, params: &[&Ident]) -> TokenStream {
     let scene = local("scene");
     let attach = local("parent");
     let obj = local("object");
@@ -178,7 +181,144 @@ pub(super) fn item(it: &Item) -> TokenStream {
             ty,
             parent,
             fields,
-        } => assembly(name, ty, parent, fields),
+            paths,
+        } => assembly(name, ty, parent, fields, paths),
+        Item::Block(b) => block(b, params),
+    }
+}
+
+/// `scene.add_component(ComponentDecl::new(name, blocks::Kind { … }).input(port, src)…);`
+fn block(b: &BlockIr, params: &[&Ident]) -> TokenStream {
+    let scene = local("scene");
+    let core = quote!(::modia3d::core);
+    let n = scoped(&b.name.to_string());
+    let value = block_value(b);
+    let inputs = b.inputs.iter().map(|(port, w)| {
+        let src = wire(w, params);
+        quote!(.input(#port, #src))
+    });
+    quote! {
+        #scene.add_component(#core::ComponentDecl::new(#n, #value) #(#inputs)*);
+    }
+}
+
+/// The block's struct literal, `blocks::Kind { field: value, …, ..Default::default() }`.
+fn block_value(b: &BlockIr) -> TokenStream {
+    let core = quote!(::modia3d::core);
+    let spec = b.spec;
+    let given = |key: &str| b.params.iter().find(|(k, _)| *k == key).map(|(_, e)| e);
+    let private = quote!(::modia3d::__private);
+    let mut fields = vec![];
+    for p in spec.params {
+        let field = format_ident!("{}", p.key);
+        let value = match (p.value, given(p.key)) {
+            (BlockValue::Number, Some(e)) => quote!(#e),
+            (BlockValue::Numbers, Some(e)) => quote!(#private::numbers(#e)),
+            (BlockValue::Rows, Some(e)) => quote!(#private::rows(#e)),
+            (BlockValue::Pairs, Some(e)) => quote!(#private::pairs(#e)),
+            (BlockValue::Joint, _) => {
+                let j = match &b.joint {
+                    Some(JointArg::Ref(j)) => scoped(&j.path),
+                    Some(JointArg::Param(p)) => quote!(::modia3d::JointRef::path(&#p)),
+                    None => quote!(::core::unreachable!()),
+                };
+                quote!(::std::string::ToString::to_string(#j))
+            }
+            (BlockValue::Coordinate, _) => match &b.coordinate {
+                Some(c) => {
+                    quote!(::core::option::Option::Some(::std::string::ToString::to_string(#c)))
+                }
+                None => quote!(::core::option::Option::None),
+            },
+            // The variant chosen or the row's default (the first), of the field's type, named
+            // as the key (`gear` → `Gear::Elastic { c, d }`).
+            (BlockValue::Variant(vs), _) => {
+                let ty = format_ident!("{}", to_camel(p.key));
+                match b.variants.iter().find(|v| v.key == p.key) {
+                    Some(v) => {
+                        let id = format_ident!("{}", v.variant.name);
+                        let fs = v.fields.iter().map(|(f, e)| {
+                            let f = format_ident!("{}", f);
+                            quote!(#f: #e)
+                        });
+                        if v.fields.is_empty() {
+                            quote!(#core::blocks::#ty::#id)
+                        } else {
+                            quote!(#core::blocks::#ty::#id { #(#fs),* })
+                        }
+                    }
+                    None => {
+                        let id = format_ident!("{}", vs[0].name);
+                        quote!(#core::blocks::#ty::#id)
+                    }
+                }
+            }
+            // A `Sampled` block's inner block (the check stage requires it).
+            (BlockValue::Block, _) => match &b.inner {
+                Some(inner) => {
+                    let v = block_value(inner);
+                    quote!(::std::sync::Arc::new(#v))
+                }
+                None => quote!(::core::unreachable!()),
+            },
+            // Not given: the negation of another key (`uMin = -uMax`) when that one is given,
+            // else the struct's default.
+            (_, None) => match p.default.and_then(|d| d.strip_prefix('-')).and_then(given) {
+                Some(other) => quote!(-(#other)),
+                None if spec.has_default => continue,
+                None => quote!(::core::default::Default::default()),
+            },
+        };
+        fields.push(quote!(#field: #value));
+    }
+    let ty = format_ident!("{}", spec.name);
+    let rest = spec
+        .has_default
+        .then(|| quote!(..::core::default::Default::default()));
+    quote!(#core::blocks::#ty { #(#fields,)* #rest })
+}
+
+/// `gear` → `Gear`.
+fn to_camel(key: &str) -> String {
+    let mut c = key.chars();
+    c.next()
+        .map(|f| f.to_uppercase().chain(c).collect())
+        .unwrap_or_default()
+}
+
+/// A signal's full name as a `&str`: a path with this block's prefix (`time` without), or a
+/// `SignalRef` parameter's.
+fn dep(d: &Dep) -> TokenStream {
+    match d {
+        Dep::Path(p) if p == "time" => quote!("time"),
+        Dep::Path(p) => {
+            let p = scoped(p);
+            quote!(::std::string::String::as_str(#p))
+        }
+        Dep::Param(id) => quote!(::modia3d::SignalRef::path(&#id)),
+    }
+}
+
+/// An input's `Src`: a constant, a signal by its full name, or a closure of time and the
+/// signals' values (the parameters it reads cloned into it).
+fn wire(w: &WireIr, params: &[&Ident]) -> TokenStream {
+    let src = quote!(::modia3d::core::Src);
+    match w {
+        WireIr::Const(e) => quote!(#src::Const(#e)),
+        WireIr::Signal(d) => {
+            let p = dep(d);
+            quote!(#src::signal(#p))
+        }
+        WireIr::Expr { deps, expr } => {
+            let (t, v) = wire_locals();
+            let deps = deps.iter().map(dep);
+            quote! {
+                #src::expr(&[#(#deps),*], {
+                    #(let #params = ::core::clone::Clone::clone(&#params);)*
+                    move |#t: f64, #v: &[f64]| -> f64 { #expr }
+                })
+            }
+        }
     }
 }
 
@@ -187,6 +327,7 @@ fn assembly(
     ty: &syn::Path,
     parent: &Parent,
     fields: &[(proc_macro2::Ident, syn::Expr)],
+    paths: &[(proc_macro2::Ident, String)],
 ) -> TokenStream {
     let scene = local("scene");
     let attach = local("parent");
@@ -212,10 +353,18 @@ fn assembly(
     };
     let ks = fields.iter().map(|(k, _)| k);
     let vs = fields.iter().map(|(_, v)| v);
+    // A signal or joint of this block: its full name, as the parameter's `SignalRef` or
+    // `JointRef`.
+    let pks = paths.iter().map(|(k, _)| k);
+    let pvs = paths.iter().map(|(k, path)| {
+        let full = dep(&Dep::Path(path.clone()));
+        quote_spanned!(k.span()=> ::modia3d::__private::FromPath::from_path(#full))
+    });
     quote! {
         #assert
         #ty {
             #(#ks: #vs,)*
+            #(#pks: #pvs,)*
             ..::core::default::Default::default()
         }
         .add_to(#scene, #p, #parent);
@@ -226,10 +375,10 @@ fn assembly(
 pub(super) fn path_check(c: &PathCheck) -> TokenStream {
     let rest = &c.rest;
     let module = paths_module_at(&c.ty, rest[0].span());
-    let marker = if c.joint {
-        quote!(JointPath)
-    } else {
-        quote!(ObjectPath)
+    let marker = match c.want {
+        PathWant::Joint => quote!(JointPath),
+        PathWant::Object => quote!(ObjectPath),
+        PathWant::Signal => quote!(SignalPath),
     };
     let last_span = rest.last().expect("non-empty").span();
     let marker = quote_spanned!(last_span=> ::modia3d::__private::#marker);

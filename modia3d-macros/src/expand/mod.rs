@@ -78,7 +78,7 @@ pub(crate) fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
     let attach = local("parent");
     let core = quote!(::modia3d::core);
 
-    let stmts = ir.items.iter().map(items::item);
+    let stmts = ir.items.iter().map(|it| items::item(it, &pnames));
     let checks = ir.path_checks.iter().map(items::path_check);
 
     // Hidden module: one item per component, for paths from outer models.
@@ -103,7 +103,31 @@ pub(crate) fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
             }
         } else {
             let m = marker(*k);
-            quote!(pub const #n: ::modia3d::__private::#m = ::modia3d::__private::#m;)
+            // Blocks and joints also name the signals a block reads (`pi.y`, `rev.w`): a
+            // module of the same name (modules and constants do not clash).
+            let signals: Vec<&str> = ir
+                .items
+                .iter()
+                .find_map(|it| match it {
+                    Item::Block(b) if b.name == *n => Some(b.ports.signals()),
+                    Item::Joint(j) if j.name == *n => Some(
+                        j.kind
+                            .spec
+                            .coordinate_signals()
+                            .flat_map(|(p, v)| [p, v])
+                            .collect(),
+                    ),
+                    _ => None,
+                })
+                .unwrap_or_default();
+            let signals = signals.iter().map(|s| format_ident!("{}", s));
+            let sp = quote!(::modia3d::__private::SignalPath);
+            let module = (*k == Kind::Block || *k == Kind::Joint)
+                .then(|| quote!(pub mod #n { #(pub const #signals: #sp = #sp;)* }));
+            quote! {
+                pub const #n: ::modia3d::__private::#m = ::modia3d::__private::#m;
+                #module
+            }
         }
     });
 

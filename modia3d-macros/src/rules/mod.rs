@@ -342,6 +342,8 @@ impl<'a> Probe<'a> {
                 m.w_min = pair.w_min.as_ref().map(|w| self.scalar(&a, w));
                 self.desc.add_contact_pair(&a, &b, m);
             }
+            // Blocks are checked by the macro (`check/blocks.rs`) and by `build()`.
+            Item::Block(_) => {}
             Item::Assembly { parent, .. } => {
                 self.has_assemblies = true;
                 if let Parent::Ref(r) = parent {

@@ -1,0 +1,453 @@
+//! Blocks in `model!` (docs/drive-trains.md point 4): Modia3D's ServoWithRamp
+//! (`test/Robot/ServoWithRamp.jl`, as `tests/drive_trains.rs` builds it with the builder API)
+//! written with `model!` expands to the same builder calls, so its final states equal the
+//! builder scene's bit for bit; the spec's compact form (one PI whose input is an expression
+//! over signals) and a servo used twice as a sub-assembly with different parameters.
+
+use modia3d::core::blocks::{Drive, Feedback, Gain, Ramp, Sampled, PI};
+use modia3d::prelude::*;
+
+type Res<T> = Result<T, Box<dyn std::error::Error>>;
+
+/// The motor inertia of Modia3D's servo [kg·m²] (rotor and gear), as tests/drive_trains.rs.
+const J_MOTOR: f64 = 0.0000135 + 0.000000409;
+
+/// The builder scene of tests/drive_trains.rs, with the block names of the `model!` below.
+fn builder_scene() -> SceneDesc {
+    let mut scene = SceneDesc::new();
+    let j = 0.32;
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(j),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene.add_component(ComponentDecl::new(
+        "ramp",
+        Ramp {
+            height: 2.95,
+            duration: 1.18,
+            ..Default::default()
+        },
+    ));
+    scene
+        .add_component(ComponentDecl::new("gain_outer", Gain { k: 156.0 }).input("u", "ramp.y"))
+        .add_component(
+            ComponentDecl::new("angle_feedback", Feedback)
+                .input("u1", "gain_outer.y")
+                .input("u2", "drive.motor_phi"),
+        )
+        .add_component(
+            ComponentDecl::new("gain_inner", Gain { k: 50.0 }).input("u", "angle_feedback.y"),
+        )
+        .add_component(
+            ComponentDecl::new("speed_feedback", Feedback)
+                .input("u1", "gain_inner.y")
+                .input("u2", "drive.motor_w"),
+        )
+        .add_component(ComponentDecl::new("pi", PI::new(0.1, 1.0)).input("u", "speed_feedback.y"))
+        .add_component(
+            ComponentDecl::new("drive", Drive::rigid("rev", 156.0, J_MOTOR)).input("tau", "pi.y"),
+        );
+    scene
+}
+
+model! {
+    /// Modia3D's ServoWithRamp: a load of inertia `j` on a revolute joint, driven by a motor
+    /// through an ideal gear, a P–PI cascade following a ramp.
+    pub ServoWithRamp(j: f64 = 0.32, ratio: f64 = 156.0, k1: f64 = 156.0, k2: f64 = 50.0) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[j, 0.0, 0.0], [0.0, j, 0.0], [0.0, 0.0, j]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        gain_outer = Gain(k = k1, u = ramp.y),
+        angle_feedback = Feedback(u1 = gain_outer.y, u2 = drive.motor_phi),
+        gain_inner = Gain(k = k2, u = angle_feedback.y),
+        speed_feedback = Feedback(u1 = gain_inner.y, u2 = drive.motor_w),
+        pi = PI(k = 0.1, T = 1.0, u = speed_feedback.y),
+        drive = Drive(joint = rev, ratio = ratio, J_motor = 0.0000135 + 0.000000409, tau = pi.y),
+    }
+}
+
+model! {
+    /// The spec's compact form: the cascade as one expression over signals.
+    pub CompactServo(j: f64 = 0.32, ratio: f64 = 156.0, k1: f64 = 156.0, k2: f64 = 50.0,
+                     t2: f64 = 1.0) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[j, 0.0, 0.0], [0.0, j, 0.0], [0.0, 0.0, j]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        pi = PI(k = 0.1, T = t2, u = k2 * (k1 * ramp.y - drive.motor_phi) - drive.motor_w),
+        drive = Drive(joint = rev, ratio = ratio, J_motor = 1.3909e-5, tau = pi.y),
+    }
+}
+
+model! {
+    /// One servo axis: its own base (attached to the `parent` handed to it), load, joint,
+    /// reference, controller and drive.
+    pub assembly ServoAxis(height: f64 = 2.95, duration: f64 = 1.18, j: f64 = 0.32) {
+        base = Object3D(),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[j, 0.0, 0.0], [0.0, j, 0.0], [0.0, 0.0, j]],
+            ),
+        )),
+        rev = Revolute(obj1 = base, obj2 = load, axis = 3),
+        ramp = Ramp(height = height, duration = duration),
+        pi = PI(k = 0.1, T = 1.0, u = 50.0 * (156.0 * ramp.y - drive.motor_phi) - drive.motor_w),
+        drive = Drive(joint = rev, ratio = 156.0, J_motor = 1.3909e-5, tau = pi.y),
+    }
+}
+
+model! {
+    /// Two servo axes with different references; a block reads signals inside both.
+    pub TwoServos(second_height: f64 = 1.0) {
+        world = Object3D(feature = Scene()),
+        axis1 = ServoAxis(parent = world),
+        axis2 = ServoAxis(parent = world, height = second_height),
+        difference = Feedback(u1 = axis1.rev.phi, u2 = axis2.drive.motor_phi / 156.0),
+    }
+}
+
+/// The final values of `names` after Modia3D's 4 s at tolerance 1e-6.
+fn final_values(scene: SceneDesc, names: &[&str]) -> Res<Vec<f64>> {
+    final_values_at(scene, names, 4.0)
+}
+
+/// The final values of `names` after `stop` s at tolerance 1e-6.
+fn final_values_at(scene: SceneDesc, names: &[&str], stop: f64) -> Res<Vec<f64>> {
+    let r = scene
+        .build()?
+        .simulate(&SimOptions::new(stop).tolerance(1e-6))?;
+    names
+        .iter()
+        .map(|s| Ok(r.signal(s)?.last().ok_or("no output point")?[0]))
+        .collect()
+}
+
+const STATES: [&str; 3] = ["pi.x", "rev.phi", "rev.w"];
+
+#[test]
+fn servo_with_ramp_in_model_equals_the_builder_scene_bit_for_bit() -> Res<()> {
+    let built = final_values(builder_scene(), &STATES)?;
+    let macro_ = final_values(ServoWithRamp::default().scene(), &STATES)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    // The servo follows the ramp to 2.95 rad (Modia3D's reference; 4 s, the ramp ends at
+    // 1.18 s): within the controller's steady error, which the PI drives to zero.
+    assert!((built[1] - 2.95).abs() < 1e-2, "{built:?}");
+    Ok(())
+}
+
+#[test]
+fn compact_servo_follows_the_same_trajectory() -> Res<()> {
+    // One PI reading an expression in place of four algebraic blocks: the same equations (the
+    // cascade's arithmetic in the same order), so the same trajectory within the run's
+    // tolerance (1e-6), not necessarily the same bits (other blocks, other evaluation).
+    let full = final_values(ServoWithRamp::default().scene(), &STATES)?;
+    let compact = final_values(CompactServo::default().scene(), &STATES)?;
+    for (a, b) in full.iter().zip(&compact) {
+        assert!(
+            (a - b).abs() <= 1e-4 * (1.0 + a.abs()),
+            "{full:?} vs {compact:?}"
+        );
+    }
+    Ok(())
+}
+
+#[test]
+fn a_servo_sub_assembly_used_twice_with_different_parameters() -> Res<()> {
+    let scene = TwoServos::default().scene();
+    let names: Vec<&str> = scene.components.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "axis1.ramp",
+            "axis1.pi",
+            "axis1.drive",
+            "axis2.ramp",
+            "axis2.pi",
+            "axis2.drive",
+            "difference"
+        ]
+    );
+    let v = final_values(
+        scene,
+        &[
+            "axis1.rev.phi",
+            "axis2.rev.phi",
+            "axis2.drive.motor_phi",
+            "difference.y",
+        ],
+    )?;
+    // Each axis follows its own ramp: 2.95 rad and 1.0 rad (as the single servo, within
+    // its steady error).
+    assert!((v[0] - 2.95).abs() < 1e-2, "{v:?}");
+    assert!((v[1] - 1.0).abs() < 1e-2, "{v:?}");
+    // The motor angle is the gear ratio times the joint's; the difference block reads both.
+    assert!((v[2] - 156.0 * v[1]).abs() <= 1e-9 * v[2].abs(), "{v:?}");
+    assert!((v[3] - (v[0] - v[1])).abs() <= 1e-9, "{v:?}");
+    Ok(())
+}
+
+model! {
+    /// The servo's load driven through an elastic gear by a DC motor, the PI's output its
+    /// voltage.
+    pub DcServo(k1: f64 = 156.0, k2: f64 = 50.0) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[0.32, 0.0, 0.0], [0.0, 0.32, 0.0], [0.0, 0.0, 0.32]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        pi = PI(k = 0.1, T = 1.0, u = k2 * (k1 * ramp.y - drive.motor_phi) - drive.motor_w),
+        drive = Drive(joint = rev, ratio = 156.0, J_motor = 1.3909e-5,
+                      gear = Elastic(c = 1e4, d = 10.0), motor = Dc(R = 0.5, L = 1e-3, k = 0.3),
+                      v = pi.y),
+    }
+}
+
+#[test]
+fn elastic_gear_and_dc_motor_in_model_equal_the_builder_scene_bit_for_bit() -> Res<()> {
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(0.32),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene
+        .add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                height: 2.95,
+                duration: 1.18,
+                ..Default::default()
+            },
+        ))
+        .add_component(ComponentDecl::new("pi", PI::new(0.1, 1.0)).input(
+            "u",
+            Src::expr(&["ramp.y", "drive.motor_phi", "drive.motor_w"], |_, v| {
+                50.0 * (156.0 * v[0] - v[1]) - v[2]
+            }),
+        ))
+        .add_component(
+            ComponentDecl::new(
+                "drive",
+                Drive::rigid("rev", 156.0, 1.3909e-5)
+                    .elastic(1e4, 10.0)
+                    .dc_motor(0.5, 1e-3, 0.3),
+            )
+            .input("v", "pi.y"),
+        );
+    let names = ["pi.x", "rev.phi", "rev.w", "drive.phi_gear", "drive.i"];
+    let built = final_values(scene, &names)?;
+    let macro_ = final_values(DcServo::default().scene(), &names)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    assert!(built.iter().all(|v| v.is_finite()), "{built:?}");
+    Ok(())
+}
+
+model! {
+    /// The compact servo with a digital PI: sampled at 10 kHz (zero-order hold, forward Euler
+    /// from tick to tick). The cascade's speed loop has a pole near 3700 rad/s (156 · 0.1 ·
+    /// 156 N·m·s/rad on 0.66 kg·m²): at 1 kHz (h·a ≈ 3.7 > 2) the sampled loop diverges.
+    pub DigitalServo(k1: f64 = 156.0, k2: f64 = 50.0) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[0.32, 0.0, 0.0], [0.0, 0.32, 0.0], [0.0, 0.0, 0.32]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        pi = Sampled(period = 1e-4, inner = PI(k = 0.1, T = 1.0),
+                     u = k2 * (k1 * ramp.y - drive.motor_phi) - drive.motor_w),
+        drive = Drive(joint = rev, ratio = 156.0, J_motor = 1.3909e-5, tau = pi.y),
+    }
+}
+
+#[test]
+fn sampled_pi_in_model_equals_the_builder_scene_bit_for_bit() -> Res<()> {
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(0.32),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene
+        .add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                height: 2.95,
+                duration: 1.18,
+                ..Default::default()
+            },
+        ))
+        .add_component(
+            ComponentDecl::new("pi", Sampled::new(1e-4, PI::new(0.1, 1.0))).input(
+                "u",
+                Src::expr(&["ramp.y", "drive.motor_phi", "drive.motor_w"], |_, v| {
+                    50.0 * (156.0 * v[0] - v[1]) - v[2]
+                }),
+            ),
+        )
+        .add_component(
+            ComponentDecl::new("drive", Drive::rigid("rev", 156.0, 1.3909e-5)).input("tau", "pi.y"),
+        );
+    // 2 s (20,000 ticks, each a time event): the ramp has ended at 1.18 s.
+    let names = ["pi.x", "pi.y", "rev.phi", "rev.w"];
+    let built = final_values_at(scene, &names, 2.0)?;
+    let macro_ = final_values_at(DigitalServo::default().scene(), &names, 2.0)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    // The digital loop follows the ramp as the continuous one does.
+    let continuous = final_values_at(CompactServo::default().scene(), &["rev.phi"], 2.0)?;
+    assert!(
+        (built[2] - continuous[0]).abs() < 1e-2,
+        "{built:?} vs {continuous:?}"
+    );
+    Ok(())
+}
+
+model! {
+    /// Modia3D's `PPI` controller: a P loop on the motor angle around a PI loop on its speed;
+    /// the reference and the measured angle and speed are signals of the outer model.
+    pub assembly Ppi(reference: SignalRef = SignalRef::time(),
+                     phi: SignalRef = SignalRef::time(),
+                     w: SignalRef = SignalRef::time()) {
+        gainOuter = Gain(k = 156.0, u = reference),
+        angleFeedback = Feedback(u1 = gainOuter.y, u2 = phi),
+        gainInner = Gain(k = 50.0, u = angleFeedback.y),
+        speedFeedback = Feedback(u1 = gainInner.y, u2 = w),
+        PI = PI(k = 0.1, T = 1.0, u = speedFeedback.y),
+    }
+}
+
+model! {
+    /// Modia3D's `Servo`: the PPI controller and a motor with an ideal gear on a joint of the
+    /// outer model, following one of its signals.
+    pub assembly Servo(joint: JointRef = JointRef::default(),
+                       reference: SignalRef = SignalRef::time()) {
+        ppi = Ppi(reference = reference, phi = drive.motor_phi, w = drive.motor_w),
+        drive = Drive(joint = joint, ratio = 156.0, J_motor = 0.0000135 + 0.000000409,
+                      tau = ppi.PI.y),
+    }
+}
+
+model! {
+    /// ServoWithRamp as Modia3D writes it: the servo a sub-model on the outer joint.
+    pub NestedServoWithRamp(j: f64 = 0.32) {
+        world = Object3D(feature = Scene()),
+        load = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 1.0,
+                inertia = [[j, 0.0, 0.0], [0.0, j, 0.0], [0.0, 0.0, j]],
+            ),
+        )),
+        rev = Revolute(obj1 = world, obj2 = load, axis = 3),
+        ramp = Ramp(height = 2.95, duration = 1.18),
+        servo = Servo(joint = rev, reference = ramp.y),
+    }
+}
+
+/// tests/drive_trains.rs's `servo`: Modia3D's controller and drive on joint `joint`, under
+/// `servo.`, built with the builder API.
+fn builder_servo(scene: &mut SceneDesc, joint: &str, reference: &str) {
+    scene
+        .add_component(
+            ComponentDecl::new("servo.ppi.gainOuter", Gain { k: 156.0 }).input("u", reference),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.angleFeedback", Feedback)
+                .input("u1", "servo.ppi.gainOuter.y")
+                .input("u2", "servo.drive.motor_phi"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.gainInner", Gain { k: 50.0 })
+                .input("u", "servo.ppi.angleFeedback.y"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.speedFeedback", Feedback)
+                .input("u1", "servo.ppi.gainInner.y")
+                .input("u2", "servo.drive.motor_w"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.ppi.PI", PI::new(0.1, 1.0))
+                .input("u", "servo.ppi.speedFeedback.y"),
+        )
+        .add_component(
+            ComponentDecl::new("servo.drive", Drive::rigid(joint, 156.0, J_MOTOR))
+                .input("tau", "servo.ppi.PI.y"),
+        );
+}
+
+#[test]
+fn servo_sub_models_on_an_outer_joint_equal_drive_trains_scene_bit_for_bit() -> Res<()> {
+    // tests/drive_trains.rs's scene, names and all.
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("load").solid(
+            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+                1.0,
+                Vector3::zeros(),
+                Matrix3::from_diagonal_element(0.32),
+            ),
+        ))
+        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
+    scene.add_component(ComponentDecl::new(
+        "ramp",
+        Ramp {
+            height: 2.95,
+            duration: 1.18,
+            ..Default::default()
+        },
+    ));
+    builder_servo(&mut scene, "rev", "ramp.y");
+    let nested = NestedServoWithRamp::default().scene();
+    let names =
+        |s: &SceneDesc| -> Vec<String> { s.components.iter().map(|c| c.name.clone()).collect() };
+    assert_eq!(names(&nested), names(&scene));
+    let states = ["servo.ppi.PI.x", "rev.phi", "rev.w"];
+    let built = final_values(scene, &states)?;
+    let macro_ = final_values(nested, &states)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    Ok(())
+}
