@@ -299,7 +299,7 @@ impl Component for Input {
 /// `qdd`, in the axes' units; time events at every switch of the acceleration.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PtpPath {
-    /// The points, one row per point, one column per axis ([rad] or \[m\]).
+    /// The points, one row per point, one column per axis (\[rad\] or \[m\]).
     pub positions: Vec<Vec<f64>>,
     /// Largest speed per axis (> 0).
     pub v_max: Vec<f64>,
@@ -668,7 +668,7 @@ fn limit_crossings(v: f64, lo: f64, hi: f64, mode: f64, z: &mut [f64]) {
 pub struct Limiter {
     /// Upper limit.
     pub uMax: f64,
-    /// Lower limit (default `−uMax`).
+    /// Lower limit.
     pub uMin: f64,
 }
 
@@ -943,7 +943,7 @@ pub struct LimPID {
     pub Td: f64,
     /// Upper limit of the output.
     pub yMax: f64,
-    /// Lower limit of the output (default `−yMax`).
+    /// Lower limit of the output (default −1, the negative of `yMax`'s default: set both).
     pub yMin: f64,
     /// Set-point weight of the proportional part.
     pub wp: f64,
@@ -1187,11 +1187,11 @@ pub enum Gear {
 pub enum Motor {
     /// A torque source: input `tau` [N·m] is the motor's torque.
     Torque,
-    /// A DC motor with armature resistance `R` [Ω], inductance `L` \[H\] and motor constant
+    /// A DC motor with armature resistance `R` \[Ω\], inductance `L` \[H\] and motor constant
     /// `k` [N·m/A = V·s/rad]: input `v` \[V\], state the current `i` \[A\],
     /// `L·di/dt = v − R·i − k·ω_motor`, `τ_motor = k·i`.
     Dc {
-        /// Armature resistance [Ω] (≥ 0).
+        /// Armature resistance \[Ω\] (≥ 0).
         R: f64,
         /// Armature inductance \[H\] (> 0).
         L: f64,
@@ -1245,7 +1245,7 @@ impl Drive {
         self.gear = Gear::Elastic { c, d };
         self
     }
-    /// A DC motor (resistance `R` [Ω], inductance `L` \[H\], constant `k` [N·m/A]).
+    /// A DC motor (resistance `R` \[Ω\], inductance `L` \[H\], constant `k` [N·m/A]).
     pub fn dc_motor(mut self, R: f64, L: f64, k: f64) -> Self {
         self.motor = Motor::Dc { R, L, k };
         self

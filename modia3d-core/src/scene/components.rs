@@ -94,7 +94,7 @@ pub struct FlangeSpec {
 /// The motion of a flange at one evaluation.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FlangeMotion {
-    /// Position of the coordinate [rad] or \[m\].
+    /// Position of the coordinate \[rad\] or \[m\].
     pub position: f64,
     /// Its velocity [rad/s] or [m/s].
     pub velocity: f64,
