@@ -51,6 +51,13 @@ pub enum SimErrorKind {
         /// Which value, by name.
         what: String,
     },
+    /// Components' forces depend on the accelerations they read (`der(…)` signals, their
+    /// flanges' accelerations) too strongly for consistent accelerations to be found.
+    #[error("no consistent accelerations at t = {t} s: components' forces depend on the accelerations they read as strongly as the inertias they act on (the fixed point on them does not converge); state an inertia rigidly geared to a flange as `FlangeSpec::inertia`, or filter the acceleration (a FirstOrder block)")]
+    AccelerationLoop {
+        /// Time \[s\].
+        t: f64,
+    },
     /// `SimOptions::steady_state` found no steady state.
     #[error("no steady state at t = {t} s: Newton's method left the largest rate at {residual:.3e} (of {worst}) after {iterations} iterations; start from given values (`steady_state(false)`) or give initial values nearer one (a servo's reference at its joint's initial position)")]
     SteadyState {
@@ -312,6 +319,7 @@ fn derivative_error(e: DerivativeError, t: f64) -> SimErrorKind {
             residual: f.residual,
             t,
         },
+        DerivativeError::AccelerationLoop => SimErrorKind::AccelerationLoop { t },
     }
 }
 
@@ -362,6 +370,7 @@ impl SimErrorKind {
             SimErrorKind::TooDeep { .. } => "TooDeep",
             SimErrorKind::SteadyState { .. } => "SteadyState",
             SimErrorKind::Diverged { .. } => "Diverged",
+            SimErrorKind::AccelerationLoop { .. } => "AccelerationLoop",
         }
     }
 }

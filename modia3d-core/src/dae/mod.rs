@@ -467,24 +467,42 @@ impl MultibodyDae {
         }
         (!d.is_empty()).then_some(d)
     }
-    /// The components' point of `y` at time `t` \[s\].
-    fn component_point<'a>(plan: &'a Plan, t: f64, y: &'a [f64]) -> Point<'a> {
+    /// The components' point of `y` at time `t` \[s\] with accelerations `a`.
+    fn component_point<'a>(plan: &'a Plan, t: f64, y: &'a [f64], a: &'a [f64]) -> Point<'a> {
         let (nq, nv, xo) = (plan.nq, plan.nv, plan.x_offset());
         Point {
             t,
             q: &y[..nq],
             v: &y[nq..nq + nv],
+            a,
             x: y.get(xo..xo + plan.components.nx).unwrap_or(&[]),
         }
+    }
+    /// The accelerations at `(t, y)` when a component reads them (consistent derivatives,
+    /// for events and output points), else none. A failure leaves them out (the residual
+    /// reports it).
+    fn accelerations_if_read(&mut self, t: f64, y: &[f64]) -> Vec<f64> {
+        if !self.plan.components.reads_acceleration {
+            return vec![];
+        }
+        let (nq, nv) = (self.plan.nq, self.plan.nv);
+        let mut y = y.to_vec();
+        self.consistent_derivative(t, &mut y)
+            .map(|yp| yp[nq..nq + nv].to_vec())
+            .unwrap_or_default()
     }
     /// A component event at `(t, y)` (a time event, a zero crossing, the start): the
     /// components set their discrete states. Returns whether any changed.
     pub(crate) fn component_event(&mut self, t: f64, y: &[f64]) -> Result<bool, UserFault> {
+        if self.comps.is_none() {
+            return Ok(false);
+        }
+        let a = self.accelerations_if_read(t, y);
         let Some(cs) = self.comps.as_deref_mut() else {
             return Ok(false);
         };
         self.quotient_base = false;
-        let at = Self::component_point(&self.plan, t, y);
+        let at = Self::component_point(&self.plan, t, y, &a);
         cs.event(&self.plan.components, &at)
     }
     /// The first time event of a component strictly after `t` \[s\].
@@ -495,10 +513,14 @@ impl MultibodyDae {
     /// The components' signals at `(t, y)` for an output point: their continuous states,
     /// outputs and discrete states, appended to `out` (nothing without components).
     pub(crate) fn component_values(&mut self, t: f64, y: &[f64], out: &mut Vec<f64>) {
+        if self.comps.is_none() {
+            return;
+        }
+        let a = self.accelerations_if_read(t, y);
         let Some(cs) = self.comps.as_deref_mut() else {
             return;
         };
-        let at = Self::component_point(&self.plan, t, y);
+        let at = Self::component_point(&self.plan, t, y, &a);
         out.extend_from_slice(at.x);
         if cs.outputs(&self.plan.components, &at).is_err() {
             // The next residual reports the fault; the output point shows NaN.
@@ -512,11 +534,15 @@ impl MultibodyDae {
     /// `ComponentPlan::flange_velocities`, in that order, appended to `out` (for the joint
     /// loads of output points; NaN if a component fails there).
     pub(crate) fn component_flange_forces(&mut self, t: f64, y: &[f64], out: &mut Vec<f64>) {
+        if self.comps.is_none() {
+            return;
+        }
+        let a = self.accelerations_if_read(t, y);
         let Some(cs) = self.comps.as_deref_mut() else {
             return;
         };
         let plan = &*self.plan;
-        let at = Self::component_point(plan, t, y);
+        let at = Self::component_point(plan, t, y, &a);
         let mut tau = vec![0.0; plan.nv];
         let ok = cs.evaluate(&plan.components, &at, &mut tau).is_ok();
         out.extend(plan.components.flange_velocities().into_iter().map(|v| {
@@ -594,6 +620,7 @@ impl MultibodyDae {
                     t,
                     q: &[],
                     v: &[],
+                    a: &[],
                     x: &x,
                 };
                 cs.evaluate(&self.plan.components, &at, &mut [])
@@ -610,50 +637,78 @@ impl MultibodyDae {
         }
         let mut yp = vec![0.0; self.len()];
         kinematics::position_derivative(&self.plan, q, v, &mut yp[..nq]);
-        let contact = &mut self.contact;
-        let contact_plan = self.contact_plan.as_deref();
-        let limits = &mut self.limits;
-        let comps = &mut self.comps;
-        let (qc, vc) = (&*q, &*v);
-        let mut failed = None;
-        let mut comp_fault = None;
-        let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
-            &self.plan,
-            &mut self.ws,
-            t,
-            q,
-            v,
-            &mut |plan, ws| {
-                if let (Some(cs), Some(cp)) = (contact.as_mut(), contact_plan) {
-                    if let Err(e) = cs.evaluate(plan, cp, ws, Mode::Continuous, t) {
-                        failed.get_or_insert(e);
+        // With components that read accelerations: fixed-point iteration on them (their
+        // forces then depend on what they read; an inertia is better a geared one).
+        let reads = self.plan.components.reads_acceleration;
+        let mut a_guess: Vec<f64> = if reads { vec![0.0; nv] } else { vec![] };
+        let mut iterations = 0;
+        let vd = loop {
+            let contact = &mut self.contact;
+            let contact_plan = self.contact_plan.as_deref();
+            let limits = &mut self.limits;
+            let comps = &mut self.comps;
+            let (qc, vc) = (&*q, &*v);
+            let mut failed = None;
+            let mut comp_fault = None;
+            let a_read = &a_guess;
+            let vd = crate::dynamics::mass_matrix::consistent_accelerations_with(
+                &self.plan,
+                &mut self.ws,
+                t,
+                q,
+                v,
+                &mut |plan, ws| {
+                    if let (Some(cs), Some(cp)) = (contact.as_mut(), contact_plan) {
+                        if let Err(e) = cs.evaluate(plan, cp, ws, Mode::Continuous, t) {
+                            failed.get_or_insert(e);
+                        }
                     }
-                }
-                if let Some(l) = limits.as_deref_mut() {
-                    l.state.apply(&l.plan, qc, vc, &mut ws.tau_applied);
-                }
-                if let Some(cs) = comps.as_deref_mut() {
-                    let at = Point {
-                        t,
-                        q: qc,
-                        v: &vc[..plan.nv],
-                        x: &x,
-                    };
-                    if let Err(f) = cs.evaluate(&plan.components, &at, &mut ws.tau_applied) {
-                        comp_fault.get_or_insert(f);
+                    if let Some(l) = limits.as_deref_mut() {
+                        l.state.apply(&l.plan, qc, vc, &mut ws.tau_applied);
                     }
-                }
-            },
-        );
-        if let Some(f) = comp_fault {
-            return Err(DerivativeError::User(f));
-        }
-        if let Some(fault) = self.ws.fault.take() {
-            return Err(DerivativeError::User(fault));
-        }
-        if let Some(e) = failed {
-            return Err(DerivativeError::Contact(e));
-        }
+                    if let Some(cs) = comps.as_deref_mut() {
+                        let at = Point {
+                            t,
+                            q: qc,
+                            v: &vc[..plan.nv],
+                            a: a_read,
+                            x: &x,
+                        };
+                        if let Err(f) = cs.evaluate(&plan.components, &at, &mut ws.tau_applied) {
+                            comp_fault.get_or_insert(f);
+                        }
+                    }
+                },
+            );
+            if let Some(f) = comp_fault {
+                return Err(DerivativeError::User(f));
+            }
+            if let Some(fault) = self.ws.fault.take() {
+                return Err(DerivativeError::User(fault));
+            }
+            if let Some(e) = failed {
+                return Err(DerivativeError::Contact(e));
+            }
+            if !reads {
+                break vd;
+            }
+            let Some((vd_new, _)) = vd.as_ref() else {
+                break vd;
+            };
+            let change = vd_new
+                .iter()
+                .zip(&a_guess)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            let scale = vd_new.iter().fold(1.0f64, |m, a| m.max(a.abs()));
+            a_guess.clone_from(vd_new);
+            iterations += 1;
+            if change <= 1e-12 * scale {
+                break vd;
+            }
+            if iterations >= MAX_ACCELERATION_ITERATIONS {
+                return Err(DerivativeError::AccelerationLoop);
+            }
+        };
         let (vd, lambda) = vd.ok_or(DerivativeError::Singular)?;
         yp[nq..nq + nv].copy_from_slice(&vd);
         if m > 0 {
@@ -684,7 +739,14 @@ pub(crate) enum DerivativeError {
     User(UserFault),
     /// A kinematic loop does not close at the current state.
     Loop(crate::dynamics::loops::LoopFailure),
+    /// Components' forces depend on the accelerations they read so strongly that the
+    /// fixed-point iteration for consistent accelerations does not converge.
+    AccelerationLoop,
 }
+
+/// Iterations of the fixed point on the accelerations components read (each halves the
+/// error of a coupling whose force changes by half the inertia it acts on).
+const MAX_ACCELERATION_ITERATIONS: usize = 60;
 
 impl DaeSystem for MultibodyDae {
     /// `nq + nv`, or 1 for a scene without unknowns (every body fixed): IDA needs n ≥ 1, so
@@ -794,7 +856,7 @@ impl DaeSystem for MultibodyDae {
 
     /// The stops of joint limits are folded into the same two functions (`z_1` the largest
     /// over pairs and stops in contact, `z_2` the smallest over the others).
-    fn roots(&mut self, t: f64, y: &[f64], _yp: &[f64], g: &mut [f64]) {
+    fn roots(&mut self, t: f64, y: &[f64], yp: &[f64], g: &mut [f64]) {
         let plan = &*self.plan;
         // The components' zero crossings: one function, the smallest of them.
         if let Some(cs) = self.comps.as_deref_mut().filter(|_| plan.components.nz > 0) {
@@ -803,6 +865,7 @@ impl DaeSystem for MultibodyDae {
                 t,
                 q: &y[..nq],
                 v: &y[nq..nq + nv],
+                a: yp.get(nq..nq + nv).unwrap_or(&[]),
                 x: &y[xo..xo + plan.components.nx],
             };
             let base = usize::from(self.contact.is_some() || self.limits.is_some()) * 2;
@@ -1161,6 +1224,7 @@ impl MultibodyDae {
                     t,
                     q: &[],
                     v: &[],
+                    a: &[],
                     x,
                 };
                 if let Err(f) = cs.evaluate(&plan.components, &at, &mut []) {
@@ -1198,7 +1262,7 @@ impl MultibodyDae {
         }
         forces::applied_forces(plan, &mut self.ws, t, q, v);
         if let Some(cs) = self.comps.as_deref_mut() {
-            let at = Point { t, q, v, x };
+            let at = Point { t, q, v, a: vd, x };
             if let Err(f) = cs.evaluate(&plan.components, &at, &mut self.ws.tau_applied) {
                 self.ws.fault.get_or_insert(f);
             }

@@ -27,6 +27,8 @@ enum PlanRef {
     Q(usize),
     /// Index into `v`.
     V(usize),
+    /// Index into `v̇`.
+    A(usize),
 }
 
 #[derive(Clone)]
@@ -89,6 +91,9 @@ pub(crate) struct ComponentPlan {
     pub x_nominal: Vec<f64>,
     /// Velocity indices the components read or drive (their trees are coupled to them).
     pub v_touched: Vec<usize>,
+    /// Whether a component reads an acceleration (a `der(…)` signal or its flanges'): the
+    /// consistent derivatives then iterate on them.
+    pub reads_acceleration: bool,
 }
 
 impl ComponentPlan {
@@ -143,6 +148,13 @@ impl ComponentPlan {
                     }
                     None => PlanRef::Time,
                 },
+                SigRef::JointAcc(j, k) => match coord(j, k) {
+                    Some((_, vi)) => {
+                        touched.push(vi);
+                        PlanRef::A(vi)
+                    }
+                    None => PlanRef::Time,
+                },
             }
         };
         for (ci, c) in vc.list.iter().enumerate() {
@@ -192,6 +204,14 @@ impl ComponentPlan {
         }
         touched.sort_unstable();
         touched.dedup();
+        p.reads_acceleration = vc.list.iter().any(|c| {
+            c.component.reads_flange_acceleration()
+                || c.inputs.iter().any(|s| match s {
+                    ValidSrc::Const(_) => false,
+                    ValidSrc::Ref(r) => matches!(r, SigRef::JointAcc(..)),
+                    ValidSrc::Expr(d, _) => d.iter().any(|r| matches!(r, SigRef::JointAcc(..))),
+                })
+        });
         p.order.clone_from(&vc.order);
         (p.nx, p.ny, p.nd, p.nz, p.nu, p.nfl, p.n_dep) = (nx, ny, nd, nz, nu, nfl, n_dep);
         p.v_touched = touched;
@@ -248,6 +268,8 @@ pub(crate) struct Point<'a> {
     pub t: f64,
     pub q: &'a [f64],
     pub v: &'a [f64],
+    /// The accelerations `v̇` (empty where no component reads them: read as 0).
+    pub a: &'a [f64],
     pub x: &'a [f64],
 }
 
@@ -274,6 +296,7 @@ impl ComponentState {
             PlanRef::D(i) => self.d[i],
             PlanRef::Q(i) => at.q[i],
             PlanRef::V(i) => at.v[i],
+            PlanRef::A(i) => at.a.get(i).copied().unwrap_or(0.0),
         }
     }
 
@@ -300,6 +323,7 @@ impl ComponentState {
             self.fl[c.fl.start + k] = FlangeMotion {
                 position: at.q[qi],
                 velocity: at.v[vi],
+                acceleration: at.a.get(vi).copied().unwrap_or(0.0),
             };
         }
         Ok(())
@@ -314,6 +338,7 @@ impl ComponentState {
                 self.fl[c.fl.start + k] = FlangeMotion {
                     position: at.q[qi],
                     velocity: at.v[vi],
+                    acceleration: at.a.get(vi).copied().unwrap_or(0.0),
                 };
             }
             self.call_outputs(c, at)?;

@@ -98,6 +98,11 @@ pub struct FlangeMotion {
     pub position: f64,
     /// Its velocity [rad/s] or [m/s].
     pub velocity: f64,
+    /// Its acceleration [rad/s²] or [m/s²], read only by a component that says so
+    /// ([`Component::reads_flange_acceleration`]; 0 otherwise). In the residual it is the
+    /// solver's trial value, so a force that depends on it is part of the implicit equations;
+    /// an inertia rigidly geared to the flange is better stated as [`FlangeSpec::inertia`].
+    pub acceleration: f64,
 }
 
 /// What a component sees at one evaluation (in the order of its specs).
@@ -143,6 +148,11 @@ pub trait Component: fmt::Debug + Send + Sync {
     /// Its flanges. Default: none.
     fn flanges(&self) -> Vec<FlangeSpec> {
         vec![]
+    }
+    /// Whether it reads its flanges' accelerations ([`FlangeMotion::acceleration`]). Default:
+    /// no (the start and the events then need no iteration for consistent accelerations).
+    fn reads_flange_acceleration(&self) -> bool {
+        false
     }
     /// Checks its parameters (finite, in range); `Err` says what is wrong and what to do.
     /// Default: nothing to check.
@@ -193,7 +203,8 @@ pub enum Src {
     /// A constant.
     Const(f64),
     /// Another signal by path: a component's output or state (`"pi.y"`, `"servo.drive.motor_w"`),
-    /// a joint coordinate's position or velocity (`"rev.phi"`, `"rev.w"`, `"slide.s"`), or
+    /// a joint coordinate's position or velocity (`"rev.phi"`, `"rev.w"`, `"slide.s"`), its
+    /// acceleration as the derivative of its velocity (`"der(rev.w)"`, [rad/s²] or [m/s²]), or
     /// `"time"` \[s\].
     Signal(String),
     /// A function of time \[s\] and the values of the signals `deps` (in that order).

@@ -24,6 +24,8 @@ pub(crate) enum SigRef {
     JointPos(usize, usize),
     /// Velocity of that coordinate.
     JointVel(usize, usize),
+    /// Acceleration of that coordinate (`der(<joint>.<velocity>)`).
+    JointAcc(usize, usize),
 }
 
 /// Where a resolved input's value comes from.
@@ -193,6 +195,12 @@ pub(super) fn components(
                 if path == "time" {
                     return Some(SigRef::Time);
                 }
+                // `der(<joint>.<velocity>)`: a coordinate's acceleration.
+                let (path, der) = match path.strip_prefix("der(").and_then(|p| p.strip_suffix(')'))
+                {
+                    Some(inner) => (inner, true),
+                    None => (path, false),
+                };
                 let found = path.rsplit_once('.').and_then(|(owner, field)| {
                     if let Some(&oc) = index.get(owner) {
                         let (_, outs, xs, ds) = &specs[oc];
@@ -214,20 +222,29 @@ pub(super) fn components(
                         cut_used = true;
                     }
                     for (k, (p, v)) in sigs.iter().enumerate() {
-                        if *p == field {
+                        if *p == field && !der {
                             return Some(SigRef::JointPos(vj, k));
                         }
                         if *v == field {
-                            return Some(SigRef::JointVel(vj, k));
+                            return Some(if der {
+                                SigRef::JointAcc(vj, k)
+                            } else {
+                                SigRef::JointVel(vj, k)
+                            });
                         }
                     }
                     None
                 });
+                let found = found.filter(|r| !der || matches!(r, SigRef::JointAcc(..)));
                 if found.is_none() {
                     c.errors.push(SceneError::UnknownSignal {
                         component: d.name.clone(),
                         port: port.clone(),
-                        path: path.to_string(),
+                        path: if der {
+                            format!("der({path})")
+                        } else {
+                            path.to_string()
+                        },
                         hint: did_you_mean(path, all_paths.iter().map(String::as_str)),
                     });
                 }
