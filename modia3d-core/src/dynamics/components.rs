@@ -313,8 +313,7 @@ impl ComponentState {
                     }
                     let vals = &self.dep[*o..o + deps.len()];
                     let t = at.t;
-                    catch_unwind(AssertUnwindSafe(|| f(t, vals)))
-                        .map_err(|e| fault(c, at.t, FaultKind::Panic(panic_text(&*e))))?
+                    guarded(c, at.t, || f(t, vals))?
                 }
             };
             self.u[c.u.start + k] = v;
@@ -364,16 +363,9 @@ impl ComponentState {
     }
 
     fn call_outputs(&mut self, c: &CompPlan, at: &Point<'_>) -> Result<(), UserFault> {
-        let io = ComponentIo {
-            t: at.t,
-            x: &at.x[c.x.clone()],
-            d: &self.d[c.d.clone()],
-            u: &self.u[c.u.clone()],
-            flanges: &self.fl[c.fl.clone()],
-        };
+        let io = io(c, at, (&self.d, &self.u, &self.fl));
         let y = &mut self.y[c.y.clone()];
-        catch_unwind(AssertUnwindSafe(|| c.component.outputs_at(&io, y)))
-            .map_err(|e| fault(c, at.t, FaultKind::Panic(panic_text(&*e))))
+        guarded(c, at.t, || c.component.outputs_at(&io, y))
     }
 
     /// The outputs, then every derivative into `xdot` and the flange forces added to `tau`
@@ -389,18 +381,11 @@ impl ComponentState {
             if !c.feedthrough {
                 self.gather(c, at)?;
             }
-            let io = ComponentIo {
-                t: at.t,
-                x: &at.x[c.x.clone()],
-                d: &self.d[c.d.clone()],
-                u: &self.u[c.u.clone()],
-                flanges: &self.fl[c.fl.clone()],
-            };
+            let io = io(c, at, (&self.d, &self.u, &self.fl));
             let xdot = &mut self.xdot[c.x.clone()];
             let ff = &mut self.ff[c.fl.clone()];
             ff.fill(0.0);
-            catch_unwind(AssertUnwindSafe(|| c.component.derivatives(&io, xdot, ff)))
-                .map_err(|e| fault(c, at.t, FaultKind::Panic(panic_text(&*e))))?;
+            guarded(c, at.t, || c.component.derivatives(&io, xdot, ff))?;
             if let Some(k) = xdot.iter().position(|v| !v.is_finite()) {
                 let (name, v) = (&c.states[k].name, xdot[k]);
                 return Err(fault(
@@ -435,16 +420,9 @@ impl ComponentState {
         let mut m = f64::INFINITY;
         for c in p.comps.iter().filter(|c| !c.z.is_empty()) {
             self.gather(c, at)?;
-            let io = ComponentIo {
-                t: at.t,
-                x: &at.x[c.x.clone()],
-                d: &self.d[c.d.clone()],
-                u: &self.u[c.u.clone()],
-                flanges: &self.fl[c.fl.clone()],
-            };
+            let io = io(c, at, (&self.d, &self.u, &self.fl));
             let z = &mut self.z[c.z.clone()];
-            catch_unwind(AssertUnwindSafe(|| c.component.crossings(&io, z)))
-                .map_err(|e| fault(c, at.t, FaultKind::Panic(panic_text(&*e))))?;
+            guarded(c, at.t, || c.component.crossings(&io, z))?;
             for &v in z.iter() {
                 m = m.min(if v.is_nan() { -1.0 } else { v });
             }
@@ -462,16 +440,9 @@ impl ComponentState {
             self.d_new.clone_from(&self.d);
             for c in &p.comps {
                 self.gather(c, at)?;
-                let io = ComponentIo {
-                    t: at.t,
-                    x: &at.x[c.x.clone()],
-                    d: &self.d[c.d.clone()],
-                    u: &self.u[c.u.clone()],
-                    flanges: &self.fl[c.fl.clone()],
-                };
+                let io = io(c, at, (&self.d, &self.u, &self.fl));
                 let dn = &mut self.d_new[c.d.clone()];
-                catch_unwind(AssertUnwindSafe(|| c.component.event(&io, dn)))
-                    .map_err(|e| fault(c, at.t, FaultKind::Panic(panic_text(&*e))))?;
+                guarded(c, at.t, || c.component.event(&io, dn))?;
             }
             if self.d_new == self.d {
                 return Ok(changed);
@@ -512,6 +483,26 @@ impl ComponentState {
             .filter(|s| s.is_finite() && *s > t)
             .min_by(f64::total_cmp)
     }
+}
+
+/// What component `c` sees at `at`, from the slices of the shared vectors.
+fn io<'a>(
+    c: &CompPlan,
+    at: &Point<'a>,
+    (d, u, fl): (&'a [f64], &'a [f64], &'a [FlangeMotion]),
+) -> ComponentIo<'a> {
+    ComponentIo {
+        t: at.t,
+        x: &at.x[c.x.clone()],
+        d: &d[c.d.clone()],
+        u: &u[c.u.clone()],
+        flanges: &fl[c.fl.clone()],
+    }
+}
+
+/// Calls `f` (a method of component `c` at time `t`), a panic being the component's fault.
+fn guarded<R>(c: &CompPlan, t: f64, f: impl FnOnce() -> R) -> Result<R, UserFault> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|e| fault(c, t, FaultKind::Panic(panic_text(&*e))))
 }
 
 fn fault(c: &CompPlan, t: f64, kind: FaultKind) -> UserFault {
