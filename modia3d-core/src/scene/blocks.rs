@@ -625,15 +625,38 @@ impl Component for Add3 {
 }
 
 /// The discrete mode of a limit: 0 inside, 1 at the upper, −1 at the lower limit, decided at
-/// events from the unlimited value `v` (so the output is smooth between events and the kinks
-/// are located as zero crossings).
-fn limit_mode(v: f64, lo: f64, hi: f64) -> f64 {
-    if v > hi {
-        1.0
-    } else if v < lo {
-        -1.0
+/// events from the unlimited value `v` and the mode `old` (so the output is smooth between
+/// events and the kinks are located as zero crossings). A mode is left when its crossing
+/// function reaches zero (`v` at the limit counts as reached), so an event at the limit's
+/// value switches, and cannot stay in a mode whose crossing is zero.
+fn limit_mode(v: f64, lo: f64, hi: f64, old: f64) -> f64 {
+    let inside = |v: f64| {
+        if v >= hi {
+            1.0
+        } else if v <= lo {
+            -1.0
+        } else {
+            0.0
+        }
+    };
+    if old > 0.5 {
+        if v > hi {
+            1.0
+        } else if v <= lo {
+            -1.0
+        } else {
+            0.0
+        }
+    } else if old < -0.5 {
+        if v < lo {
+            -1.0
+        } else if v >= hi {
+            1.0
+        } else {
+            0.0
+        }
     } else {
-        0.0
+        inside(v)
     }
 }
 
@@ -713,7 +736,7 @@ impl Component for Limiter {
         limit_crossings(io.u[0], self.uMin, self.uMax, io.d[0], z);
     }
     fn event(&self, io: &ComponentIo<'_>, d_new: &mut [f64]) {
-        d_new[0] = limit_mode(io.u[0], self.uMin, self.uMax);
+        d_new[0] = limit_mode(io.u[0], self.uMin, self.uMax, d_new[0]);
     }
 }
 
@@ -1041,7 +1064,7 @@ impl Component for LimPID {
         limit_crossings(self.unlimited(io), self.yMin, self.yMax, io.d[0], z);
     }
     fn event(&self, io: &ComponentIo<'_>, d_new: &mut [f64]) {
-        d_new[0] = limit_mode(self.unlimited(io), self.yMin, self.yMax);
+        d_new[0] = limit_mode(self.unlimited(io), self.yMin, self.yMax, d_new[0]);
     }
 }
 
