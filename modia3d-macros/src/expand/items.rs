@@ -286,8 +286,8 @@ fn to_camel(key: &str) -> String {
         .unwrap_or_default()
 }
 
-/// A signal's full name as a `&str`: a path with this block's prefix (`time` without), or a
-/// `SignalRef` parameter's.
+/// A signal's full name as a `&str`: a path with this block's prefix (`time` without), a
+/// `SignalRef` parameter's, or `der(<prefix><path>)`.
 fn dep(d: &Dep) -> TokenStream {
     match d {
         Dep::Path(p) if p == "time" => quote!("time"),
@@ -296,6 +296,12 @@ fn dep(d: &Dep) -> TokenStream {
             quote!(::std::string::String::as_str(#p))
         }
         Dep::Param(id) => quote!(::modia3d::SignalRef::path(&#id)),
+        Dep::Der(path) => {
+            let p = prefix();
+            quote!(::std::string::String::as_str(
+                &::std::format!("der({}{})", #p, #path)
+            ))
+        }
     }
 }
 
