@@ -602,6 +602,8 @@ pub(crate) enum PathWant {
     Joint,
     /// A signal a block reads (`pi.y`, `rev.phi`).
     Signal,
+    /// A joint coordinate's velocity, read by `der(…)` (`rev.w`).
+    Velocity,
 }
 
 /// The checked model.

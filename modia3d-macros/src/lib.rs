@@ -142,7 +142,7 @@ use proc_macro::TokenStream;
 ///
 /// Checked at compile time, each on its token: unknown keys, missing required parameters and
 /// inputs, unknown signal paths and `der(…)` of what is no joint velocity (with did-you-mean
-/// hints; paths into sub-assemblies by rustc, that one is a velocity by `build()`),
+/// hints; paths into sub-assemblies by rustc, also that a `der(…)` path is a velocity there),
 /// a `Drive` on a joint without a scalar coordinate or with a `coordinate` it lacks, and
 /// algebraic loops among the block's blocks (a cycle of blocks each reading another's `→`
 /// output at the same instant; one through a sub-assembly is reported by `build()`). In a

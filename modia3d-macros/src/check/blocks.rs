@@ -795,8 +795,7 @@ impl Checker {
     }
 
     /// Resolves the path of a `der(path)` read: a joint coordinate's velocity (`rev.w`), or a
-    /// path into a sub-assembly (a signal, checked by rustc; `build()` checks it is a
-    /// velocity). False after an error.
+    /// path into a sub-assembly (a velocity there, checked by rustc). False after an error.
     fn der_signal(&mut self, segs: &[Ident], tokens: &Expr) -> bool {
         let root = segs[0].to_string();
         let path = segs
@@ -840,7 +839,7 @@ impl Checker {
                 self.path_checks.push(PathCheck {
                     ty: self.assembly_types[&root].clone(),
                     rest: segs[1..].to_vec(),
-                    want: PathWant::Signal,
+                    want: PathWant::Velocity,
                 });
                 true
             }
