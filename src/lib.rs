@@ -106,6 +106,24 @@ pub mod __private {
     /// The type of a hidden item that names a signal a block of a `model!` type reads
     /// (`pi.y`, `rev.w`).
     pub struct SignalPath;
+    /// What a signal of a `model!` type is, as a type alias of the signal's name beside its
+    /// constant: a joint coordinate's velocity (`rev.w`, whose derivative `der(…)` reads) …
+    pub struct VelocitySignal;
+    /// … or any other signal (a position, a block's output or state).
+    pub struct OtherSignal;
+
+    /// A signal `der(…)` takes: a joint coordinate's velocity.
+    #[diagnostic::on_unimplemented(
+        message = "`der(…)` reads the acceleration of a joint coordinate's velocity: this signal is no velocity",
+        label = "not a joint coordinate's velocity",
+        note = "a joint's velocities are its coordinates' rates (`w` of a revolute joint, `v` of a prismatic one): `der(arm.rev.w)`"
+    )]
+    pub trait Velocity {}
+    impl Velocity for VelocitySignal {}
+
+    /// Compiles when `T`, the kind of a signal of a sub-assembly that `der(…)` reads, is a
+    /// velocity.
+    pub fn velocity<T: Velocity>() {}
 
     /// What a sub-assembly's parameter given a path of the outer model (`reference = ramp.y`,
     /// `joint = rev`) is: a `SignalRef` or a `JointRef`, whichever the parameter is.

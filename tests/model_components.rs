@@ -2,7 +2,8 @@
 //! (`test/Robot/ServoWithRamp.jl`, as `tests/drive_trains.rs` builds it with the builder API)
 //! written with `model!` expands to the same builder calls, so its final states equal the
 //! builder scene's bit for bit; the spec's compact form (one PI whose input is an expression
-//! over signals) and a servo used twice as a sub-assembly with different parameters.
+//! over signals) and a servo used twice as a sub-assembly with different parameters; blocks
+//! reading accelerations (`der(slide.v)`) equal the builder scene reading `"der(slide.v)"`.
 
 use modia3d::core::blocks::{Drive, Feedback, Gain, Ramp, Sampled, PI};
 use modia3d::prelude::*;
@@ -449,5 +450,113 @@ fn servo_sub_models_on_an_outer_joint_equal_drive_trains_scene_bit_for_bit() -> 
     let macro_ = final_values(nested, &states)?;
     let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    Ok(())
+}
+
+model! {
+    /// A mass falling on a vertical prismatic joint, reading its own acceleration.
+    pub assembly Faller(m: f64 = 1.0) {
+        base = Object3D(),
+        mass = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = m,
+                inertia = [[0.01, 0.0, 0.0], [0.0, 0.01, 0.0], [0.0, 0.0, 0.01]],
+            ),
+        )),
+        slide = Prismatic(obj1 = base, obj2 = mass, axis = 3),
+        acc = Gain(k = 1.0, u = der(slide.v)),
+    }
+}
+
+model! {
+    /// Blocks reading accelerations: alone, in an expression, inside a sub-assembly and into
+    /// one.
+    pub FallingMasses(m_extra: f64 = 0.5) {
+        world = Object3D(feature = Scene()),
+        mass = Object3D(feature = Solid(
+            shape = Sphere(diameter = 0.1),
+            mass_properties = MassProperties(
+                mass = 2.0,
+                inertia = [[0.01, 0.0, 0.0], [0.0, 0.01, 0.0], [0.0, 0.0, 0.01]],
+            ),
+        )),
+        slide = Prismatic(obj1 = world, obj2 = mass, axis = 3),
+        ramp = Ramp(height = 1.0, duration = 1.0),
+        acc = Gain(k = 1.0, u = der(slide.v)),
+        force = Gain(k = 1.0, u = m_extra * der(slide.v) + ramp.y),
+        inner = Faller(parent = world),
+        inner_acc = Gain(k = 2.0, u = der(inner.slide.v)),
+    }
+}
+
+/// `FallingMasses` with the builder API.
+fn builder_falling_masses() -> SceneDesc {
+    let m_extra = 0.5;
+    let solid = |m: f64| {
+        Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
+            m,
+            Vector3::zeros(),
+            Matrix3::from_diagonal_element(0.01),
+        )
+    };
+    let mut scene = SceneDesc::new();
+    scene
+        .add(Object3D::new("world").scene(SceneOptions::default()))
+        .add(Object3D::new("mass").solid(solid(2.0)))
+        .add_joint(Joint::new(
+            "slide",
+            "world",
+            "mass",
+            JointKind::prismatic(3),
+        ));
+    scene
+        .add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                height: 1.0,
+                duration: 1.0,
+                ..Default::default()
+            },
+        ))
+        .add_component(ComponentDecl::new("acc", Gain { k: 1.0 }).input("u", "der(slide.v)"))
+        .add_component(ComponentDecl::new("force", Gain { k: 1.0 }).input(
+            "u",
+            Src::expr(&["der(slide.v)", "ramp.y"], move |_, v| {
+                m_extra * v[0] + v[1]
+            }),
+        ));
+    scene
+        .add(Object3D::new("inner.base").parent("world"))
+        .add(Object3D::new("inner.mass").solid(solid(1.0)))
+        .add_joint(Joint::new(
+            "inner.slide",
+            "inner.base",
+            "inner.mass",
+            JointKind::prismatic(3),
+        ));
+    scene
+        .add_component(
+            ComponentDecl::new("inner.acc", Gain { k: 1.0 }).input("u", "der(inner.slide.v)"),
+        )
+        .add_component(
+            ComponentDecl::new("inner_acc", Gain { k: 2.0 }).input("u", "der(inner.slide.v)"),
+        );
+    scene
+}
+
+#[test]
+fn accelerations_read_in_model_equal_the_builder_scene_bit_for_bit() -> Res<()> {
+    let names = ["acc.y", "force.y", "inner.acc.y", "inner_acc.y", "slide.s"];
+    let built = final_values_at(builder_falling_masses(), &names, 1.5)?;
+    let macro_ = final_values_at(FallingMasses::default().scene(), &names, 1.5)?;
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&macro_), bits(&built), "{macro_:?} vs {built:?}");
+    // Free fall: −g on both joints, whatever the mass.
+    let g = 9.81;
+    assert!((built[0] + g).abs() < 1e-9, "{built:?}");
+    assert!((built[1] - (0.5 * -g + 1.0)).abs() < 1e-9, "{built:?}");
+    assert!((built[2] + g).abs() < 1e-9, "{built:?}");
+    assert!((built[3] + 2.0 * g).abs() < 1e-9, "{built:?}");
     Ok(())
 }

@@ -418,6 +418,9 @@ pub(crate) enum Dep {
     /// A parameter of type `SignalRef`: the outer model's signal handed to this assembly
     /// (absolute).
     Param(Ident),
+    /// `der(slide.v)`: the acceleration of a joint coordinate, by its velocity's path relative
+    /// to the block's prefix (the signal `der(<prefix><path>)`).
+    Der(String),
 }
 
 /// Where a block's input port reads its value from.
@@ -599,6 +602,8 @@ pub(crate) enum PathWant {
     Joint,
     /// A signal a block reads (`pi.y`, `rev.phi`).
     Signal,
+    /// A joint coordinate's velocity, read by `der(…)` (`rev.w`).
+    Velocity,
 }
 
 /// The checked model.

@@ -106,9 +106,18 @@ use proc_macro::TokenStream;
 /// input port. An input is a Rust `f64` expression over the parameters, `time` \[s\] and
 /// signals by path: `<block>.<output or state>` (`ramp.y`, `pi.x`, `drive.motor_w`),
 /// `<joint>.<position or velocity>` of a scalar coordinate (`rev.phi`, `rev.w`, `slide.s`,
-/// `slide.v`), or the same inside a sub-assembly (`axis1.drive.motor_phi`). A lone path reads
-/// the signal (`Src::signal`), an expression becomes `Src::expr(&[paths…], |time, v| …)`
-/// with each path replaced by its value, one of parameters only a `Src::Const`.
+/// `slide.v`), or the same inside a sub-assembly (`axis1.drive.motor_phi`); and a joint
+/// coordinate's acceleration as the derivative of its velocity, `der(<joint>.<velocity>)`
+/// (`der(rev.w)` \[rad/s²\], `der(slide.v)` \[m/s²\], `der(axis1.rev.w)`; the signal
+/// `"der(rev.w)"`, with the sub-assembly's prefix inside the parentheses). A lone path or
+/// `der(…)` reads the signal (`Src::signal`), an expression becomes
+/// `Src::expr(&[paths…], |time, v| …)` with each path and `der(…)` replaced by its value, one
+/// of parameters only a `Src::Const`. `der(…)` of anything else (a position `der(rev.phi)`, a
+/// block's output or state, an expression) is an error: only accelerations are derivatives
+/// a block reads. An acceleration comes from the solver, not from a block's output, so a
+/// `der(…)` read is no feedthrough edge of the algebraic-loop check (a force that depends on
+/// an acceleration as strongly as the inertia it acts on is `SimErrorKind::AccelerationLoop`
+/// at run time). Where `der` is a parameter of the model, `der(…)` is Rust's call.
 ///
 /// | block | parameters (`*` required, `= default`) | inputs | signals (`→` feedthrough) |
 /// |---|---|---|---|
@@ -132,7 +141,8 @@ use proc_macro::TokenStream;
 /// | `Sampled` | `period*` (s), `startTime = 0`, `inner*`: a block with continuous states and outputs only, as its constructor without inputs (`inner = PI(k = …, T = …)`) | the inner block's | the inner block's outputs (held, no feedthrough), `tick`, its states, `<output>_held` |
 ///
 /// Checked at compile time, each on its token: unknown keys, missing required parameters and
-/// inputs, unknown signal paths (with did-you-mean hints; paths into sub-assemblies by rustc),
+/// inputs, unknown signal paths and `der(…)` of what is no joint velocity (with did-you-mean
+/// hints; paths into sub-assemblies by rustc, also that a `der(…)` path is a velocity there),
 /// a `Drive` on a joint without a scalar coordinate or with a `coordinate` it lacks, and
 /// algebraic loops among the block's blocks (a cycle of blocks each reading another's `→`
 /// output at the same instant; one through a sub-assembly is reported by `build()`). In a

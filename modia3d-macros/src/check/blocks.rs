@@ -2,9 +2,10 @@
 //! …)`, `drive = Drive(joint = rev, …, tau = pi.y)`): keys against the core's table of block
 //! kinds (`modia3d_core::BLOCK_KINDS`), a `Drive`'s joint and coordinate, and each input's
 //! expression: the signal paths it reads (`ramp.y`, `rev.w`, `arm.pi.y`) resolved against the
-//! block's blocks and joints (paths into sub-assemblies by rustc, as other references), then
+//! block's blocks and joints (paths into sub-assemblies by rustc, as other references), and
+//! the accelerations it reads (`der(rev.w)`: only of a joint coordinate's velocity), then
 //! rewritten for a closure `|time, values| …`. Finally the algebraic loops: cycles of blocks
-//! each reading another's output with direct feedthrough.
+//! each reading another's output with direct feedthrough (an acceleration is none).
 
 use super::{lit_str, Args, Checker};
 use crate::ast::Ctor;
@@ -32,8 +33,8 @@ pub(crate) struct FeedthroughRead {
     span: Span,
 }
 
-/// Collects the signal paths of an input expression and rewrites them to `values[i]`, and
-/// `time` to the closure's time argument.
+/// Collects the signal paths and `der(…)` reads of an input expression and rewrites them to
+/// `values[i]`, and `time` to the closure's time argument.
 struct Rewriter<'a> {
     /// Whether a name starts a signal path (a component of the block, or an unknown name that
     /// is no parameter: reported as an unknown signal).
@@ -52,6 +53,23 @@ struct Rewriter<'a> {
     time: bool,
     /// Components used alone (`u = ramp`).
     lone: Vec<Ident>,
+    /// Whether `der(…)` is the derivative (not when `der` is a parameter).
+    der_is_call: bool,
+    /// Every `der(path)`: the path's segments and tokens.
+    ders: Vec<(Vec<Ident>, Expr)>,
+    /// Calls of `der` whose argument is no path (`der(2.0 * rev.w)`, `der()`).
+    bad_ders: Vec<Expr>,
+}
+
+/// `der(…)` in an input expression, unless `der` is a parameter of the block.
+fn der_call(e: &Expr, der_is_call: bool) -> Option<&syn::ExprCall> {
+    match e {
+        Expr::Call(c) if der_is_call => match &*c.func {
+            Expr::Path(p) if p.qself.is_none() && p.path.is_ident("der") => Some(c),
+            _ => None,
+        },
+        _ => None,
+    }
 }
 
 impl Rewriter<'_> {
@@ -71,6 +89,25 @@ impl Rewriter<'_> {
 impl VisitMut for Rewriter<'_> {
     fn visit_expr_mut(&mut self, e: &mut Expr) {
         let (t, v) = wire_locals();
+        // `der(rev.w)`: the acceleration, a signal of its own (a derivative read, no path).
+        if let Some(c) = der_call(e, self.der_is_call) {
+            let mut segs = vec![];
+            if c.args.len() == 1 && path_segments(&c.args[0], &mut segs) {
+                let path = segs
+                    .iter()
+                    .map(Ident::to_string)
+                    .collect::<Vec<_>>()
+                    .join(".");
+                let arg = c.args[0].clone();
+                let i = self.index(Dep::Der(path));
+                self.ders.push((segs, arg));
+                let span = e.span();
+                *e = syn::parse_quote_spanned!(span=> #v[#i]);
+            } else {
+                self.bad_ders.push(e.clone());
+            }
+            return;
+        }
         if let Expr::Field(_) = e {
             let mut segs = vec![];
             if path_segments(e, &mut segs) && (self.is_root)(&segs[0].to_string()) {
@@ -548,10 +585,26 @@ impl Checker {
             paths: vec![],
             time: false,
             lone: vec![],
+            der_is_call: !params.contains("der"),
+            ders: vec![],
+            bad_ders: vec![],
         };
         rw.visit_expr_mut(&mut expr);
+        let der_is_call = rw.der_is_call;
         let (found, paths, time, lone) = (rw.found, rw.paths, rw.time, rw.lone);
+        let (ders, bad_ders) = (rw.ders, rw.bad_ders);
         let mut ok = true;
+        for call in bad_ders {
+            self.err_spanned(
+                call,
+                "`der(…)` takes one path, a joint coordinate's velocity, and reads its acceleration (hint: `der(rev.w)`)",
+            );
+            ok = false;
+        }
+        // A derivative read is no feedthrough edge: accelerations come from the solver.
+        for (segs, tokens) in &ders {
+            ok &= self.der_signal(segs, tokens);
+        }
         for id in lone {
             let n = id.to_string();
             let what = self.kind(&n).map_or("a component", |k| k.article());
@@ -586,7 +639,8 @@ impl Checker {
         let lone_path = paths.len() == 1
             && (segs.len() > 1 && found.len() == 1
                 || segs.len() == 1 && matches!(paths[0], Dep::Param(_)));
-        Some(if lone_path {
+        let lone_der = paths.len() == 1 && ders.len() == 1 && der_call(e, der_is_call).is_some();
+        Some(if lone_path || lone_der {
             WireIr::Signal(paths[0].clone())
         } else if paths.is_empty() && !time {
             WireIr::Const(e.clone())
@@ -718,6 +772,146 @@ impl Checker {
                         other.article()
                     ),
                 );
+                false
+            }
+        }
+    }
+
+    /// The velocities of this block's joints' coordinates (`rev.w`), what `der(…)` takes.
+    fn velocity_paths(&self) -> Vec<String> {
+        let mut names: Vec<&String> = self.kinds.keys().collect();
+        names.sort();
+        let mut all = vec![];
+        for n in names {
+            if let Some(spec) = self.local_joint(n) {
+                all.extend(
+                    spec.coordinate_signals()
+                        .filter(|(_, v)| !v.is_empty())
+                        .map(|(_, v)| format!("{n}.{v}")),
+                );
+            }
+        }
+        all
+    }
+
+    /// Resolves the path of a `der(path)` read: a joint coordinate's velocity (`rev.w`), or a
+    /// path into a sub-assembly (a velocity there, checked by rustc). False after an error.
+    fn der_signal(&mut self, segs: &[Ident], tokens: &Expr) -> bool {
+        let root = segs[0].to_string();
+        let path = segs
+            .iter()
+            .map(Ident::to_string)
+            .collect::<Vec<_>>()
+            .join(".");
+        let velocities = self.velocity_paths();
+        let listed = |vs: &[String]| {
+            vs.iter()
+                .map(|s| format!("`{s}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        // For a path that is no joint's: the velocities there are.
+        let h = if velocities.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " (hint: this block's joint velocities are {})",
+                listed(&velocities)
+            )
+        };
+        if self.is_param(&root) {
+            self.err_spanned(
+                tokens,
+                format!("`{root}` is a parameter: `der(…)` reads the acceleration of a joint coordinate's velocity{h}"),
+            );
+            return false;
+        }
+        match self.kind(&root) {
+            None => {
+                let h = did_you_mean(&path, velocities.iter().map(String::as_str));
+                self.err_spanned(
+                    tokens,
+                    format!("unknown joint velocity `{path}` in `der(…)`{}", hint(h)),
+                );
+                false
+            }
+            Some(Kind::Assembly) if segs.len() > 2 => {
+                self.path_checks.push(PathCheck {
+                    ty: self.assembly_types[&root].clone(),
+                    rest: segs[1..].to_vec(),
+                    want: PathWant::Velocity,
+                });
+                true
+            }
+            Some(Kind::Joint) => {
+                let Some(spec) = self.local_joint(&root) else {
+                    return false;
+                };
+                let coords: Vec<(&str, &str)> = spec.coordinate_signals().collect();
+                let own: Vec<String> = coords
+                    .iter()
+                    .filter(|(_, v)| !v.is_empty())
+                    .map(|(_, v)| format!("{root}.{v}"))
+                    .collect();
+                let f = segs.get(1).map(Ident::to_string);
+                if segs.len() == 2 && own.contains(&path) {
+                    return true;
+                }
+                let position = coords.iter().find(|(p, _)| Some(*p) == f.as_deref());
+                let (span, msg) = match (segs.len(), position) {
+                    (2, Some((p, v))) if !v.is_empty() => (
+                        segs[1].span(),
+                        format!(
+                            "`{path}` is a position, not a velocity: `der(…)` reads the acceleration of a joint coordinate's velocity (hint: `{root}.{v}` is the velocity of `{p}`, `der({root}.{v})` its acceleration)"
+                        ),
+                    ),
+                    _ if own.is_empty() => (
+                        segs[0].span(),
+                        format!(
+                            "`{root}` is a {} joint: it has no scalar coordinate whose acceleration `der(…)` can read",
+                            spec.name
+                        ),
+                    ),
+                    (1, _) => (
+                        segs[0].span(),
+                        format!(
+                            "`{root}` is a joint: `der(…)` takes one of its coordinates' velocities, {} (hint: `der({})`)",
+                            listed(&own),
+                            own[0]
+                        ),
+                    ),
+                    _ => {
+                        let rest: Vec<String> =
+                            own.iter().map(|s| s[root.len() + 1..].to_string()).collect();
+                        let h = did_you_mean(
+                            &segs[1..]
+                                .iter()
+                                .map(Ident::to_string)
+                                .collect::<Vec<_>>()
+                                .join("."),
+                            rest.iter().map(String::as_str),
+                        );
+                        (
+                            segs[1].span(),
+                            format!(
+                                "`{root}` ({}) has no velocity `{}` whose acceleration `der(…)` can read: its coordinates' velocities are {}{}",
+                                spec.name,
+                                &path[root.len() + 1..],
+                                listed(&rest),
+                                hint(h)
+                            ),
+                        )
+                    }
+                };
+                self.err(span, msg);
+                false
+            }
+            Some(k) => {
+                let what = match k {
+                    Kind::Block => format!("`{root}` is a block: `der(…)` does not differentiate a block's output or state; it reads the acceleration of a joint coordinate's velocity"),
+                    k => format!("`{root}` is {}: `der(…)` reads the acceleration of a joint coordinate's velocity", k.article()),
+                };
+                self.err_spanned(tokens, format!("{what}{h}"));
                 false
             }
         }

@@ -286,8 +286,8 @@ fn to_camel(key: &str) -> String {
         .unwrap_or_default()
 }
 
-/// A signal's full name as a `&str`: a path with this block's prefix (`time` without), or a
-/// `SignalRef` parameter's.
+/// A signal's full name as a `&str`: a path with this block's prefix (`time` without), a
+/// `SignalRef` parameter's, or `der(<prefix><path>)`.
 fn dep(d: &Dep) -> TokenStream {
     match d {
         Dep::Path(p) if p == "time" => quote!("time"),
@@ -296,6 +296,12 @@ fn dep(d: &Dep) -> TokenStream {
             quote!(::std::string::String::as_str(#p))
         }
         Dep::Param(id) => quote!(::modia3d::SignalRef::path(&#id)),
+        Dep::Der(path) => {
+            let p = prefix();
+            quote!(::std::string::String::as_str(
+                &::std::format!("der({}{})", #p, #path)
+            ))
+        }
     }
 }
 
@@ -371,14 +377,23 @@ fn assembly(
     }
 }
 
-/// `let _: ObjectPath = __modia3d_Arm::tip;` — rustc checks the path on the user's tokens.
+/// `let _: ObjectPath = __modia3d_Arm::tip;` — rustc checks the path on the user's tokens;
+/// a velocity read by `der(…)` by the kind its signal's type alias names
+/// (`velocity::<__modia3d_Arm::rev::w>()`).
 pub(super) fn path_check(c: &PathCheck) -> TokenStream {
     let rest = &c.rest;
     let module = paths_module_at(&c.ty, rest[0].span());
+    if c.want == PathWant::Velocity {
+        let last_span = rest.last().expect("non-empty").span();
+        let check = quote_spanned!(last_span=> ::modia3d::__private::velocity);
+        return quote! {
+            #check::<#module #(:: #rest)*>();
+        };
+    }
     let marker = match c.want {
         PathWant::Joint => quote!(JointPath),
         PathWant::Object => quote!(ObjectPath),
-        PathWant::Signal => quote!(SignalPath),
+        PathWant::Signal | PathWant::Velocity => quote!(SignalPath),
     };
     let last_span = rest.last().expect("non-empty").span();
     let marker = quote_spanned!(last_span=> ::modia3d::__private::#marker);

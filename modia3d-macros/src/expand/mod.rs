@@ -105,25 +105,40 @@ pub(crate) fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
             let m = marker(*k);
             // Blocks and joints also name the signals a block reads (`pi.y`, `rev.w`): a
             // module of the same name (modules and constants do not clash).
-            let signals: Vec<&str> = ir
+            // Beside each constant, a type alias of the same name says whether the signal is
+            // a joint coordinate's velocity (what `der(…)` takes).
+            let signals: Vec<(&str, bool)> = ir
                 .items
                 .iter()
                 .find_map(|it| match it {
-                    Item::Block(b) if b.name == *n => Some(b.ports.signals()),
+                    Item::Block(b) if b.name == *n => {
+                        Some(b.ports.signals().into_iter().map(|s| (s, false)).collect())
+                    }
                     Item::Joint(j) if j.name == *n => Some(
                         j.kind
                             .spec
                             .coordinate_signals()
-                            .flat_map(|(p, v)| [p, v])
+                            .flat_map(|(p, v)| [(p, false), (v, true)])
                             .collect(),
                     ),
                     _ => None,
                 })
                 .unwrap_or_default();
-            let signals = signals.iter().map(|s| format_ident!("{}", s));
+            let kinds = signals.iter().map(|(_, velocity)| match velocity {
+                true => quote!(::modia3d::__private::VelocitySignal),
+                false => quote!(::modia3d::__private::OtherSignal),
+            });
+            let signals: Vec<Ident> = signals
+                .iter()
+                .map(|(s, _)| format_ident!("{}", s))
+                .collect();
             let sp = quote!(::modia3d::__private::SignalPath);
-            let module = (*k == Kind::Block || *k == Kind::Joint)
-                .then(|| quote!(pub mod #n { #(pub const #signals: #sp = #sp;)* }));
+            let module = (*k == Kind::Block || *k == Kind::Joint).then(|| {
+                quote!(pub mod #n {
+                    #(pub const #signals: #sp = #sp;)*
+                    #(pub type #signals = #kinds;)*
+                })
+            });
             quote! {
                 pub const #n: ::modia3d::__private::#m = ::modia3d::__private::#m;
                 #module
@@ -187,7 +202,7 @@ pub(crate) fn expand(def: &ModelDef, ir: &Ir) -> TokenStream {
         }
 
         #[doc(hidden)]
-        #[allow(non_snake_case, non_upper_case_globals, unused_imports, missing_docs)]
+        #[allow(non_snake_case, non_camel_case_types, non_upper_case_globals, unused_imports, missing_docs)]
         pub mod #module {
             #(#module_items)*
         }
