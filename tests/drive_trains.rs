@@ -1,5 +1,5 @@
 //! Drive trains and controllers in the DAE (docs/drive-trains.md): Modia3D's four servo tests
-//! (`test/Robot/Servo*.jl` of ModiaSim/Modia3D.jl) ported, checked
+//! (Modia3D.jl's ServoWithRamp, …AndRevolute, …AndPrismatic, ServoWithPathAndRevolute) ported, checked
 //!
 //! - against Modia3D's own final states as Modia3D checks them: Julia's
 //!   `isapprox(finalStates, requiredFinalStates, rtol = 1e-3)` on the vector, i.e.

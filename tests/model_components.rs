@@ -1,5 +1,5 @@
-//! Blocks in `model!` (docs/drive-trains.md point 4): Modia3D's ServoWithRamp
-//! (`test/Robot/ServoWithRamp.jl`, as `tests/drive_trains.rs` builds it with the builder API)
+//! Blocks in `model!` (docs/drive-trains.md, "In `model!`"): Modia3D's ServoWithRamp
+//! (as `tests/drive_trains.rs` builds it with the builder API)
 //! written with `model!` expands to the same builder calls, so its final states equal the
 //! builder scene's bit for bit; the spec's compact form (one PI whose input is an expression
 //! over signals) and a servo used twice as a sub-assembly with different parameters; blocks

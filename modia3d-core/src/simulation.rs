@@ -1225,7 +1225,7 @@ impl Simulation {
         }) {
             return Err(SimErrorKind::Diverged {
                 t,
-                what: self.unknown_name(k),
+                what: unknown_name(&self.model.plan, k),
             });
         }
         let plan = &self.model.plan;
@@ -1238,28 +1238,6 @@ impl Simulation {
         }
         self.ida.reinit(t, &y, &yp)?;
         Ok(())
-    }
-
-    /// The name of unknown `k` of `y` (a joint coordinate's signal, a loop multiplier, a
-    /// component's state), for messages.
-    fn unknown_name(&self, k: usize) -> String {
-        let plan = &self.model.plan;
-        for j in &plan.joints {
-            for c in j.coord.coordinates() {
-                if j.q_offset + c.q == k {
-                    return format!("`{}.{}`", j.name, c.name);
-                }
-                if plan.nq + j.v_offset + c.v == k {
-                    return format!("the velocity of `{}.{}`", j.name, c.name);
-                }
-            }
-        }
-        if let Some(i) = k.checked_sub(plan.x_offset()) {
-            if let Some(n) = plan.components.state_names().nth(i) {
-                return format!("`{n}`");
-            }
-        }
-        format!("unknown {k} of the state vector")
     }
 
     /// Names of the declared inputs, then of the `Input` components.
@@ -1370,6 +1348,27 @@ impl Simulation {
     }
 }
 
+/// The name of unknown `k` of `y` of `plan` (a joint coordinate, its velocity, a loop
+/// multiplier, a component's state), for messages.
+fn unknown_name(plan: &crate::dynamics::Plan, k: usize) -> String {
+    for j in &plan.joints {
+        for c in j.coord.coordinates() {
+            if j.q_offset + c.q == k {
+                return format!("`{}.{}`", j.name, c.name);
+            }
+            if plan.nq + j.v_offset + c.v == k {
+                return format!("the velocity of `{}.{}`", j.name, c.name);
+            }
+        }
+    }
+    if let Some(i) = k.checked_sub(plan.x_offset()) {
+        if let Some(n) = plan.components.state_names().nth(i) {
+            return format!("`{n}`");
+        }
+    }
+    format!("unknown {k} of the state vector")
+}
+
 /// The `Input` components of `plan` with the index of their value among the discrete states.
 fn input_components(
     plan: &crate::dynamics::Plan,
@@ -1399,12 +1398,10 @@ fn record(
         result.push_limit_forces(f);
     }
     if !dae.plan().components.comps.is_empty() {
-        let mut values = Vec::new();
-        dae.component_values(t, y, &mut values);
+        let (mut values, mut flanges) = (Vec::new(), Vec::new());
+        dae.component_record(t, y, &mut values, &mut flanges);
         result.push_components(&values);
-        values.clear();
-        dae.component_flange_forces(t, y, &mut values);
-        result.push_flange_forces(&values);
+        result.push_flange_forces(&flanges);
     }
     if contacts {
         // Output values only: a failure here shows up in the next residual anyway.

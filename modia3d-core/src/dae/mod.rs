@@ -510,30 +510,18 @@ impl MultibodyDae {
         let cs = self.comps.as_deref()?;
         cs.next_time_event(&self.plan.components, t)
     }
-    /// The components' signals at `(t, y)` for an output point: their continuous states,
-    /// outputs and discrete states, appended to `out` (nothing without components).
-    pub(crate) fn component_values(&mut self, t: f64, y: &[f64], out: &mut Vec<f64>) {
-        if self.comps.is_none() {
-            return;
-        }
-        let a = self.accelerations_if_read(t, y);
-        let Some(cs) = self.comps.as_deref_mut() else {
-            return;
-        };
-        let at = Self::component_point(&self.plan, t, y, &a);
-        out.extend_from_slice(at.x);
-        if cs.outputs(&self.plan.components, &at).is_err() {
-            // The next residual reports the fault; the output point shows NaN.
-            out.extend(std::iter::repeat_n(f64::NAN, cs.y.len()));
-        } else {
-            out.extend_from_slice(&cs.y);
-        }
-        out.extend_from_slice(&cs.d);
-    }
-    /// The components' flange forces at `(t, y)` on the coordinates of
-    /// `ComponentPlan::flange_velocities`, in that order, appended to `out` (for the joint
-    /// loads of output points; NaN if a component fails there).
-    pub(crate) fn component_flange_forces(&mut self, t: f64, y: &[f64], out: &mut Vec<f64>) {
+    /// The components at `(t, y)` for an output point, one evaluation: their continuous
+    /// states, outputs and discrete states appended to `values`, and their flange forces on
+    /// the coordinates of `ComponentPlan::flange_v`, in that order, to `flanges` (for the
+    /// joint loads). NaN where a component fails (the next residual reports it). Nothing
+    /// without components.
+    pub(crate) fn component_record(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        values: &mut Vec<f64>,
+        flanges: &mut Vec<f64>,
+    ) {
         if self.comps.is_none() {
             return;
         }
@@ -545,13 +533,11 @@ impl MultibodyDae {
         let at = Self::component_point(plan, t, y, &a);
         let mut tau = vec![0.0; plan.nv];
         let ok = cs.evaluate(&plan.components, &at, &mut tau).is_ok();
-        out.extend(plan.components.flange_velocities().into_iter().map(|v| {
-            if ok {
-                tau[v]
-            } else {
-                f64::NAN
-            }
-        }));
+        values.extend_from_slice(at.x);
+        let nan = |v: f64| if ok { v } else { f64::NAN };
+        values.extend(cs.y.iter().map(|&v| nan(v)));
+        values.extend_from_slice(&cs.d);
+        flanges.extend(plan.components.flange_v.iter().map(|&v| nan(tau[v])));
     }
     /// The components' discrete states.
     pub(crate) fn component_discrete_mut(&mut self) -> Option<&mut [f64]> {
@@ -858,17 +844,12 @@ impl DaeSystem for MultibodyDae {
     /// over pairs and stops in contact, `z_2` the smallest over the others).
     fn roots(&mut self, t: f64, y: &[f64], yp: &[f64], g: &mut [f64]) {
         let plan = &*self.plan;
-        // The components' zero crossings: one function, the smallest of them.
+        // The components' zero crossings: one function, the smallest of them, after the
+        // contacts' two.
+        let base = self.contact_roots();
         if let Some(cs) = self.comps.as_deref_mut().filter(|_| plan.components.nz > 0) {
-            let (nq, nv, xo) = (plan.nq, plan.nv, plan.x_offset());
-            let at = Point {
-                t,
-                q: &y[..nq],
-                v: &y[nq..nq + nv],
-                a: yp.get(nq..nq + nv).unwrap_or(&[]),
-                x: &y[xo..xo + plan.components.nx],
-            };
-            let base = usize::from(self.contact.is_some() || self.limits.is_some()) * 2;
+            let a = yp.get(plan.nq..plan.nq + plan.nv).unwrap_or(&[]);
+            let at = Self::component_point(plan, t, y, a);
             g[base] = match cs.min_crossing(&plan.components, &at) {
                 Ok(z) => z,
                 Err(f) => {

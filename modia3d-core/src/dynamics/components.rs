@@ -91,6 +91,9 @@ pub(crate) struct ComponentPlan {
     pub x_nominal: Vec<f64>,
     /// Velocity indices the components read or drive (their trees are coupled to them).
     pub v_touched: Vec<usize>,
+    /// Velocity indices of the coordinates flanges drive, sorted, each once (the flange
+    /// forces recorded for the joint loads).
+    pub flange_v: Vec<usize>,
     /// Whether a component reads an acceleration (a `der(…)` signal or its flanges'): the
     /// consistent derivatives then iterate on them.
     pub reads_acceleration: bool,
@@ -215,6 +218,9 @@ impl ComponentPlan {
         p.order.clone_from(&vc.order);
         (p.nx, p.ny, p.nd, p.nz, p.nu, p.nfl, p.n_dep) = (nx, ny, nd, nz, nu, nfl, n_dep);
         p.v_touched = touched;
+        p.flange_v = p.flange_coordinates().map(|(_, v)| v).collect();
+        p.flange_v.sort_unstable();
+        p.flange_v.dedup();
         if armature.iter().all(|&a| a == 0.0) {
             armature.clear();
         }
@@ -224,14 +230,6 @@ impl ComponentPlan {
     /// The `(q, v)` indices of every coordinate a flange drives (repeats possible).
     pub(crate) fn flange_coordinates(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         self.comps.iter().flat_map(|c| c.flanges.iter().copied())
-    }
-
-    /// The velocity indices of the coordinates flanges drive, sorted, each once.
-    pub(crate) fn flange_velocities(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = self.flange_coordinates().map(|(_, v)| v).collect();
-        v.sort_unstable();
-        v.dedup();
-        v
     }
 
     /// `<component>.<state>` of every continuous state, in state order.

@@ -163,10 +163,10 @@ impl SimulationResult {
             .zip(recorded.iter().copied())
             .collect();
         // The components' flange forces (their geared inertias are in the mass matrix).
-        let fv = self.model.plan.components.flange_velocities();
+        let fv = &self.model.plan.components.flange_v;
         let nf = fv.len();
         let flanges = self.flange_forces.get(k * nf..(k + 1) * nf).unwrap_or(&[]);
-        forces.extend(fv.into_iter().zip(flanges.iter().copied()));
+        forces.extend(fv.iter().copied().zip(flanges.iter().copied()));
         forces
     }
 

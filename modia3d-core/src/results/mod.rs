@@ -295,7 +295,7 @@ pub struct SimulationResult {
     /// states (`dynamics/components.rs`); empty without components.
     component_values: Vec<f64>,
     /// The components' flange forces per time point, on the coordinates of
-    /// `ComponentPlan::flange_velocities` (for the joint loads).
+    /// `ComponentPlan::flange_v` (for the joint loads).
     flange_forces: Vec<f64>,
     /// The names of the joint limits' stops (`"<joint>.<coordinate>.lower"`, `".upper"`).
     limit_stops: Vec<String>,

@@ -630,33 +630,20 @@ impl Component for Add3 {
 /// function reaches zero (`v` at the limit counts as reached), so an event at the limit's
 /// value switches, and cannot stay in a mode whose crossing is zero.
 fn limit_mode(v: f64, lo: f64, hi: f64, old: f64) -> f64 {
-    let inside = |v: f64| {
-        if v >= hi {
-            1.0
-        } else if v <= lo {
-            -1.0
-        } else {
-            0.0
-        }
-    };
-    if old > 0.5 {
-        if v > hi {
-            1.0
-        } else if v <= lo {
-            -1.0
-        } else {
-            0.0
-        }
+    // Staying at a limit needs `v` strictly beyond it; reaching one, only `v` at it.
+    let (to_hi, to_lo) = if old > 0.5 {
+        (v > hi, v <= lo)
     } else if old < -0.5 {
-        if v < lo {
-            -1.0
-        } else if v >= hi {
-            1.0
-        } else {
-            0.0
-        }
+        (v >= hi, v < lo)
     } else {
-        inside(v)
+        (v >= hi, v <= lo)
+    };
+    if to_hi {
+        1.0
+    } else if to_lo {
+        -1.0
+    } else {
+        0.0
     }
 }
 

@@ -38,22 +38,10 @@ pub(super) fn solve(dae: &mut MultibodyDae, t: f64, y: &mut [f64]) -> Result<(),
         .map(|&(_, v)| nq + v)
         .chain(xo..xo + cp.nx)
         .collect();
-    let coordinate = |qi: usize| -> String {
-        plan.joints
-            .iter()
-            .find_map(|j| {
-                let c = j
-                    .coord
-                    .coordinates()
-                    .iter()
-                    .find(|c| j.q_offset + c.q == qi)?;
-                Some(format!("{}.{}", j.name, c.name))
-            })
-            .unwrap_or_default()
-    };
+    let coordinate = |qi: usize| super::unknown_name(&plan, qi);
     let names: Vec<String> = driven
         .iter()
-        .map(|&(q, _)| format!("the acceleration of `{}`", coordinate(q)))
+        .map(|&(q, _)| format!("the acceleration of {}", coordinate(q)))
         .chain(cp.state_names().map(|n| format!("d{n}/dt")))
         .collect();
     if unknowns.is_empty() {
@@ -129,7 +117,7 @@ pub(super) fn solve(dae: &mut MultibodyDae, t: f64, y: &mut [f64]) -> Result<(),
             t,
             residual: r,
             worst: format!(
-                "`{}`, whose steady state lies {:.3e} from its initial position, farther than {REACH}: the components cannot hold the load near it",
+                "{}, whose steady state lies {:.3e} from its initial position, farther than {REACH}: the components cannot hold the load near it",
                 coordinate(driven[k].0),
                 y[unknowns[k]] - start[k]
             ),

@@ -71,24 +71,6 @@ pub(crate) struct ValidComponents {
     pub order: Vec<usize>,
 }
 
-/// The position and velocity signal names of joint kind `facts`' scalar coordinates.
-fn coordinate_signals(facts: &crate::joints::Facts) -> Vec<(&'static str, &'static str)> {
-    use crate::joints::Source;
-    facts
-        .spec
-        .coordinates
-        .iter()
-        .map(|c| {
-            let vel = facts
-                .signals
-                .iter()
-                .find(|s| s.dim == 1 && s.source == Source::V(c.v))
-                .map_or("", |s| s.name);
-            (c.name, vel)
-        })
-        .collect()
-}
-
 /// Checks `desc.components` against the joints and the cut joints of the topology.
 pub(super) fn components(
     c: &mut Checker,
@@ -135,13 +117,13 @@ pub(super) fn components(
         }
     }
     for j in &desc.joints {
-        for (p, v) in coordinate_signals(j.kind.facts()) {
+        for (p, v) in j.kind.facts().spec.coordinate_signals() {
             all_paths.push(format!("{}.{p}", j.name));
             all_paths.push(format!("{}.{v}", j.name));
         }
     }
     let mut list = vec![];
-    for (ci, (d, (ports, outs, xs, ds))) in decls.iter().zip(&specs).enumerate() {
+    for (d, (ports, outs, xs, ds)) in decls.iter().zip(&specs) {
         let kind = d.component.kind();
         if let Err(reason) = d.component.check() {
             c.errors.push(SceneError::ComponentParameter {
@@ -216,7 +198,12 @@ pub(super) fn components(
                         return None;
                     }
                     let ji = *names.joint_index.get(owner)?;
-                    let sigs = coordinate_signals(desc.joints[ji].kind.facts());
+                    let sigs: Vec<_> = desc.joints[ji]
+                        .kind
+                        .facts()
+                        .spec
+                        .coordinate_signals()
+                        .collect();
                     let vj = joint_valid(owner)?;
                     if cut_joints.contains(&vj) {
                         cut_used = true;
@@ -332,7 +319,6 @@ pub(super) fn components(
             discrete: ds.clone(),
             n_crossings: d.component.n_crossings(),
         });
-        let _ = ci;
     }
     let order = evaluation_order(c, &list);
     ValidComponents { list, order }
