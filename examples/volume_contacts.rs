@@ -8,7 +8,10 @@
 //! `demo::FallingBoxes` at `k_red = 1` beside the paper's law at `k_red = 1e-3`. Release
 //! build:
 //!
-//!     cargo run --release --example volume_contacts [-- runs]
+//!     cargo run --release --example volume_contacts [-- runs [scene-filter [rtol]]]
+//!
+//! A filter (a substring of the scene's name) and an rtol run only those rows, e.g. to profile
+//! one scene: `-- 200 cylinder 1e-2`.
 
 use modia3d::demo::{
     self, box_stack, cube_on_edge, housner_fall_back_time, on_incline, with_profile, FallingBoxes,
@@ -176,11 +179,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .nth(1)
         .and_then(|a| a.parse().ok())
         .unwrap_or(3);
+    let filter = std::env::args().nth(2);
+    let only_rtol: Option<f64> = std::env::args().nth(3).and_then(|a| a.parse().ok());
     println!("| scene | rtol | wall [s] (median of {runs}) | steps | steps per s | residuals | Jacobians | events | error |");
     println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
     for case in cases() {
+        if filter
+            .as_ref()
+            .is_some_and(|f| !case.name.contains(f.as_str()))
+        {
+            continue;
+        }
         let model = case.scene.build()?;
         for rtol in [1e-2, 1e-3, 1e-4, 1e-6, 1e-8] {
+            if only_rtol.is_some_and(|r| r != rtol) {
+                continue;
+            }
             let opts = SimOptions::new(case.stop)
                 .tolerance(rtol)
                 .interval(case.interval)
@@ -211,6 +225,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     // The falling boxes: the volume law at full stiffness beside the paper's law at k_red 1e-3.
+    if filter.is_some() {
+        return Ok(());
+    }
     println!();
     println!("| falling_boxes, 3 s, rtol 1e-5 | wall [s] | steps | events | last event [s] | max speed at 3 s [m/s] |");
     println!("|---|---:|---:|---:|---:|---:|");

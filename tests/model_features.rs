@@ -403,7 +403,7 @@ model! {
                  other: &'static str = "Rubber", profile: ContactProfile = ContactProfile::Paper2019) {
         world = Object3D(feature = Scene(gravity = [0.0, 0.0, -1.0], contact_detection = true,
                                          exact_restitution = true, average_missing_pairs = true, k_red = k_red,
-                                         d_max = 2000.0, cor_min = 0.01, v_min = 0.02, w_min = 0.03,
+                                         d_max = 2000.0, cor_min = 0.01, v_min = 0.02, v_min_volume = 0.004, w_min = 0.03,
                                          hysteresis = 1e-13, mpr_tolerance = 1e-10, mpr_max_iterations = 50,
                                          smoothing_radius = 0.002, profile = Modia3DLater)),
         oak   = SolidMaterial(density = 700.0, young_modulus = 1.1e10, poisson_ratio = 0.4),
@@ -438,6 +438,7 @@ fn scene_options_and_contact_pairs() {
         d_max: 2000.0,
         cor_min: 0.01,
         v_min: 0.02,
+        v_min_volume: 0.004,
         w_min: 0.03,
         hysteresis: 1e-13,
         mpr_tolerance: 1e-10,

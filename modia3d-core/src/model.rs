@@ -52,8 +52,11 @@ pub struct ContactPairInfo {
     pub mu_k: f64,
     /// Rolling resistance coefficient [-].
     pub mu_r: f64,
-    /// Regularisation velocity [m/s].
+    /// Regularisation velocity [m/s] of the `cor` blend (and of a point law's friction).
     pub v_min: f64,
+    /// Regularisation velocity of sliding and spin friction [m/s]: `v_min` for a point law;
+    /// for the volume law the pair material's `v_min`, else `SceneOptions::v_min_volume`.
+    pub v_slip: f64,
     /// Regularisation angular velocity [rad/s].
     pub w_min: f64,
     /// Combined elastic modulus `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
@@ -150,6 +153,7 @@ impl Model {
                 mu_k: pp.mu_k,
                 mu_r: pp.mu_r,
                 v_min: pp.v_min,
+                v_slip: pp.v_slip,
                 w_min: pp.w_min,
                 c_res: pp.c_res,
                 mu_geo: pp.mu_geo,

@@ -354,7 +354,7 @@ pub(crate) fn pair_wrench_jacobian<const N: usize>(
         (u * coef, u * dcoef + du * coef)
     };
     let (fr, dfr) = if pp.mu_k > 0.0 {
-        regularised(pp.mu_k, &v_t, &dv_t, pp.v_min)
+        regularised(pp.mu_k, &v_t, &dv_t, pp.v_slip)
     } else {
         (Vector3::zeros(), T3::zeros())
     };

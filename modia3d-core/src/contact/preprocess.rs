@@ -114,8 +114,12 @@ pub(crate) struct PairPlan {
     pub mu_k: f64,
     /// Rolling resistance coefficient [-].
     pub mu_r: f64,
-    /// Regularisation velocity [m/s].
+    /// Regularisation velocity [m/s] of the `cor` blend, the resting damping's window and
+    /// (point laws) friction.
     pub v_min: f64,
+    /// Regularisation velocity [m/s] of sliding and spin friction: `v_min` for point laws, the
+    /// pair material's `v_min` or the scene's `v_min_volume` for the volume law.
+    pub v_slip: f64,
     /// Regularisation angular velocity [rad/s].
     pub w_min: f64,
     /// `c_res = 1 / (1/c_1 + 1/c_2)` [N/m²].
@@ -179,6 +183,9 @@ struct PairMaterial {
     mu_k: f64,
     mu_r: f64,
     v_min: f64,
+    /// The volume law's friction regularisation (the pair's own `v_min`, else the scene's
+    /// `v_min_volume`).
+    v_slip_volume: f64,
     w_min: f64,
 }
 
@@ -322,6 +329,7 @@ impl ContactPlan {
                     mu_k: m.mu_k,
                     mu_r: m.mu_r,
                     v_min: m.v_min.unwrap_or(opts.v_min),
+                    v_slip_volume: m.v_min.unwrap_or(opts.v_min_volume),
                     w_min: m.w_min.unwrap_or(opts.w_min),
                 }));
             }
@@ -436,6 +444,10 @@ impl ContactPlan {
             mu_k: m.mu_k,
             mu_r: m.mu_r,
             v_min: m.v_min,
+            v_slip: match law {
+                PairLaw::Point => m.v_min,
+                _ => m.v_slip_volume,
+            },
             w_min: m.w_min,
             c_res: 1.0 / (1.0 / sa.c + 1.0 / sb.c),
             mu_geo,

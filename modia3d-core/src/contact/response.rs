@@ -112,7 +112,7 @@ pub(super) fn pair_response(
     }
 }
 
-/// The regularised sliding friction force (`−μ_k·f_n·v_t/reg(|v_t|, v_min)`, \[N\]) and the
+/// The regularised sliding friction force (`−μ_k·f_n·v_t/reg(|v_t|, v_slip)`, \[N\]) and the
 /// rolling resistance torque (`−μ_r·lever·f_n·ω_rel/reg(|ω_rel|, ω_min)`, \[N·m\]) of pair
 /// `pp` for normal force `f_n` \[N\], sliding velocity `v_t` [m/s], relative angular velocity
 /// `w_rel` [rad/s] and the rolling lever `lever` \[m\] (docs/contact-model.md §3).
@@ -125,7 +125,7 @@ fn friction_and_rolling(
     lever: f64,
 ) -> (Vector3<f64>, Vector3<f64>) {
     let friction = if pp.mu_k > 0.0 {
-        v_t * (-pp.mu_k * f_n / reg(v_t.norm(), pp.v_min))
+        v_t * (-pp.mu_k * f_n / reg(v_t.norm(), pp.v_slip))
     } else {
         Vector3::zeros()
     };
@@ -208,9 +208,9 @@ pub(super) fn resting_damping(m_a: f64, m_b: f64) -> f64 {
 /// c_r   = rest·√(κ_v·A)·ψ,   ψ = exp(−(δ̇² + ω_lᵀΣ_n ω_l/V)/v_min²)   resting damping [N·s/m]
 /// f_n   = f_el·soft_clamp(1 + (d + c_r/f_el)·δ̇)                      at the centroid, along n
 /// τ_rock = −(κ_v·d + c_r/V)·Σ_n·ω_l,  |τ_rock| ≤ f_n·√(1.5·tr Σ_n/V)
-/// F_t   = −μ_k·f_n·v_t/reg(|v_t|, v_min)                             at the centroid
+/// F_t   = −μ_k·f_n·v_t/reg(|v_t|, v_slip)                            at the centroid
 /// τ_r   = −μ_r·ρ·f_n·ω_rel/reg(|ω_rel|, ω_min),   ρ = √(tr Σ_n/V)
-/// τ_s   = −μ_k·f_n·l·(l·ω_n)/reg(|l·ω_n|, v_min)·n,   l = (2√2/3)·ρ,  ω_n = n·ω_rel
+/// τ_s   = −μ_k·f_n·l·(l·ω_n)/reg(|l·ω_n|, v_slip)·n,   l = (2√2/3)·ρ,  ω_n = n·ω_rel
 /// ```
 ///
 /// `ω_l` is `ω_rel` less the spin of a cylinder or cone about its own axis (which does not move
@@ -279,7 +279,7 @@ pub(super) fn volume_response(
         let lever = 2.0 * std::f64::consts::SQRT_2 / 3.0 * rho2.sqrt();
         let w_n = n.dot(&w_rel);
         let slip = w_n * lever;
-        rolling_torque += n * (-pp.mu_k * f_n * lever * slip / reg(slip, pp.v_min));
+        rolling_torque += n * (-pp.mu_k * f_n * lever * slip / reg(slip, pp.v_slip));
     }
     let rocking = sigma_n * w_layer * (-(kv * d + c_rest / volume));
     rolling_torque += capped(rocking, f_n * (1.5 * rho2).sqrt());

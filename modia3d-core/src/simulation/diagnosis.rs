@@ -371,7 +371,7 @@ pub(crate) fn stiff_friction(
             let laws = [
                 (
                     "friction",
-                    body.inertia.mass * pp.v_min / (3.0 * pp.mu_k * f_n),
+                    body.inertia.mass * pp.v_slip / (3.0 * pp.mu_k * f_n),
                 ),
                 (
                     "rolling resistance",

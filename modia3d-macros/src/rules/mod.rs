@@ -384,6 +384,7 @@ impl<'a> Probe<'a> {
                 "d_max" => &mut o.d_max,
                 "cor_min" => &mut o.cor_min,
                 "v_min" => &mut o.v_min,
+                "v_min_volume" => &mut o.v_min_volume,
                 "w_min" => &mut o.w_min,
                 "hysteresis" => &mut o.hysteresis,
                 "mpr_tolerance" => &mut o.mpr_tolerance,

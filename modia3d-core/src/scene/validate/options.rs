@@ -36,6 +36,7 @@ pub(super) fn check_options(c: &mut Checker, scene: &str, o: &SceneOptions) {
         "in (0, 1]",
     );
     c.positive(|| what("v_min [m/s]"), o.v_min);
+    c.positive(|| what("v_min_volume [m/s]"), o.v_min_volume);
     c.positive(|| what("w_min [rad/s]"), o.w_min);
     c.positive(|| what("hysteresis [m]"), o.hysteresis);
     // Relative accuracy of the narrow phase: the distance error it admits (tolerance × the
