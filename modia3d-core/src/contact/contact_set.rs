@@ -18,7 +18,9 @@ use crate::dynamics::forces::{add_world_wrench, world_wrench_in_body};
 use crate::dynamics::kinematics::point_velocity;
 use crate::dynamics::{Plan, Workspace};
 use crate::geometry::narrow_phase::Method;
-use crate::geometry::overlap::{frustum_planes_overlap, polytope_overlap, Overlap, OverlapScratch};
+use crate::geometry::overlap::{
+    frustum_planes_gap, frustum_planes_overlap, polytope_overlap, Overlap, OverlapScratch,
+};
 use crate::geometry::BroadPhase;
 use crate::geometry::CollisionShape;
 use crate::geometry::{
@@ -212,6 +214,45 @@ fn volume_overlap(
     }
 }
 
+/// The signed distance the root functions of a volume-law pair of a cylinder or cone and a
+/// polytope use: the separating-axis gap over the polytope's faces ([`frustum_planes_gap`]),
+/// the same face test [`frustum_planes_overlap`] chooses its face by, so the overlap is
+/// non-empty exactly where this is negative and the force is zero at both events (the
+/// Euclidean distance of the sharp shapes, which MPR gave before, is positive near a face's
+/// edge where the overlap, which takes the face as unbounded, is not zero yet). It is the
+/// Euclidean distance wherever a face's plane separates, and costs ~50 ns instead of MPR's
+/// ~1.2 µs. `None` for every other pair.
+fn frustum_gap(
+    cp: &ContactPlan,
+    pp: &PairPlan,
+    pa: &Isometry3<f64>,
+    pb: &Isometry3<f64>,
+) -> Option<SignedDistance> {
+    if pp.law == PairLaw::Point {
+        return None;
+    }
+    let (Some(va), Some(vb)) = (&cp.shapes[pp.a].volume, &cp.shapes[pp.b].volume) else {
+        return None;
+    };
+    // (gap, the polytope's side as a, the frustum's as b) with the normal from a to b.
+    let (g, flip) = match (&va.solid, &vb.solid) {
+        (VolumeSolid::Polytope(p), VolumeSolid::Frustum(f)) => {
+            (frustum_planes_gap(f, pb, world_planes(p, pa))?, false)
+        }
+        (VolumeSolid::Frustum(f), VolumeSolid::Polytope(p)) => {
+            (frustum_planes_gap(f, pa, world_planes(p, pb))?, true)
+        }
+        _ => return None,
+    };
+    let sd = SignedDistance {
+        distance: g.gap,
+        normal: g.normal,
+        point_a: g.lowest - g.normal * g.gap,
+        point_b: g.lowest,
+    };
+    Some(if flip { sd.flipped() } else { sd })
+}
+
 /// The face planes `(n, h)` of polytope `p` at `pose`, resolved in world (`n·x ≤ h` inside).
 fn world_planes<'a>(
     p: &'a crate::geometry::overlap::Polytope,
@@ -340,6 +381,9 @@ impl ContactState {
     ) -> Result<SignedDistance, ContactError> {
         let (a, b) = self.shapes_of(p);
         self.narrow_calls += 1;
+        if let Some(sd) = frustum_gap(cp, &self.slots[p].plan, &self.poses[a], &self.poses[b]) {
+            return Ok(sd);
+        }
         let (sa, sb) = narrow_shapes(cp, &self.slots[p].plan);
         let r = signed_distance_method(sa, &self.poses[a], sb, &self.poses[b], &cp.narrow);
         match r {

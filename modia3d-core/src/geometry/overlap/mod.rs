@@ -61,7 +61,9 @@ mod test_rng {
 }
 
 pub use polytope::{polytope_overlap, OverlapScratch, Polytope};
-pub use round::{frustum_halfspace_overlap, frustum_planes_overlap, Frustum};
+pub use round::{
+    frustum_halfspace_overlap, frustum_planes_gap, frustum_planes_overlap, Frustum, PlanesGap,
+};
 
 use nalgebra::{Matrix3, Point3, Vector3};
 
