@@ -140,12 +140,15 @@ struct Run {
     result: SimulationResult,
 }
 
-fn run_in_dae(model: &Model, rtol: f64) -> Result<Run, Box<dyn std::error::Error>> {
+/// The servo in the DAE; `exact` the components' Jacobian columns from the blocks' partial
+/// derivatives (the default), else difference quotients (`SimOptions::analytic_jacobian`).
+fn run_in_dae(model: &Model, rtol: f64, exact: bool) -> Result<Run, Box<dyn std::error::Error>> {
     let t = Instant::now();
     let result = model.simulate(
         &SimOptions::new(4.0)
             .tolerance(rtol)
             .interval(0.01)
+            .analytic_jacobian(exact)
             .quiet(true),
     )?;
     Ok(Run {
@@ -205,6 +208,14 @@ fn error(
     Ok(e)
 }
 
+/// Who closes the loop: the DAE (with the components' exact Jacobian columns or quotients),
+/// or host code at a rate \[Hz\].
+#[derive(Clone, Copy)]
+enum By {
+    Dae(bool),
+    Host(f64),
+}
+
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -217,15 +228,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let name = if path { "servo, path" } else { "servo, ramp" };
         let dae = in_dae(path)?;
         let host = host_model(path)?;
-        let reference = run_in_dae(&dae, 1e-11)?.result;
+        let reference = run_in_dae(&dae, 1e-11, true)?.result;
         for rtol in [1e-6, 1e-8] {
-            for closed in [None, Some(1e3), Some(2e4)] {
+            for closed in [By::Dae(true), By::Dae(false), By::Host(1e3), By::Host(2e4)] {
                 let mut walls = vec![];
                 let mut last = None;
                 for _ in 0..5 {
                     let r = match closed {
-                        None => run_in_dae(&dae, rtol),
-                        Some(rate) => run_host(&host, rtol, path, rate),
+                        By::Dae(exact) => run_in_dae(&dae, rtol, exact),
+                        By::Host(rate) => run_host(&host, rtol, path, rate),
                     };
                     match r {
                         Ok(r) => {
@@ -239,8 +250,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 }
                 let by = match closed {
-                    None => "the DAE".to_string(),
-                    Some(rate) => format!("host, {} kHz", rate / 1e3),
+                    By::Dae(true) => "the DAE".to_string(),
+                    By::Dae(false) => "the DAE, quotient Jacobian".to_string(),
+                    By::Host(rate) => format!("host, {} kHz", rate / 1e3),
                 };
                 match last.ok_or("no run")? {
                     Ok(r) => {

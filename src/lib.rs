@@ -320,7 +320,7 @@ pub mod demo;
 /// Everything a model needs: builder types, shapes, options, results, nalgebra's vectors.
 pub mod prelude {
     pub use crate::{JointRef, SignalRef};
-    pub use modia3d_core::{blocks, Component, ComponentDecl, ComponentIo, Src};
+    pub use modia3d_core::{blocks, Component, ComponentDecl, ComponentIo, ComponentJacobian, Src};
     pub use modia3d_core::{
         linspace, ColumnInfo, Distribution, ParamPoints, Params, RunError, Sweep, SweepError,
         SweepRegistry, SweepRow, SweepSpec, SweepTable,

@@ -98,8 +98,8 @@ pub use scene::{
     BLOCK_KINDS,
 };
 pub use scene::{
-    blocks, Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec,
-    Src, SrcFn, StateSpec,
+    blocks, Component, ComponentDecl, ComponentIo, ComponentJacobian, FlangeMotion, FlangeSpec,
+    OutputSpec, PortSpec, Src, SrcFn, StateSpec,
 };
 pub use scene::{
     Action, ActionKind, ContactPairMaterial, ContactProfile, Feature, ForceElement, ForceFn,

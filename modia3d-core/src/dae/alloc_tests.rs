@@ -222,14 +222,7 @@ fn hot_path_allocations(scene: SceneDesc) -> Vec<f64> {
     let mut entries = 0usize;
     let mut jacobian = |dae: &mut MultibodyDae, s: &mut crate::solver::BlockStructure| {
         assert!(dae.jacobian_structure(s));
-        let args = crate::solver::JacobianArgs {
-            t: 0.0,
-            c_j: 1e3,
-            h: 1e-4,
-            y: &y,
-            yp: &yp,
-            zero_size: &zero_size,
-        };
+        let args = jacobian_args(0.0, &y, &yp, &zero_size);
         dae.jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
             .unwrap();
         assert!(dae
@@ -443,6 +436,23 @@ fn force_elements_and_point_gravity_do_not_allocate() {
 /// The components' stage allocates nothing: residual and root functions of a link driven by
 /// an elastic-gear servo with a limited PID, a limiter, a sampled PI and a path reference,
 /// once warmed up.
+/// The Jacobian's point at time `t` \[s\] with `c_j` = 1e3 and `h` = 1e-4 s.
+fn jacobian_args<'a>(
+    t: f64,
+    y: &'a [f64],
+    yp: &'a [f64],
+    zero_size: &'a [f64],
+) -> crate::solver::JacobianArgs<'a> {
+    crate::solver::JacobianArgs {
+        t,
+        c_j: 1e3,
+        h: 1e-4,
+        y,
+        yp,
+        zero_size,
+    }
+}
+
 #[test]
 fn components_do_not_allocate() {
     use crate::scene::blocks::{Drive, Feedback, Gain, LimPID, Limiter, PtpPath, Sampled, PI};
@@ -503,12 +513,30 @@ fn components_do_not_allocate() {
         dae.residual(0.1, &y, &yp, &mut res).unwrap();
         dae.roots(0.1, &y, &yp, &mut g);
     }
+    // The states' columns from the blocks' partial derivatives (every block gives them).
+    let mut s = crate::solver::BlockStructure::default();
+    assert!(dae.jacobian_structure(&mut s));
+    let xo = model.plan.x_offset();
+    assert!(
+        s.analytic[s.block_of[xo]],
+        "the states' columns are analytic"
+    );
+    let zero_size = vec![1e-2; n];
+    let mut entries = 0usize;
+    let mut jacobian = |dae: &mut MultibodyDae, t: f64| {
+        let args = jacobian_args(t, &y, &yp, &zero_size);
+        dae.jacobian(&args, &mut |_: usize, _: usize, _: f64| entries += 1)
+            .unwrap();
+    };
+    jacobian(&mut dae, 0.1);
     let before = allocs();
     for k in 0..100 {
         let t = 0.01 * k as f64;
         dae.residual(t, &y, &yp, &mut res).unwrap();
         dae.roots(t, &y, &yp, &mut g);
+        jacobian(&mut dae, t);
     }
     assert_eq!(allocs() - before, 0, "allocations in the components' stage");
+    assert!(entries > 0);
     assert!(res.iter().all(|r| r.is_finite()) && g[0].is_finite());
 }

@@ -42,7 +42,7 @@
 use super::increment_caps::{rotation_cap, with_step_floor};
 use super::MultibodyDae;
 use crate::contact::{pair_wrench_jacobian, ContactPlan, ContactState, PER_BODY};
-use crate::dynamics::{kinematics, BodyId, InputTarget, Plan, Workspace};
+use crate::dynamics::{kinematics, rnea, BodyId, InputTarget, Plan, Workspace};
 use crate::scene::ValidForce;
 use crate::solver::{capped_increment, JacobianArgs, JacobianSink, ResidualError};
 use crate::spatial::{quat_to_matrix, Force, Inertia, Motion};
@@ -785,6 +785,10 @@ impl MultibodyDae {
         out: &mut dyn JacobianSink,
     ) -> Result<(), ResidualError> {
         self.hinge_jacobian(args, out)?;
+        let n_trees = self.blocks.as_ref().map(|tb| tb.n_trees);
+        if n_trees.is_some_and(|n| self.analytic.get(n).copied().unwrap_or(false)) {
+            self.component_columns(args, out)?;
+        }
         let Some(tb) = &self.blocks else {
             return Ok(());
         };
@@ -815,6 +819,67 @@ impl MultibodyDae {
             analytic: &self.analytic,
         }
         .add(&mut self.ws, args, out)
+    }
+}
+
+impl MultibodyDae {
+    /// The columns of the components' states (block `n_trees`, analytic when every component
+    /// gives its partial derivatives: `ComponentState::state_columns`): their own rows, and the
+    /// negative of their flange forces' derivatives in the joints' rows (the residual's
+    /// `… − τ`), except where a prescribed motion replaces the row.
+    fn component_columns(
+        &mut self,
+        args: &JacobianArgs<'_>,
+        out: &mut dyn JacobianSink,
+    ) -> Result<(), ResidualError> {
+        let plan = &*self.plan;
+        let Some(cs) = self.comps.as_deref_mut() else {
+            return Ok(());
+        };
+        let (nq, nv) = (plan.nq, plan.nv);
+        let xo = plan.x_offset();
+        use crate::dynamics::components::{ColumnRow, Point};
+        let at = Point {
+            t: args.t,
+            q: &args.y[..nq],
+            v: &args.y[nq..nq + nv],
+            a: &args.yp[nq..nq + nv],
+            x: &args.y[xo..xo + plan.components.nx],
+        };
+        // The flange forces' derivatives enter the joints' rows through the residual's row
+        // operation (`rnea::residual_rows_of_applied`), at these positions.
+        kinematics::position_velocity(plan, &mut self.ws, at.q, at.v);
+        let ws = &self.ws;
+        let (dtau, g, d_res) = (
+            &mut self.comp_dtau,
+            &mut self.comp_pass,
+            &mut self.comp_rows,
+        );
+        dtau.fill(0.0);
+        let mut any = false;
+        let result = cs.state_columns(&plan.components, &at, args.c_j, |row, j, v| match row {
+            ColumnRow::State(i) => out.add(xo + i, xo + j, &[v]),
+            ColumnRow::Force(vi) => {
+                dtau[vi] += v;
+                any = true;
+            }
+            ColumnRow::Done => {
+                if any {
+                    rnea::residual_rows_of_applied(plan, ws, at.q, dtau, g, d_res);
+                    for (vi, &d) in d_res.iter().enumerate() {
+                        if d != 0.0 {
+                            out.add(nq + vi, xo + j, &[d]);
+                        }
+                    }
+                    dtau.fill(0.0);
+                    any = false;
+                }
+            }
+        });
+        if let Err(f) = result {
+            self.ws.fault.get_or_insert(f);
+        }
+        super::fault_check(&self.ws)
     }
 }
 
@@ -1545,6 +1610,208 @@ pub(super) mod tests {
     /// the rod's child): the rod's angle changes the tip's rows, so a reuse there would show.
     /// Exact equality: every skipped quantity is a function of inputs the perturbation leaves
     /// as they were, computed by the same operations.
+    /// Two links on revolute joints driven by every block that has states or feedthrough
+    /// (an elastic-gear DC drive under a PI speed loop and a limiter, a rigid drive under a
+    /// `LimPID`, a `PID`, a `FirstOrder`, an `Integrator`, sums and expression inputs), so the
+    /// chain rule runs through outputs with and without feedthrough, expressions, flange forces
+    /// into both joints' rows and the limits' modes.
+    fn servo_scene() -> SceneDesc {
+        use crate::scene::blocks::{
+            Add3, Drive, Feedback, FirstOrder, Gain, Integrator, LimPID, Limiter, Ramp, PI, PID,
+        };
+        use crate::scene::{ComponentDecl, Src};
+        let mut s = SceneDesc::new();
+        s.add(Object3D::new("world").scene(SceneOptions::default()));
+        for (link, joint, parent) in [("l1", "rev1", "world"), ("l2", "rev2", "p1")] {
+            s.add(Object3D::new(link).solid(Solid::new(Shape::Sphere { diameter: 0.1 }).mass(1.0)))
+                .add(
+                    Object3D::new(&format!("p{}", &link[1..]))
+                        .parent(link)
+                        .translation([0.3, 0.0, 0.0]),
+                )
+                .add_joint(Joint::new(joint, parent, link, JointKind::revolute(2)));
+        }
+        s.add_component(ComponentDecl::new(
+            "ramp",
+            Ramp {
+                height: 1.0,
+                duration: 2.0,
+                offset: 0.0,
+                startTime: 0.0,
+            },
+        ))
+        .add_component(
+            ComponentDecl::new(
+                "filt",
+                FirstOrder {
+                    k: 1.0,
+                    T: 0.05,
+                    y_start: 0.0,
+                },
+            )
+            .input("u", "ramp.y"),
+        )
+        .add_component(
+            ComponentDecl::new("err", Feedback)
+                .input("u1", "filt.y")
+                .input("u2", "rev1.phi"),
+        )
+        .add_component(ComponentDecl::new("p", Gain { k: 30.0 }).input("u", "err.y"))
+        .add_component(
+            ComponentDecl::new("werr", Feedback)
+                .input("u1", "p.y")
+                .input(
+                    "u2",
+                    Src::expr(&["drive1.motor_w", "rev1.w"], |_, v| {
+                        0.01 * v[0] + 0.2 * v[1] * v[1]
+                    }),
+                ),
+        )
+        .add_component(ComponentDecl::new("pi", PI::new(2.0, 0.05)).input("u", "werr.y"))
+        .add_component(ComponentDecl::new("lim", Limiter::new(-20.0, 20.0)).input("u", "pi.y"))
+        .add_component(
+            ComponentDecl::new(
+                "drive1",
+                Drive::rigid("rev1", 100.0, 2e-5)
+                    .elastic(2e3, 0.5)
+                    .dc_motor(1.2, 2e-3, 0.05),
+            )
+            .input("v", "lim.y"),
+        )
+        .add_component(
+            ComponentDecl::new(
+                "pid2",
+                LimPID {
+                    k: 4.0,
+                    yMax: 0.5,
+                    yMin: -0.5,
+                    wd: 0.5,
+                    ..LimPID::default()
+                },
+            )
+            .input(
+                "u_s",
+                Src::expr(&["ramp.y", "time"], |t, v| v[0] * (1.0 + t)),
+            )
+            .input("u_m", "rev2.phi"),
+        )
+        .add_component(ComponentDecl::new("pid3", PID::default()).input("u", "err.y"))
+        .add_component(
+            ComponentDecl::new(
+                "int",
+                Integrator {
+                    k: 3.0,
+                    y_start: 0.0,
+                },
+            )
+            .input("u", "pid3.y"),
+        )
+        .add_component(
+            ComponentDecl::new("sum", Add3::default())
+                .input("u1", "pid2.y")
+                .input("u2", "int.y")
+                .input("u3", "drive1.tau_load"),
+        )
+        .add_component(
+            ComponentDecl::new("drive2", Drive::rigid("rev2", 20.0, 1e-4))
+                .input("tau", Src::expr(&["sum.y"], |_, v| 0.1 * v[0])),
+        );
+        s
+    }
+
+    /// The components' states' columns from their partial derivatives (chain rule through the
+    /// signals, `ComponentState::state_columns`) against central differences of the full
+    /// residual, at random states with the limits inside and saturated, entry by entry.
+    /// Tolerance per column: `1e-6 · max_i |C_ij|` plus 1e-9 absolute: the reference's
+    /// truncation at the increment 1e-6·max(|x_j|, 1) of residuals that are at most quadratic
+    /// in the states (the expression `0.2·w²` is the only curvature, and the states do not
+    /// enter it) is rounding only, ~1e-10 of the column; the expressions' own central
+    /// differences inside the chain rule err by ~1e-10; a missing or wrong term is O(1).
+    #[test]
+    #[allow(clippy::needless_range_loop)] // entry (i, j) of two matrices, by index
+    fn component_state_columns_match_central_differences() {
+        let model = servo_scene().build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let n = dae.len();
+        let xo = dae.plan().x_offset();
+        let nx = n - xo;
+        assert_eq!(nx, 10, "filt, pi, drive1 (3), pid2 (2), pid3 (2) and int");
+        let c_j = 1.7e3;
+        let mut saturated = 0;
+        for seed in 1..=6u64 {
+            let mut rnd = rng(seed);
+            let mut y = model.plan.y0();
+            y.resize(n, 0.0);
+            for v in y.iter_mut() {
+                *v = rnd() * if seed % 2 == 0 { 10.0 } else { 0.5 };
+            }
+            dae.component_event(0.3, &y).unwrap();
+            let yp: Vec<f64> = (0..n).map(|_| rnd()).collect();
+            let (a, cols) = analytic_columns(&mut dae, &y, &yp, c_j);
+            assert!(
+                cols[xo..].iter().all(|&c| c),
+                "the states' columns are analytic"
+            );
+            for j in xo..n {
+                let r = central_with(&mut dae, (&y, &yp), c_j, j, 1e-6);
+                let scale = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                for i in 0..n {
+                    let err = (a[i][j] - r[i]).abs();
+                    assert!(
+                        err <= 1e-6 * scale + 1e-9,
+                        "seed {seed}: entry ({i}, {j}): analytic {:e}, central {:e}, column scale {scale:e}",
+                        a[i][j],
+                        r[i]
+                    );
+                }
+            }
+            // Some entries reach the joints' rows (the flange forces' derivatives).
+            let nq = dae.plan().nq;
+            assert!((xo..n).any(|j| a[nq][j] != 0.0) && (xo..n).any(|j| a[nq + 1][j] != 0.0));
+            let modes = dae.component_discrete_mut().unwrap_or(&mut []);
+            saturated += usize::from(modes.iter().any(|d| d.abs() > 0.5));
+        }
+        assert!(saturated >= 1, "a limit saturated at some state");
+    }
+
+    /// A component without partial derivatives keeps the states' columns quotients.
+    #[test]
+    fn a_component_without_a_jacobian_keeps_quotients() {
+        #[derive(Debug)]
+        struct Plain;
+        impl crate::scene::Component for Plain {
+            fn kind(&self) -> &'static str {
+                "Plain"
+            }
+            fn inputs(&self) -> Vec<crate::scene::PortSpec> {
+                vec![]
+            }
+            fn outputs(&self) -> Vec<crate::scene::OutputSpec> {
+                vec![]
+            }
+            fn states(&self) -> Vec<crate::scene::StateSpec> {
+                vec![crate::scene::StateSpec::new("x", "1", 1.0, 1.0)]
+            }
+            fn outputs_at(&self, _io: &crate::scene::ComponentIo<'_>, _y: &mut [f64]) {}
+            fn derivatives(
+                &self,
+                io: &crate::scene::ComponentIo<'_>,
+                xd: &mut [f64],
+                _f: &mut [f64],
+            ) {
+                xd[0] = -io.x[0];
+            }
+        }
+        let mut s = servo_scene();
+        s.add_component(crate::scene::ComponentDecl::new("plain", Plain));
+        let model = s.build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let mut st = BlockStructure::default();
+        assert!(dae.jacobian_structure(&mut st));
+        let xo = dae.plan().x_offset();
+        assert!(!st.analytic[st.block_of[xo]]);
+    }
+
     #[test]
     fn quotient_residuals_match_the_full_residual_bit_for_bit() {
         let model = scene_with_arm().build().unwrap();

@@ -72,6 +72,13 @@ pub(crate) struct MultibodyDae {
     /// The components' scratch and discrete states, `None` without components (then nothing
     /// of them runs).
     comps: Option<Box<ComponentState>>,
+    /// Scratch of the components' analytic state columns (`jacobian.rs`,
+    /// `component_columns`): the flange forces' derivatives along one state (len nv, empty
+    /// without components), the row operation's passed forces (len bodies) and the joint rows'
+    /// change (len nv).
+    comp_dtau: Vec<f64>,
+    comp_pass: Vec<crate::spatial::Force>,
+    comp_rows: Vec<f64>,
     /// First error of the contact stage inside a root evaluation (IDA's root callback cannot
     /// fail); reported by the driver.
     root_error: Option<ContactError>,
@@ -297,6 +304,11 @@ impl MultibodyDae {
         if limits.is_some() {
             hinge.limit_kd = vec![(0.0, 0.0); plan.nv];
         }
+        let (comp_nv, comp_nb) = if plan.components.comps.is_empty() {
+            (0, 0)
+        } else {
+            (plan.nv, plan.bodies.len())
+        };
         let comps = (!plan.components.comps.is_empty())
             .then(|| Box::new(ComponentState::new(&plan.components)));
         MultibodyDae {
@@ -327,6 +339,9 @@ impl MultibodyDae {
             contact,
             limits,
             limit_out: vec![],
+            comp_dtau: vec![0.0; comp_nv],
+            comp_pass: vec![crate::spatial::Force::default(); comp_nb],
+            comp_rows: vec![0.0; comp_nv],
             comps,
             root_error: None,
             ewt_marked: Vec::with_capacity(blocks.as_ref().map_or(0, |b| b.fixed.n_blocks)),
@@ -947,6 +962,13 @@ impl DaeSystem for MultibodyDae {
                 s.analytic[tb.of_body[self.body_of_v[v].index()]] = false;
             }
             s.analytic.resize(s.n_blocks, false);
+            // The components' states: from their partial derivatives when all give them.
+            let cp = &self.plan.components;
+            if cp.nx > 0 && cp.all_jacobians {
+                if let Some(a) = s.analytic.get_mut(tb.n_trees) {
+                    *a = true;
+                }
+            }
         }
         if !self.analytic_enabled {
             s.analytic.fill(false);

@@ -8,7 +8,9 @@ use super::forces::{panic_text, FaultKind, UserFault};
 use super::ids::JointId;
 use super::plan::JointPlan;
 use crate::scene::validate::components::{SigRef, ValidComponents, ValidSrc};
-use crate::scene::{Component, ComponentIo, FlangeMotion, OutputSpec, SrcFn, StateSpec};
+use crate::scene::{
+    Component, ComponentIo, ComponentJacobian, FlangeMotion, OutputSpec, SrcFn, StateSpec,
+};
 use std::ops::Range;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::Arc;
@@ -70,6 +72,9 @@ pub(crate) struct CompPlan {
     pub outputs: Vec<OutputSpec>,
     pub states: Vec<StateSpec>,
     pub discrete: Vec<StateSpec>,
+    /// Offsets of its partial derivatives in [`JacobianScratch`]: `∂ẋ/∂x`, `∂ẋ/∂u`, `∂y/∂x`,
+    /// `∂y/∂u`, `∂F/∂x`, `∂F/∂u` (row-major, its own sizes).
+    jac: [usize; 6],
 }
 
 /// The components of a plan (empty without any).
@@ -84,6 +89,8 @@ pub(crate) struct ComponentPlan {
     nu: usize,
     nfl: usize,
     n_dep: usize,
+    /// Number of velocity coordinates of the plan.
+    nv: usize,
     /// Initial continuous and discrete states.
     pub x0: Vec<f64>,
     pub d0: Vec<f64>,
@@ -97,6 +104,12 @@ pub(crate) struct ComponentPlan {
     /// Whether a component reads an acceleration (a `der(…)` signal or its flanges'): the
     /// consistent derivatives then iterate on them.
     pub reads_acceleration: bool,
+    /// Whether every component gives its partial derivatives
+    /// ([`Component::provides_jacobian`]): the states' columns are then formed by
+    /// [`ComponentState::state_columns`].
+    pub all_jacobians: bool,
+    /// Sizes of the six partial-derivative arrays of all components together.
+    jac_len: [usize; 6],
 }
 
 impl ComponentPlan {
@@ -160,8 +173,19 @@ impl ComponentPlan {
                 },
             }
         };
+        let mut jac_len = [0usize; 6];
         for (ci, c) in vc.list.iter().enumerate() {
             let (x0, y0, d0, z0, u0, f0) = offs[ci];
+            let (cx, cy, cu) = (c.states.len(), c.outputs.len(), c.inputs.len());
+            let cf = c.flanges.len();
+            let jac = jac_len;
+            for (len, add) in
+                jac_len
+                    .iter_mut()
+                    .zip([cx * cx, cx * cu, cy * cx, cy * cu, cf * cx, cf * cu])
+            {
+                *len += add;
+            }
             let mut inputs = vec![];
             for s in &c.inputs {
                 inputs.push(match s {
@@ -203,6 +227,7 @@ impl ComponentPlan {
                 outputs: c.outputs.clone(),
                 states: c.states.clone(),
                 discrete: c.discrete.clone(),
+                jac,
             });
         }
         touched.sort_unstable();
@@ -216,7 +241,10 @@ impl ComponentPlan {
                 })
         });
         p.order.clone_from(&vc.order);
+        p.all_jacobians = vc.list.iter().all(|c| c.component.provides_jacobian());
+        p.jac_len = jac_len;
         (p.nx, p.ny, p.nd, p.nz, p.nu, p.nfl, p.n_dep) = (nx, ny, nd, nz, nu, nfl, n_dep);
+        p.nv = nv;
         p.v_touched = touched;
         p.flange_v = p.flange_coordinates().map(|(_, v)| v).collect();
         p.flange_v.sort_unstable();
@@ -258,6 +286,23 @@ pub(crate) struct ComponentState {
     /// Scratch of the derivatives `ẋ = f`.
     pub xdot: Vec<f64>,
     d_new: Vec<f64>,
+    /// The analytic states' columns' scratch (empty unless every component gives its
+    /// partial derivatives).
+    jac: JacobianScratch,
+}
+
+/// Scratch of [`ComponentState::state_columns`], sized with the plan.
+#[derive(Clone, Debug, Default)]
+struct JacobianScratch {
+    /// The components' partial derivatives (see `CompPlan::jac`).
+    parts: [Vec<f64>; 6],
+    /// `∂(expression)/∂(dependency)` of every expression input, at the dependencies' offsets.
+    dexpr: Vec<f64>,
+    /// Directional derivatives of the outputs and inputs along one state.
+    dy: Vec<f64>,
+    du: Vec<f64>,
+    /// Flange forces of an evaluation (len nv; discarded).
+    tau: Vec<f64>,
 }
 
 /// The values a component evaluation reads.
@@ -283,6 +328,17 @@ impl ComponentState {
             dep: vec![0.0; p.n_dep],
             xdot: vec![0.0; p.nx],
             d_new: p.d0.clone(),
+            jac: if p.all_jacobians && p.nx > 0 {
+                JacobianScratch {
+                    parts: p.jac_len.map(|n| vec![0.0; n]),
+                    dexpr: vec![0.0; p.n_dep],
+                    dy: vec![0.0; p.ny],
+                    du: vec![0.0; p.nu],
+                    tau: vec![0.0; p.nv],
+                }
+            } else {
+                JacobianScratch::default()
+            },
         }
     }
 
@@ -480,6 +536,187 @@ impl ComponentState {
             })
             .filter(|s| s.is_finite() && *s > t)
             .min_by(f64::total_cmp)
+    }
+}
+
+impl ComponentState {
+    /// The iteration matrix's columns of the components' states when every component gives
+    /// its partial derivatives ([`ComponentPlan::all_jacobians`]): at `at`, for each state
+    /// `x_j`, the directional derivative of every signal along it by the chain rule in the
+    /// outputs' evaluation order (outputs without feedthrough first, then the plan's order),
+    /// then `emit(StateRow(i), j, value)` for the components' rows (`c_j·δ_ij − ∂ẋ_i/∂x_j`;
+    /// rows numbered from 0 over the states), `emit(Force(v), j, value)` for the derivative of
+    /// the generalised force on velocity coordinate `v` (several may name the same `v`: they
+    /// add), and `emit(Done, j, 0)` when column `j` is complete.
+    /// Joint positions, velocities and accelerations do not depend on `x`, so they contribute
+    /// nothing here. An expression input's partial derivatives are central differences of its
+    /// function alone (step `6e-6·max(|value|, 1)`, relative error ~1e-10).
+    pub(crate) fn state_columns(
+        &mut self,
+        p: &ComponentPlan,
+        at: &Point<'_>,
+        c_j: f64,
+        mut emit: impl FnMut(ColumnRow, usize, f64),
+    ) -> Result<(), UserFault> {
+        let mut tau = std::mem::take(&mut self.jac.tau);
+        tau.fill(0.0);
+        let evaluated = self.evaluate(p, at, &mut tau);
+        self.jac.tau = tau;
+        evaluated?;
+        // Every component's partial derivatives at `at`, with the inputs of the evaluation.
+        for c in &p.comps {
+            self.gather(c, at)?;
+            let io = io(c, at, (&self.d, &self.u, &self.fl));
+            let [fx, fu, yx, yu, tx, tu] = &mut self.jac.parts;
+            let (cx, cy, cu, cf) = (c.x.len(), c.y.len(), c.u.len(), c.fl.len());
+            let o = c.jac;
+            let mut jac = ComponentJacobian {
+                nx: cx,
+                nu: cu,
+                f_x: &mut fx[o[0]..o[0] + cx * cx],
+                f_u: &mut fu[o[1]..o[1] + cx * cu],
+                y_x: &mut yx[o[2]..o[2] + cy * cx],
+                y_u: &mut yu[o[3]..o[3] + cy * cu],
+                t_x: &mut tx[o[4]..o[4] + cf * cx],
+                t_u: &mut tu[o[5]..o[5] + cf * cu],
+            };
+            for m in [
+                &mut *jac.f_x,
+                &mut *jac.f_u,
+                &mut *jac.y_x,
+                &mut *jac.y_u,
+                &mut *jac.t_x,
+                &mut *jac.t_u,
+            ] {
+                m.fill(0.0);
+            }
+            guarded(c, at.t, || c.component.jacobian(&io, &mut jac))?;
+            let bad = [&jac.f_x, &jac.f_u, &jac.y_x, &jac.y_u, &jac.t_x, &jac.t_u]
+                .iter()
+                .any(|m| m.iter().any(|v| !v.is_finite()));
+            if bad {
+                return Err(fault(
+                    c,
+                    at.t,
+                    FaultKind::Undefined(
+                        "a partial derivative of its Jacobian is not finite".into(),
+                    ),
+                ));
+            }
+            // The expressions' partial derivatives.
+            for s in &c.inputs {
+                if let PlanSrc::Expr(deps, f, o) = s {
+                    for (i, &r) in deps.iter().enumerate() {
+                        self.dep[o + i] = self.value(r, at);
+                    }
+                    for i in 0..deps.len() {
+                        let v0 = self.dep[o + i];
+                        let h = 6e-6 * v0.abs().max(1.0);
+                        let t = at.t;
+                        self.dep[o + i] = v0 + h;
+                        let plus = guarded(c, t, || f(t, &self.dep[*o..o + deps.len()]))?;
+                        self.dep[o + i] = v0 - h;
+                        let minus = guarded(c, t, || f(t, &self.dep[*o..o + deps.len()]))?;
+                        self.dep[o + i] = v0;
+                        self.jac.dexpr[o + i] = (plus - minus) / (2.0 * h);
+                    }
+                }
+            }
+        }
+        let parts = &self.jac.parts;
+        for owner in &p.comps {
+            for lj in 0..owner.x.len() {
+                let j = owner.x.start + lj;
+                self.jac.dy.fill(0.0);
+                // Outputs without feedthrough depend on the owner's states only.
+                let cx = owner.x.len();
+                for (k, spec) in owner.outputs.iter().enumerate() {
+                    if !spec.feedthrough {
+                        self.jac.dy[owner.y.start + k] = parts[2][owner.jac[2] + k * cx + lj];
+                    }
+                }
+                // Outputs with feedthrough, in evaluation order.
+                for &i in &p.order {
+                    let c = &p.comps[i];
+                    if !c.feedthrough {
+                        continue;
+                    }
+                    directional_inputs(c, j, &self.jac.dexpr, &self.jac.dy, &mut self.jac.du);
+                    let (cx, cu) = (c.x.len(), c.u.len());
+                    for (k, spec) in c.outputs.iter().enumerate() {
+                        if !spec.feedthrough {
+                            continue;
+                        }
+                        let mut d = if c.x.contains(&j) {
+                            parts[2][c.jac[2] + k * cx + (j - c.x.start)]
+                        } else {
+                            0.0
+                        };
+                        for m in 0..cu {
+                            d += parts[3][c.jac[3] + k * cu + m] * self.jac.du[c.u.start + m];
+                        }
+                        self.jac.dy[c.y.start + k] = d;
+                    }
+                }
+                // Every component's rows and flange forces.
+                for c in &p.comps {
+                    directional_inputs(c, j, &self.jac.dexpr, &self.jac.dy, &mut self.jac.du);
+                    let (cx, cu) = (c.x.len(), c.u.len());
+                    let own = c.x.contains(&j).then(|| j - c.x.start);
+                    for i in 0..cx {
+                        let mut d = own.map_or(0.0, |l| parts[0][c.jac[0] + i * cx + l]);
+                        for m in 0..cu {
+                            d += parts[1][c.jac[1] + i * cu + m] * self.jac.du[c.u.start + m];
+                        }
+                        let diag = if own == Some(i) { c_j } else { 0.0 };
+                        emit(ColumnRow::State(c.x.start + i), j, diag - d);
+                    }
+                    for (k, &(_, vi)) in c.flanges.iter().enumerate() {
+                        let mut d = own.map_or(0.0, |l| parts[4][c.jac[4] + k * cx + l]);
+                        for m in 0..cu {
+                            d += parts[5][c.jac[5] + k * cu + m] * self.jac.du[c.u.start + m];
+                        }
+                        if d != 0.0 {
+                            emit(ColumnRow::Force(vi), j, d);
+                        }
+                    }
+                }
+                emit(ColumnRow::Done, j, 0.0);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A row of [`ComponentState::state_columns`]' entries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ColumnRow {
+    /// The row of continuous state `i` (over all components' states).
+    State(usize),
+    /// The generalised force on velocity coordinate `v`.
+    Force(usize),
+    /// The column is complete.
+    Done,
+}
+
+/// The directional derivatives `du` of component `c`'s inputs along state `j`, from those of
+/// the outputs `dy` and the expressions' partial derivatives `dexpr`.
+fn directional_inputs(c: &CompPlan, j: usize, dexpr: &[f64], dy: &[f64], du: &mut [f64]) {
+    let along = |r: PlanRef| match r {
+        PlanRef::Out(i) => dy[i],
+        PlanRef::X(i) if i == j => 1.0,
+        _ => 0.0,
+    };
+    for (k, s) in c.inputs.iter().enumerate() {
+        du[c.u.start + k] = match s {
+            PlanSrc::Const(_) => 0.0,
+            PlanSrc::Ref(r) => along(*r),
+            PlanSrc::Expr(deps, _, o) => deps
+                .iter()
+                .enumerate()
+                .map(|(i, &r)| dexpr[o + i] * along(r))
+                .sum(),
+        };
     }
 }
 

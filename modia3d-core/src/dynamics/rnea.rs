@@ -52,6 +52,50 @@ pub(crate) fn residual_dynamics(
     newton_euler(plan, ws, q, vd, gravity, tau, true, live);
 }
 
+/// The change `d_res` (len nv) of [`residual_dynamics`]' rows, after the caller subtracts
+/// `τ_applied` and replaces prescribed rows, when `τ_applied` changes by `dtau` (len nv) at
+/// the positions placed in `ws`: `−dτ` in each coordinate's own row, and the decoupling's row
+/// operation passes each joint's row change on to its ancestors' rows, as the residual does.
+/// Linear in `dtau` (the bodies' own forces do not depend on it); for the Jacobian columns
+/// of the components' states, whose flange forces enter `τ_applied`. `g` (len bodies) is
+/// scratch. Allocation-free.
+pub(crate) fn residual_rows_of_applied(
+    plan: &Plan,
+    ws: &Workspace,
+    q: &[f64],
+    dtau: &[f64],
+    g: &mut [Force],
+    d_res: &mut [f64],
+) {
+    g.fill(Force::default());
+    for (i, b) in plan.bodies.iter().enumerate().rev() {
+        let j = &plan.joints[b.joint];
+        let qj = &q[j.q_offset..j.q_offset + j.coord.nq()];
+        let (v0, nvj) = (j.v_offset, j.coord.nv());
+        let d = &mut d_res[v0..v0 + nvj];
+        j.coord.project_at(&ws.xj[i], qj, &g[i], d);
+        let mut r = [0.0; 6];
+        for (k, (dk, rk)) in d.iter_mut().zip(r.iter_mut()).enumerate() {
+            if plan.prescribed[v0 + k].is_none() {
+                *dk -= dtau[v0 + k];
+                *rk = *dk;
+            } else {
+                // The row is `v̇ − a`; its force passes on whole.
+                *dk = 0.0;
+            }
+        }
+        if let Some(p) = b.parent {
+            let s_r = j.coord.motion_at(&ws.xj[i], qj, &r[..nvj]);
+            let pass = Force {
+                n: g[i].n - s_r.w,
+                f: g[i].f - s_r.v,
+            };
+            let fp = ws.x[i].force_to_parent(&pass);
+            g[p.index()] = g[p.index()] + fp;
+        }
+    }
+}
+
 /// [`inverse_dynamics`]; with `decouple`, each joint's residual rows are taken out of the
 /// force it passes to its parent ([`residual_dynamics`]); with `live`, only the flagged bodies
 /// ([`residual_dynamics`]).

@@ -5,7 +5,9 @@
 //! reads line by line.
 #![allow(non_snake_case)] // Modelica's parameter names
 
-use super::components::{Component, ComponentIo, FlangeSpec, OutputSpec, PortSpec, StateSpec};
+use super::components::{
+    Component, ComponentIo, ComponentJacobian, FlangeSpec, OutputSpec, PortSpec, StateSpec,
+};
 use std::sync::Arc;
 
 fn finite(what: &str, v: f64) -> Result<(), String> {
@@ -54,6 +56,10 @@ impl Component for Constant {
     fn kind(&self) -> &'static str {
         "Constant"
     }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
     }
@@ -83,6 +89,10 @@ pub struct Step {
 impl Component for Step {
     fn kind(&self) -> &'static str {
         "Step"
+    }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -125,6 +135,10 @@ pub struct Ramp {
 impl Component for Ramp {
     fn kind(&self) -> &'static str {
         "Ramp"
+    }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -180,6 +194,10 @@ impl Component for Sine {
     fn kind(&self) -> &'static str {
         "Sine"
     }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
     }
@@ -219,6 +237,10 @@ pub struct Table {
 impl Component for Table {
     fn kind(&self) -> &'static str {
         "Table"
+    }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -274,6 +296,10 @@ pub struct Input {
 impl Component for Input {
     fn kind(&self) -> &'static str {
         "Input"
+    }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -353,6 +379,10 @@ impl PtpPath {
 impl Component for PtpPath {
     fn kind(&self) -> &'static str {
         "PtpPath"
+    }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -512,6 +542,12 @@ impl Component for Gain {
     fn kind(&self) -> &'static str {
         "Gain"
     }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_u(0, 0, self.k);
+    }
     fn inputs(&self) -> Vec<PortSpec> {
         u_in()
     }
@@ -533,6 +569,13 @@ pub struct Feedback;
 impl Component for Feedback {
     fn kind(&self) -> &'static str {
         "Feedback"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_u(0, 0, 1.0);
+        jac.y_u(0, 1, -1.0);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![PortSpec::new("u1", "1"), PortSpec::new("u2", "1")]
@@ -563,6 +606,13 @@ impl Default for Add {
 impl Component for Add {
     fn kind(&self) -> &'static str {
         "Add"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_u(0, 0, self.k1);
+        jac.y_u(0, 1, self.k2);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![PortSpec::new("u1", "1"), PortSpec::new("u2", "1")]
@@ -603,6 +653,14 @@ impl Default for Add3 {
 impl Component for Add3 {
     fn kind(&self) -> &'static str {
         "Add3"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_u(0, 0, self.k1);
+        jac.y_u(0, 1, self.k2);
+        jac.y_u(0, 2, self.k3);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![
@@ -693,6 +751,15 @@ impl Component for Limiter {
     fn kind(&self) -> &'static str {
         "Limiter"
     }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        // y = u inside; a limit's value (constant) at it.
+        if io.d[0].abs() < 0.5 {
+            jac.y_u(0, 0, 1.0);
+        }
+    }
     fn inputs(&self) -> Vec<PortSpec> {
         u_in()
     }
@@ -751,6 +818,13 @@ impl Component for Integrator {
     fn kind(&self) -> &'static str {
         "Integrator"
     }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_x(0, 0, 1.0);
+        jac.f_u(0, 0, self.k);
+    }
     fn inputs(&self) -> Vec<PortSpec> {
         u_in()
     }
@@ -796,6 +870,14 @@ impl Default for FirstOrder {
 impl Component for FirstOrder {
     fn kind(&self) -> &'static str {
         "FirstOrder"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_x(0, 0, 1.0);
+        jac.f_x(0, 0, -1.0 / self.T);
+        jac.f_u(0, 0, self.k / self.T);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         u_in()
@@ -850,6 +932,14 @@ impl PI {
 impl Component for PI {
     fn kind(&self) -> &'static str {
         "PI"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_x(0, 0, self.k);
+        jac.y_u(0, 0, self.k);
+        jac.f_u(0, 0, 1.0 / self.T);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         u_in()
@@ -907,6 +997,17 @@ impl Default for PID {
 impl Component for PID {
     fn kind(&self) -> &'static str {
         "PID"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        jac.y_x(0, 0, self.k);
+        jac.y_x(0, 1, -self.k * self.Nd);
+        jac.y_u(0, 0, self.k * (1.0 + self.Nd));
+        jac.f_u(0, 0, 1.0 / self.Ti);
+        jac.f_x(1, 1, -self.Nd / self.Td);
+        jac.f_u(1, 0, self.Nd / self.Td);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         u_in()
@@ -1000,6 +1101,35 @@ impl LimPID {
 impl Component for LimPID {
     fn kind(&self) -> &'static str {
         "LimPID"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        // ∂v over (u_s, u_m, x_I, x_D).
+        let (k, nd) = (self.k, self.Nd);
+        let dv = [k * (self.wp + nd * self.wd), -k * (1.0 + nd), k, -k * nd];
+        let r = nd / self.Td;
+        if io.d[0].abs() < 0.5 {
+            // y = v; İ = (u_s − u_m)/Ti.
+            jac.y_u(0, 0, dv[0]);
+            jac.y_u(0, 1, dv[1]);
+            jac.y_x(0, 0, dv[2]);
+            jac.y_x(0, 1, dv[3]);
+            jac.f_u(0, 0, 1.0 / self.Ti);
+            jac.f_u(0, 1, -1.0 / self.Ti);
+        } else {
+            // y at a limit (constant); İ = (u_s − u_m + (y − v)/(k·Ni))/Ti.
+            let a = 1.0 / (k * self.Ni * self.Ti);
+            jac.f_u(0, 0, 1.0 / self.Ti - a * dv[0]);
+            jac.f_u(0, 1, -1.0 / self.Ti - a * dv[1]);
+            jac.f_x(0, 0, -a * dv[2]);
+            jac.f_x(0, 1, -a * dv[3]);
+        }
+        // ẋ_D = (wd·u_s − u_m − x_D)·Nd/Td.
+        jac.f_u(1, 0, self.wd * r);
+        jac.f_u(1, 1, -r);
+        jac.f_x(1, 1, -r);
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![PortSpec::new("u_s", "1"), PortSpec::new("u_m", "1")]
@@ -1096,6 +1226,10 @@ impl Sampled {
 impl Component for Sampled {
     fn kind(&self) -> &'static str {
         "Sampled"
+    }
+    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    fn provides_jacobian(&self) -> bool {
+        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         self.inner.inputs()
@@ -1290,6 +1424,58 @@ impl Drive {
 impl Component for Drive {
     fn kind(&self) -> &'static str {
         "Drive"
+    }
+    fn provides_jacobian(&self) -> bool {
+        true
+    }
+    fn jacobian(&self, _io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        let n = self.ratio;
+        let ng = self.gear_states();
+        // τ_motor: the input, or k·i.
+        let set_tau_m = |jac: &mut ComponentJacobian<'_>, i: usize, scale: f64, out: u8| {
+            // d(scale·τ_m) into output i (out 0), flange i (out 1) or ẋ_i (out 2).
+            match self.motor {
+                Motor::Torque => match out {
+                    0 => jac.y_u(i, 0, scale),
+                    1 => jac.flange_u(i, 0, scale),
+                    _ => jac.f_u(i, 0, scale),
+                },
+                Motor::Dc { k, .. } => match out {
+                    0 => jac.y_x(i, ng, scale * k),
+                    1 => jac.flange_x(i, ng, scale * k),
+                    _ => jac.f_x(i, ng, scale * k),
+                },
+            }
+        };
+        set_tau_m(jac, 2, 1.0, 0);
+        match self.gear {
+            Gear::Rigid => {
+                set_tau_m(jac, 3, n, 0);
+                set_tau_m(jac, 0, n, 1);
+            }
+            Gear::Elastic { c, d } => {
+                // φ = N·(q + δ), ω = x_1, τ_gear = c·δ + d·(ω/N − q̇).
+                jac.y_x(0, 0, n);
+                jac.y_x(1, 1, 1.0);
+                jac.y_x(3, 0, c);
+                jac.y_x(3, 1, d / n);
+                jac.flange_x(0, 0, c);
+                jac.flange_x(0, 1, d / n);
+                // δ̇ = ω/N − q̇; ω̇ = (τ_m − τ_gear/N)/J.
+                jac.f_x(0, 1, 1.0 / n);
+                jac.f_x(1, 0, -c / (n * self.J_motor));
+                jac.f_x(1, 1, -d / (n * n * self.J_motor));
+                set_tau_m(jac, 1, 1.0 / self.J_motor, 2);
+            }
+        }
+        if let Motor::Dc { R, L, k } = self.motor {
+            // L·di/dt = v − R·i − k·ω, ω = x_1 (elastic) or N·q̇ (rigid: held).
+            jac.f_u(ng, 0, 1.0 / L);
+            jac.f_x(ng, ng, -R / L);
+            if ng == 2 {
+                jac.f_x(ng, 1, -k / L);
+            }
+        }
     }
     fn inputs(&self) -> Vec<PortSpec> {
         match self.motor {

@@ -192,6 +192,74 @@ pub trait Component: fmt::Debug + Send + Sync {
     fn event(&self, io: &ComponentIo<'_>, d_new: &mut [f64]) {
         let _ = (io, d_new);
     }
+    /// Whether [`Component::jacobian`] gives this component's partial derivatives. Default:
+    /// no. When every component of a scene says yes, the iteration matrix's columns of the
+    /// components' states are formed from them by the chain rule through the signals
+    /// (docs/drive-trains.md, "Jacobian"), exactly and without a residual evaluation per
+    /// state; otherwise those columns are difference quotients of the residual.
+    fn provides_jacobian(&self) -> bool {
+        false
+    }
+    /// Fills `jac` (every entry arrives as 0) with the partial derivatives of
+    /// [`Component::derivatives`]' `xdot` and flange forces and of
+    /// [`Component::outputs_at`]'s `y` with respect to the component's own continuous
+    /// states `io.x` and inputs `io.u`, at `io` (discrete states and flange motions held):
+    /// [`ComponentJacobian::f_x`] and the other setters. Called only if
+    /// [`Component::provides_jacobian`]. An output without feedthrough has no `u` entries.
+    /// Default: nothing.
+    fn jacobian(&self, io: &ComponentIo<'_>, jac: &mut ComponentJacobian<'_>) {
+        let _ = (io, jac);
+    }
+}
+
+/// The partial derivatives [`Component::jacobian`] fills, dense, zero where not set. Indices
+/// are in the order of the component's specs: `i` a state (`xdot[i]`), an output (`y[i]`) or a
+/// flange; `j` a state (`x[j]`) or an input (`u[j]`). Setting an index outside the
+/// component's sizes does nothing.
+#[derive(Debug)]
+pub struct ComponentJacobian<'a> {
+    pub(crate) nx: usize,
+    pub(crate) nu: usize,
+    pub(crate) f_x: &'a mut [f64],
+    pub(crate) f_u: &'a mut [f64],
+    pub(crate) y_x: &'a mut [f64],
+    pub(crate) y_u: &'a mut [f64],
+    pub(crate) t_x: &'a mut [f64],
+    pub(crate) t_u: &'a mut [f64],
+}
+
+impl ComponentJacobian<'_> {
+    fn put(m: &mut [f64], cols: usize, i: usize, j: usize, v: f64) {
+        if j < cols {
+            if let Some(e) = m.get_mut(i * cols + j) {
+                *e = v;
+            }
+        }
+    }
+    /// `∂ẋ_i/∂x_j` [state i's unit per second per state j's unit].
+    pub fn f_x(&mut self, i: usize, j: usize, value: f64) {
+        Self::put(self.f_x, self.nx, i, j, value);
+    }
+    /// `∂ẋ_i/∂u_j`.
+    pub fn f_u(&mut self, i: usize, j: usize, value: f64) {
+        Self::put(self.f_u, self.nu, i, j, value);
+    }
+    /// `∂y_i/∂x_j`.
+    pub fn y_x(&mut self, i: usize, j: usize, value: f64) {
+        Self::put(self.y_x, self.nx, i, j, value);
+    }
+    /// `∂y_i/∂u_j` (outputs with feedthrough only).
+    pub fn y_u(&mut self, i: usize, j: usize, value: f64) {
+        Self::put(self.y_u, self.nu, i, j, value);
+    }
+    /// `∂F_i/∂x_j`, `F_i` the generalised force on flange `i`.
+    pub fn flange_x(&mut self, i: usize, j: usize, value: f64) {
+        Self::put(self.t_x, self.nx, i, j, value);
+    }
+    /// `∂F_i/∂u_j`, `F_i` the generalised force on flange `i`.
+    pub fn flange_u(&mut self, i: usize, j: usize, value: f64) {
+        Self::put(self.t_u, self.nu, i, j, value);
+    }
 }
 
 /// A function from the values of named signals and time to an input value.

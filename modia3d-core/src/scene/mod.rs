@@ -18,8 +18,8 @@ pub use block_table::{
     BLOCK_KINDS,
 };
 pub use components::{
-    Component, ComponentDecl, ComponentIo, FlangeMotion, FlangeSpec, OutputSpec, PortSpec, Src,
-    SrcFn, StateSpec,
+    Component, ComponentDecl, ComponentIo, ComponentJacobian, FlangeMotion, FlangeSpec, OutputSpec,
+    PortSpec, Src, SrcFn, StateSpec,
 };
 #[cfg(feature = "solver")]
 pub(crate) use contact_rules::{colliding_objects, CollisionFilter};
