@@ -190,8 +190,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or(3);
     let filter = std::env::args().nth(2);
     let only_rtol: Option<f64> = std::env::args().nth(3).and_then(|a| a.parse().ok());
-    println!("| scene | rtol | wall [s] (median of {runs}) | steps | steps per s | residuals | Jacobians | events | error |");
-    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| scene | rtol | wall [s] (median of {runs}) | steps | steps per s | residuals | Jacobians | error-test / Newton failures | events | error |");
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for case in cases() {
         if filter
             .as_ref()
@@ -208,6 +208,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .tolerance(rtol)
                 .interval(case.interval)
                 .contact_results(case.contact_signals)
+                .analytic_jacobian(std::env::var("VC_DQ").is_err())
+                .jacobian_reuse(std::env::var("VC_NOREUSE").is_err())
                 .progress(false);
             let mut walls = vec![];
             let mut last = None;
@@ -221,13 +223,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             let res = last.ok_or("no run")?;
             let st = &res.stats;
             println!(
-                "| {} | {rtol:.0e} | {:.4} | {} | {:.0} | {} | {} | {} | {:.1e} |",
+                "| {} | {rtol:.0e} | {:.4} | {} | {:.0} | {} | {} | {} / {} | {} | {:.1e} |",
                 case.name,
                 walls[runs / 2],
                 st.solver.steps,
                 st.solver.steps as f64 / case.stop,
                 st.solver.residual_evals,
                 st.solver.jacobian_evals,
+                st.solver.error_test_failures,
+                st.solver.nonlinear_convergence_failures,
                 st.events,
                 (case.error)(&res)
             );
