@@ -11,7 +11,9 @@
 //!     cargo run --release --example volume_contacts [-- runs [scene-filter [rtol]]]
 //!
 //! A filter (a substring of the scene's name) and an rtol run only those rows, e.g. to profile
-//! one scene: `-- 200 cylinder 1e-2`.
+//! one scene: `-- 200 cylinder 1e-2`. For diagnosis, `VC_DQ=1` forms every Jacobian column by
+//! the solver's difference quotients (`SimOptions::analytic_jacobian(false)`) and
+//! `VC_NOREUSE=1` forms every iteration matrix anew (`SimOptions::jacobian_reuse(false)`).
 
 use modia3d::demo::{
     self, box_stack, cube_on_edge, housner_fall_back_time, on_incline, with_profile, FallingBoxes,

@@ -1,11 +1,14 @@
 //! One pair's geometry per residual evaluation, the volume law beside the point law it replaces
 //! (docs/contact-model.md §3.2): ns per call of the overlap (`polytope_overlap`,
 //! `frustum_planes_overlap`) against the smoothed shapes' signed distance (MPR, GJK and the
-//! normal's refinement) plus the contact patch, and the sharp shapes' signed distance the root
-//! functions of a volume pair use. Plain `std::time::Instant`, median of 15 batches. Run:
+//! normal's refinement) plus the contact patch, and the distance the root functions of a
+//! volume pair use (the sharp shapes' signed distance; for a cylinder or cone the
+//! separating-axis gap over the table's faces). Plain `std::time::Instant`, median of 15 batches. Run:
 //! `cargo bench -p modia3d-core --bench volume_pair` (release profile).
 
-use modia3d_core::geometry::overlap::{frustum_planes_overlap, polytope_overlap, OverlapScratch};
+use modia3d_core::geometry::overlap::{
+    frustum_planes_gap, frustum_planes_overlap, polytope_overlap, OverlapScratch,
+};
 use modia3d_core::geometry::overlap::{Frustum, Polytope};
 use modia3d_core::geometry::{
     contact_patch, signed_distance, Axis, CollisionShape, NarrowPhaseOptions, Shape,
@@ -127,12 +130,14 @@ fn main() {
                 .z
                 + sd.distance
         });
-        let roots = ns(20_000, || {
-            signed_distance(&table_sharp, &table_pose, &sharp, &pose, &opts)
-                .unwrap()
-                .distance
-        });
-        let (volume, t) = match (
+        let mpr = || {
+            ns(20_000, || {
+                signed_distance(&table_sharp, &table_pose, &sharp, &pose, &opts)
+                    .unwrap()
+                    .distance
+            })
+        };
+        let (volume, t, roots) = match (
             Polytope::from_shape(&shape).unwrap(),
             Frustum::from_shape(&shape),
         ) {
@@ -143,7 +148,7 @@ fn main() {
                 let t = ns(20_000, || {
                     polytope_overlap(&table_poly, &table_pose, &p, &pose, &mut scratch).volume
                 });
-                (v, t)
+                (v, t, mpr())
             }
             (None, Some(f)) => {
                 let planes = || {
@@ -153,11 +158,17 @@ fn main() {
                     })
                 };
                 let v = frustum_planes_overlap(&f, &pose, planes()).volume;
+                // Its roots: the separating-axis gap over the table's faces
+                // (contact/contact_set.rs, `frustum_gap`), not MPR.
+                let gap = ns(20_000, || {
+                    frustum_planes_gap(&f, &pose, planes()).map_or(0.0, |g| g.gap)
+                });
                 (
                     v,
                     ns(20_000, || {
                         frustum_planes_overlap(&f, &pose, planes()).volume
                     }),
+                    gap,
                 )
             }
             _ => unreachable!("every case is a polytope or a frustum"),

@@ -64,7 +64,7 @@
 //! inherits a relative error, and noise, of about 2.5e-16 · size/δ from it, as any method would.
 //! A call costs about 1 µs (release build; 32 nodes, or more only for the graded case); a
 //! cylinder lying on a face, whose roots lie far beyond its ends, takes plain 8-point
-//! Gauss–Legendre ([`PLAIN_FAR`]), about 0.7 µs.
+//! Gauss–Legendre (`PLAIN_FAR`), about 0.6 µs.
 
 use super::Overlap;
 use crate::geometry::{Axis, Shape, VolumeLaw};
