@@ -370,17 +370,22 @@ impl Plan {
                 in_body: in_ref[i],
             });
         }
-        // A body is round if every collision shape on it is a sphere centred on its origin.
+        // A body is round if every collision shape on it is a sphere or a cylinder centred on
+        // its origin: it rolls, and its velocities are resolved in obj1 (`resolve_free_velocities`).
+        // A cylinder rolling on its side at 20° took 255 IDA steps at rtol 1e-2 with its
+        // velocities in its own frame (sinusoids of its spin; 43 Newton failures) and 131 in
+        // obj1 (4), its acceleration 2.5e-3 and 7.6e-6 off (BENCHMARKS.md, "Face contacts").
         let mut round = vec![true; bodies.len()];
         for (i, o) in scene.objects.iter().enumerate() {
             let (Some(b), Some(s)) = (cluster_body[cluster[i]], &o.solid) else {
                 continue;
             };
-            let centred_sphere = match s.shape.as_ref().and_then(|sh| sh.ball_diameter()) {
-                Some(diameter) => in_ref[i].pos.norm() <= 1e-12 * diameter,
-                None => false,
+            let size = match s.shape.as_ref() {
+                Some(crate::geometry::Shape::Cylinder { diameter, .. }) => Some(*diameter),
+                sh => sh.and_then(|sh| sh.ball_diameter()),
             };
-            if s.collision && !centred_sphere {
+            let centred_round = size.is_some_and(|d| in_ref[i].pos.norm() <= 1e-12 * d);
+            if s.collision && !centred_round {
                 round[b.index()] = false;
             }
         }
