@@ -563,9 +563,9 @@ impl ComponentState {
         let evaluated = self.evaluate(p, at, &mut tau);
         self.jac.tau = tau;
         evaluated?;
-        // Every component's partial derivatives at `at`, with the inputs of the evaluation.
+        // Every component's partial derivatives at `at`, with the inputs, flange motions and
+        // expression dependencies the evaluation gathered (every component's, once).
         for c in &p.comps {
-            self.gather(c, at)?;
             let io = io(c, at, (&self.d, &self.u, &self.fl));
             let [fx, fu, yx, yu, tx, tu] = &mut self.jac.parts;
             let (cx, cy, cu, cf) = (c.x.len(), c.y.len(), c.u.len(), c.fl.len());
@@ -606,9 +606,6 @@ impl ComponentState {
             // The expressions' partial derivatives.
             for s in &c.inputs {
                 if let PlanSrc::Expr(deps, f, o) = s {
-                    for (i, &r) in deps.iter().enumerate() {
-                        self.dep[o + i] = self.value(r, at);
-                    }
                     for i in 0..deps.len() {
                         let v0 = self.dep[o + i];
                         let h = 6e-6 * v0.abs().max(1.0);

@@ -204,6 +204,27 @@ pub(super) fn block_ports(spec: &BlockKindSpec, ctor: &Ctor) -> BlockPorts {
 }
 
 impl Checker {
+    /// A value parameter `p` of a block from its arguments `a` into `params`: required unless
+    /// it has a default (a missing required one is reported). Whether it is all right.
+    fn value_param(
+        &mut self,
+        a: &Args<'_>,
+        p: &modia3d_core::BlockParam,
+        params: &mut Vec<(&'static str, syn::Expr)>,
+    ) -> bool {
+        let v = match p.default {
+            None => self.required(a, p.key),
+            Some(_) => a.get(p.key),
+        };
+        match v {
+            Some(v) => {
+                params.push((p.key, v.clone()));
+                true
+            }
+            None => p.default.is_some(),
+        }
+    }
+
     /// The row of the joint named `name` in this block, if it is one of its joints.
     fn local_joint(&self, name: &str) -> Option<&'static modia3d_core::JointKindSpec> {
         (self.kind(name) == Some(Kind::Joint))
@@ -306,14 +327,7 @@ impl Checker {
                     None => ok = false,
                 },
                 BlockValue::Number | BlockValue::Numbers | BlockValue::Rows | BlockValue::Pairs => {
-                    let v = match p.default {
-                        None => self.required(&a, p.key),
-                        Some(_) => a.get(p.key),
-                    };
-                    match v {
-                        Some(v) => params.push((p.key, v.clone())),
-                        None => ok &= p.default.is_some(),
-                    }
+                    ok &= self.value_param(&a, p, &mut params);
                 }
             }
         }
@@ -447,14 +461,7 @@ impl Checker {
         let mut params = vec![];
         let mut ok = true;
         for p in spec.params {
-            let v = match p.default {
-                None => self.required(&a, p.key),
-                Some(_) => a.get(p.key),
-            };
-            match v {
-                Some(v) => params.push((p.key, v.clone())),
-                None => ok &= p.default.is_some(),
-            }
+            ok &= self.value_param(&a, p, &mut params);
         }
         ok.then(|| BlockIr {
             name: vc.name().clone(),
