@@ -44,7 +44,8 @@ struct Case {
     interval: f64,
     error: Box<dyn Fn(&SimulationResult) -> f64>,
     /// Whether the error reads per-pair contact signals (`<pair>.f_n`): only then does the
-    /// run record them (`SimOptions::contact_results`, which samples every step's contacts).
+    /// run record them (`SimOptions::contact_results`), at the output points only
+    /// (`contact_phases(false)`: the error reads no contact phase).
     contact_signals: bool,
 }
 
@@ -210,6 +211,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .tolerance(rtol)
                 .interval(case.interval)
                 .contact_results(case.contact_signals)
+                .contact_phases(false)
                 .analytic_jacobian(std::env::var("VC_DQ").is_err())
                 .jacobian_reuse(std::env::var("VC_NOREUSE").is_err())
                 .progress(false);

@@ -177,6 +177,103 @@ fn missing_contact_results_is_named() {
     assert!(err.contains("contact_results(true)"), "{err}");
 }
 
+/// `contact_phases(false)` records the same contact signals without measuring phases: the
+/// measurement reads the solver and never steers it, so the run and its signals are the same
+/// bit for bit (an independent check: a run that measures them), and asking for the phases
+/// names the option.
+#[test]
+fn signals_without_phases_are_the_same_run() {
+    let opts = SimOptions::new(0.12)
+        .tolerance(1e-8)
+        .interval(0.01)
+        .contact_results(true)
+        .output_steps(true);
+    let full = drop_model().simulate(&opts).unwrap();
+    let lean = drop_model()
+        .simulate(&opts.clone().contact_phases(false))
+        .unwrap();
+    assert_eq!(full.stats.solver, lean.stats.solver);
+    assert_eq!(full.time(), lean.time());
+    for name in ["ball|plane.f_n", "ball|plane.penetration", "ball.r_abs"] {
+        assert_eq!(
+            full.signal(name).unwrap().data,
+            lean.signal(name).unwrap().data,
+            "{name}"
+        );
+    }
+    assert!(lean
+        .signal("ball|plane.f_n")
+        .unwrap()
+        .values()
+        .iter()
+        .any(|&f| f > 100.0));
+    assert!(!full.contacts().unwrap().is_empty());
+    let err = lean.contacts().unwrap_err();
+    assert!(
+        matches!(err, ResultError::ContactPhasesOff { .. }),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("contact_phases(true)"), "{err}");
+}
+
+/// Without phases, a run in segments (a structure change: here a second, shapeless ball
+/// deleted at 0.05 s) keeps recording the contact signals in the new segment: the impact at
+/// ~0.1 s shows in `ball|plane.f_n` as in a run that measures the phases (the same signals
+/// bit for bit, see above).
+#[test]
+fn signals_without_phases_go_on_across_segments() {
+    let options = SceneOptions {
+        gravity: Vector3::new(0.0, 0.0, -G),
+        k_red: 1.0,
+        ..Default::default()
+    };
+    let pair = ContactPairMaterial::new(1.0, 0.0, 0.0);
+    let mut scene = demo::sphere_on_plane(D, steel(), 0.0, GAP, pair, options);
+    scene
+        .add(Object3D::new("spare").solid(Solid {
+            mass_properties: MassSpec::Explicit {
+                mass: 1.0,
+                com: Vector3::zeros(),
+                inertia: Matrix3::identity() * 1e-3,
+            },
+            ..Default::default()
+        }))
+        .add_joint(Joint::new(
+            "spare_free",
+            "world",
+            "spare",
+            JointKind::FreeMotion {
+                r: Vector3::new(1.0, 0.0, 1.0),
+                rot: FreeRotation::Cardan([0.0; 3]),
+                v: Vector3::zeros(),
+                w: Vector3::zeros(),
+            },
+        ));
+    let model = scene.build().unwrap();
+    let run = |phases: bool| {
+        let opts = SimOptions::new(0.12)
+            .tolerance(1e-8)
+            .interval(0.01)
+            .contact_results(true)
+            .contact_phases(phases)
+            .output_steps(true);
+        let mut sim = model.simulation(&opts).unwrap();
+        sim.advance_to(0.05).unwrap();
+        sim.delete("spare").unwrap();
+        sim.advance_to(0.12).unwrap();
+        sim.into_result()
+    };
+    let (full, lean) = (run(true), run(false));
+    assert_eq!(lean.segment_count(), 2);
+    let f = lean.signal("ball|plane.f_n").unwrap();
+    assert!(f.values().iter().any(|&f| f > 100.0), "no impact recorded");
+    assert_eq!(full.signal("ball|plane.f_n").unwrap().data, f.data);
+    assert!(matches!(
+        lean.contacts(),
+        Err(ResultError::ContactPhasesOff { .. })
+    ));
+}
+
 /// `write_csv_signals` of chosen signals, contact signals (in either pair order) and
 /// components included, reads back equal to the signals (17 significant digits round-trip an
 /// f64 exactly); the default `write_csv` includes the contact signals of the run.

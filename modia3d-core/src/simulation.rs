@@ -537,7 +537,7 @@ impl Simulation {
             crate::build_profile::notice_once(subscriber_installed());
         }
         if opts.contact_results {
-            result.enable_contact_record();
+            result.enable_contact_record(opts.contact_phases);
         }
         let t0 = opts.start_time;
         let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
@@ -571,7 +571,7 @@ impl Simulation {
         let root_functions = dae.num_roots_public();
         let ida_opts = ida_options(&plan, opts, y0.len(), dae.root_directions());
         if let Some((lp, _)) = dae.limits() {
-            result.enable_limits(lp, opts.contact_results);
+            result.enable_limits(lp, opts.contact_results && opts.contact_phases);
         }
         result.phase_event(&dae, t0);
         let start_warnings = warnings::start_warnings(model, dae.contact());
@@ -1324,7 +1324,7 @@ impl Simulation {
         let y = self.ida.y().to_vec();
         let mut now = SimulationResult::new(self.model.clone());
         if self.opts.contact_results {
-            now.enable_contact_record();
+            now.enable_contact_record(false);
         }
         if let Some((lp, _)) = self.ida.system().limits() {
             now.enable_limits(lp, false);

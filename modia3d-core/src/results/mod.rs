@@ -201,6 +201,13 @@ pub enum ResultError {
         /// What was asked for, e.g. ``signal `ball|table.f_n` ``.
         what: String,
     },
+    /// The contact phases were asked for, but the run recorded only the contact signals
+    /// (`SimOptions::contact_phases(false)`).
+    #[error("{what} needs the contact phases, which this run did not measure: simulate with `SimOptions::contact_phases(true)` (the default with `contact_results(true)`)")]
+    ContactPhasesOff {
+        /// What was asked for, e.g. `contacts()`.
+        what: String,
+    },
     /// No collision pair of that name (in either order).
     #[error("no collision pair `{pair}` (in either order){}; the pairs are: {known}", match .hint { Some(h) => format!(" (hint: did you mean `{h}`?)"), None => String::new() })]
     UnknownPair {
@@ -527,10 +534,13 @@ impl SimulationResult {
         })
     }
 
-    pub(crate) fn enable_contact_record(&mut self) {
+    /// Records the per-pair contact signals and, with `phases`, the contact phases.
+    pub(crate) fn enable_contact_record(&mut self, phases: bool) {
         if let Some(cp) = &self.model.contact {
             self.contacts = Some(ContactRecord::default());
-            self.phases = Some(PhaseBook::new(cp.n_pairs));
+            if phases {
+                self.phases = Some(PhaseBook::new(cp.n_pairs));
+            }
         }
     }
 
@@ -699,6 +709,9 @@ impl SimulationResult {
         match (&self.phases, &self.model.contact) {
             (Some(book), _) => Ok(&book.phases),
             (None, None) if self.limit_stops.is_empty() => Ok(&[]),
+            (None, _) if self.contacts.is_some() => Err(ResultError::ContactPhasesOff {
+                what: "contacts()".into(),
+            }),
             (None, _) => Err(ResultError::ContactResultsOff {
                 what: "contacts()".into(),
             }),

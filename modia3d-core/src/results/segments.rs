@@ -38,11 +38,13 @@ impl SimulationResult {
             done: vec![],
             time: old.time.clone(),
         });
+        if old.contacts.is_some() {
+            self.enable_contact_record(old.phases.is_some());
+        }
         if let Some(book) = old.phases.as_mut() {
             for ph in book.phases.iter_mut().filter(|ph| ph.end.is_none()) {
                 ph.end = Some(t);
             }
-            self.enable_contact_record();
             let n = self.model.contact.as_ref().map_or(0, |c| c.n_pairs);
             let mut carried = PhaseBook::new(n);
             carried.phases.clone_from(&book.phases);
