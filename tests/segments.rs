@@ -406,6 +406,35 @@ fn scheduled_actions_run_at_their_times_and_log_events() {
     assert!(actions[2].1.contains("`gone`: delete `box`"));
 }
 
+/// `Simulation::step` never steps past a scheduled action: the actions run at their times,
+/// as in a one-shot run, and a step starting at an action's time carries it out first.
+#[test]
+fn single_steps_stop_at_scheduled_actions() {
+    let mut scene = gripper_scene(0.005);
+    scene
+        .add_action(Action::attach("pick", 0.0, "box", "gripper", 0.01))
+        .add_action(Action::release("drop", 0.7, "box"));
+    let mut sim = scene
+        .build()
+        .unwrap()
+        .simulation(&SimOptions::new(1.0).tolerance(1e-8))
+        .unwrap();
+    let mut times = vec![];
+    while sim.time() < 1.0 {
+        times.push(sim.step().unwrap());
+    }
+    assert!(times.contains(&0.7), "no step ended at the release");
+    let res = sim.into_result();
+    assert_eq!(res.segment_count(), 3);
+    let at: Vec<f64> = res
+        .events
+        .iter()
+        .filter(|e| e.description.starts_with("action"))
+        .map(|e| e.t)
+        .collect();
+    assert_eq!(at, [0.0, 0.7]);
+}
+
 #[test]
 fn attach_out_of_the_gap_is_a_typed_error() {
     // 5 cm apart, gap 1 cm: the scheduled attach fails, naming both and the distance (the

@@ -10,6 +10,76 @@ fn double_pendulum() -> SceneDesc {
     double_pendulum_example::DoublePendulum::default().scene()
 }
 
+/// `step()` takes the solver's own steps: stepping to the stop time is the one-shot run bit
+/// for bit (the same calls of IDA in the same order), one solver step per call, and a
+/// monitor can stop at a crossing the way `mj_step` users do, locating it within the step by
+/// the dense output.
+#[test]
+fn solver_steps_one_at_a_time_are_the_one_shot_run() {
+    let model = double_pendulum().build().unwrap();
+    let opts = SimOptions::new(0.5)
+        .tolerance(1e-8)
+        .interval(0.01)
+        .dense_output(true);
+    let once = model.simulate(&opts).unwrap();
+    let mut sim = model.simulation(&opts).unwrap();
+    let mut calls = 0u64;
+    let mut t_prev = sim.time();
+    while sim.time() < 0.5 {
+        let t = sim.step().unwrap();
+        assert!(t > t_prev, "step() did not advance from {t_prev}");
+        t_prev = t;
+        calls += 1;
+    }
+    // At the stop time it does nothing.
+    assert_eq!(sim.step().unwrap(), 0.5);
+    let stepped = sim.into_result();
+    assert_eq!(once.stats.solver, stepped.stats.solver);
+    assert_eq!(calls, stepped.stats.solver.steps);
+    assert_eq!(once.time(), stepped.time());
+    assert_eq!(
+        once.signal("rev1.phi").unwrap().data,
+        stepped.signal("rev1.phi").unwrap().data
+    );
+
+    // A monitor: the first time rev1.phi crosses a level it reaches after 0.25 s (the mean
+    // of its values at 0.25 s and 0.26 s), located in the step by bisection on the dense
+    // output, which reaches past the last output point to the step's end, against the same
+    // crossing found on a 1e-5 s grid of the one-shot run (both read IDA's interpolant of
+    // the same steps: 1e-9 s covers the grid run's linear interpolation, O(h²·φ''/φ') with
+    // h = 1e-5 s).
+    let level = 0.5
+        * (once.signal_at("rev1.phi", 0.25).unwrap()[0]
+            + once.signal_at("rev1.phi", 0.26).unwrap()[0]);
+    let mut sim = model.simulation(&opts).unwrap();
+    let phi = |sim: &mut Simulation| sim.output("rev1.phi").unwrap()[0];
+    let side = phi(&mut sim) > level;
+    let (mut a, mut b) = (0.0, 0.0);
+    while sim.time() < 0.5 {
+        a = sim.time();
+        b = sim.step().unwrap();
+        if (phi(&mut sim) > level) != side {
+            break;
+        }
+    }
+    let res = sim.result();
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        if (res.signal_at("rev1.phi", m).unwrap()[0] > level) == side {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    let fine = model
+        .simulate(&opts.clone().interval(1e-5).dense_output(false))
+        .unwrap();
+    let (t, v) = (fine.time(), fine.signal("rev1.phi").unwrap().values());
+    let k = (1..t.len()).find(|&k| (v[k] > level) != side).unwrap();
+    let grid = t[k - 1] + (t[k] - t[k - 1]) * (level - v[k - 1]) / (v[k] - v[k - 1]);
+    assert!((a - grid).abs() < 1e-9, "monitor {a} against grid {grid}");
+}
+
 #[test]
 fn stepping_in_1ms_steps_matches_one_simulate_call() {
     let model = double_pendulum().build().unwrap();

@@ -478,6 +478,8 @@ pub struct Simulation {
     h_max: Option<f64>,
     /// Inputs changed since the last restart: the next step restarts IDA.
     inputs_changed: bool,
+    /// `advance` returns after the first step it takes ([`Simulation::step`]).
+    one_step: bool,
     stalled: u32,
     last_event_t: f64,
     wall: f64,
@@ -598,6 +600,7 @@ impl Simulation {
             last_event_t: f64::NEG_INFINITY,
             wall: 0.0,
             call_started: started,
+            one_step: false,
             progress: None,
             phase_scratch: Default::default(),
             guard_due: true,
@@ -649,6 +652,44 @@ impl Simulation {
             kind,
             partial: Box::new(self.result.clone()),
         })
+    }
+
+    /// Takes one step of the solver, of the size its error control chooses (at most to the
+    /// next scheduled action or the stop time), handling an event or a time event at its end
+    /// and recording the output points it passes (and its end with
+    /// [`SimOptions::output_steps`]); returns the time reached \[s\]. At the stop time it
+    /// does nothing. For a host program that watches the motion step by step and stops where
+    /// it wants (a monitor, an optimisation that cuts a run short), as `mj_step` serves
+    /// MuJoCo users: [`Simulation::state`] and [`Simulation::output`] read the state there,
+    /// and the dense output ([`SimOptions::dense_output`]) interpolates within the step. On
+    /// failure as [`Simulation::advance_to`].
+    pub fn step(&mut self) -> Result<f64, SimError> {
+        let started = Instant::now();
+        self.call_started = started;
+        let outcome = self.one_step_with_actions();
+        self.one_step = false;
+        self.wall += started.elapsed().as_secs_f64();
+        self.update_stats();
+        self.update_warnings();
+        self.report_warnings();
+        match outcome {
+            Ok(()) => Ok(self.time()),
+            Err(kind) => Err(SimError {
+                kind,
+                partial: Box::new(self.result.clone()),
+            }),
+        }
+    }
+
+    /// [`Simulation::step`]: the actions due now first, then one step towards the next one.
+    fn one_step_with_actions(&mut self) -> Result<(), SimErrorKind> {
+        let now = self.time();
+        self.advance_with_actions(now)?;
+        let target = self
+            .next_action_time()
+            .map_or(self.opts.stop_time, |a| a.min(self.opts.stop_time));
+        self.one_step = true;
+        self.advance(target)
     }
 
     /// The start warnings and those of the run so far; new ones are traced.
@@ -786,6 +827,9 @@ impl Simulation {
                 if t < target - eps {
                     self.restart(t)?;
                     self.ida.set_stop_time(stop(t_event))?;
+                    if self.one_step {
+                        return Ok(());
+                    }
                     continue;
                 }
                 // At the target: the next call restarts from here.
@@ -814,6 +858,9 @@ impl Simulation {
                     return Ok(());
                 }
                 _ => {}
+            }
+            if self.one_step {
+                return Ok(());
             }
         }
     }

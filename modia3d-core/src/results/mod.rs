@@ -1084,7 +1084,9 @@ impl SimulationResult {
     /// solver's for orders up to 3. With [`SimOptions::dense_output`](crate::SimOptions::dense_output)
     /// joint and object signals are evaluated at the state that IDA's own interpolating
     /// polynomial of the step containing `t` gives (the solver's order and accuracy, exact at
-    /// steps and events). `t` outside the recorded time is an error.
+    /// steps and events), up to the end of the last solver step, which may lie past the last
+    /// output point of a run advanced by [`Simulation::step`](crate::Simulation::step).
+    /// `t` outside the recorded time is an error.
     /// In a run with structure changes the segment holding `t` answers (the later one at an
     /// action's time).
     pub fn signal_at(&self, name: &str, t: f64) -> Result<Vec<f64>, ResultError> {
@@ -1106,13 +1108,26 @@ impl SimulationResult {
                 end: f64::NAN,
             });
         };
-        if !(t >= first && t <= last) {
-            return Err(ResultError::OutOfRange {
-                name: name.into(),
-                t,
-                start: first,
-                end: last,
-            });
+        // The dense output reaches past the last output point to the end of the last solver
+        // step (a run advanced with `Simulation::step` stops between output points).
+        let end = self.dense.steps.last().map_or(last, |st| st.t1.max(last));
+        let out_of_range = || ResultError::OutOfRange {
+            name: name.into(),
+            t,
+            start: first,
+            end: last,
+        };
+        if !(t >= first && t <= end) {
+            return Err(out_of_range());
+        }
+        if t > last {
+            if let Some(v) = self.dense_signal_at(name, t) {
+                return Ok(v);
+            }
+            return match self.dense_load_at(name, t) {
+                Some(v) => v,
+                None => Err(out_of_range()),
+            };
         }
         // Exact at a recorded point (the last one recorded at that time: after an event).
         if let Some(k) = time.iter().rposition(|&x| x == t) {

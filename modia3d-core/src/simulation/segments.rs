@@ -202,6 +202,11 @@ impl Simulation {
         self.advance(t)
     }
 
+    /// Time \[s\] of the next scheduled action not carried out yet.
+    pub(super) fn next_action_time(&self) -> Option<f64> {
+        self.segments.schedule.get(self.segments.next).map(|a| a.at)
+    }
+
     /// Carries out `action` at the current time (see the module docs).
     fn apply(&mut self, action: &Action) -> Result<(), ActionError> {
         let t = self.time();
