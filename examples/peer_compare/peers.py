@@ -608,9 +608,16 @@ def walk_ladder(sc, make, ladder, log):
 
 
 def median_wall(runner, first_wall):
+    """Median wall of RUNS runs (the ladder's run among them). A repeat over the cap (a
+    setting whose first run took just under it) ends the repeats: the median of the runs
+    made, which for a run near the cap says it costs about the cap either way."""
     walls = [first_wall]
     for _ in range(RUNS - 1):
-        w, _ = one_run(runner)
+        try:
+            w, _ = one_run(runner)
+        except OverCap:
+            walls.append(CAP)
+            break
         walls.append(w)
     walls.sort()
     return walls[len(walls) // 2]
