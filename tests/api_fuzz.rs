@@ -413,9 +413,29 @@ fn sequence(seed: u64, tally: &mut Tally) {
                     1 => *rng.pick(&[f64::NAN, f64::INFINITY, f64::NEG_INFINITY]),
                     2 => opts.stop_time + span * rng.unit(), // past the stop time
                     3 => sim.time() + 1e-15,                 // a tiny step
+                    4 => f64::NAN,                           // single solver steps instead
                     _ => sim.time() + 0.3 * span * rng.unit(),
                 };
-                match sim.advance_to(t) {
+                let outcome = if t.is_nan() && rng.below(2) == 0 {
+                    // A few single steps: each ends later, never past the stop time.
+                    let mut r = Ok(());
+                    for _ in 0..rng.below(20) + 1 {
+                        let before = sim.time();
+                        match sim.step() {
+                            Ok(t) => {
+                                assert!(t >= before && t <= opts.stop_time, "{before} → {t}")
+                            }
+                            Err(e) => {
+                                r = Err(e);
+                                break;
+                            }
+                        }
+                    }
+                    r
+                } else {
+                    sim.advance_to(t)
+                };
+                match outcome {
                     Ok(()) => tally.ok_calls += 1,
                     Err(e) => {
                         tally.sim_error(&e);
