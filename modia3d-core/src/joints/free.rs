@@ -8,7 +8,8 @@
 //!   R f)`: the dynamic rows are the Newton–Euler equations resolved in obj1; the quaternion
 //!   rate is `½ (0, ω) ⊗ q`. For a body alone in its joint tree (obj1 fixed to the world, no
 //!   body carried) whose centre of mass is its origin and whose collision shapes are spheres
-//!   or cylinders about it: a ball rolling at speed `v` turns its own frame at `v/r`, so in the child
+//!   about it, or cylinders about it under the volume law (`ContactProfile::Volume`, the
+//!   default): a ball rolling at speed `v` turns its own frame at `v/r`, so in the child
 //!   frame its velocity components oscillate at that rate (tens of rad/s for a billiard ball)
 //!   while in obj1 they are constant, and IDA's error test bounds the local error of each
 //!   component: billiards16 at rtol 1e-5 took 13,045 steps in the child frame and 8,846 in
@@ -25,12 +26,12 @@
 //!   other shapes pressed hard into a contact (an ellipsoid, a cone) failed Newton's method far
 //!   more often with their velocities in obj1 and the DAE's own Jacobian columns (not with the
 //!   solver's difference quotients); the cause is not found (both columns match central
-//!   differences, `dae/jacobian.rs` tests), so they keep the child frame. Cylinders were among
-//!   them under the paper's point law; under the volume law they roll on their line contact
-//!   and gain (above), and the 10,000 random scenes finish as before (99.52 % within 20 s).
-//!   The one scene known to lose is a 0.65 g steel cylinder thrown spinning onto a steel
-//!   table (`tests/regressions.rs`, without rolling resistance): it ends in ~20 s instead of
-//!   ~7.5 s.
+//!   differences, `dae/jacobian.rs` tests), so they keep the child frame. Cylinders are among
+//!   them under the point laws of the other profiles, where they rock on single points: in
+//!   obj1 a 0.65 g steel cylinder thrown spinning onto a steel table (`tests/regressions.rs`,
+//!   the paper's law) ended in ~20 s instead of ~7.5 s and `falling_boxes` under the paper's
+//!   law took 17,557 steps instead of 15,859. Under the volume law they roll on their line
+//!   contact and gain (above).
 //!
 //! The builder's `v` is `der(r)` in obj1 and its `w` is resolved in obj2 (as in Modia3D); the
 //! `v` and `w` signals are those, whatever the frame of the states. The quaternion rate
