@@ -35,6 +35,18 @@ fn downhill_speed(res: &SimulationResult, alpha: f64, t: f64) -> f64 {
     demo::downhill_speed(res, alpha, t).unwrap_or(f64::NAN)
 }
 
+/// How a run's error against the rigid answer is read.
+enum Error {
+    /// From the result of a run to the stop time.
+    Of(Box<dyn Fn(&SimulationResult) -> f64>),
+    /// The relative error of a crossing time \[s\]: the run goes step by step
+    /// (`Simulation::step`) and stops at the first step whose end has the tilt of the pivot's
+    /// cube at or below 0, as the peers' runners stop at the crossing
+    /// (docs/peer-comparison.md); the crossing is located within that step on IDA's
+    /// interpolant (`SimOptions::dense_output`).
+    Crossing(f64),
+}
+
 /// A scene, its stop time, its output interval and its error against the rigid answer.
 struct Case {
     name: &'static str,
@@ -42,13 +54,7 @@ struct Case {
     stop: f64,
     /// Output interval \[s\]: the times the error reads are output points.
     interval: f64,
-    error: Box<dyn Fn(&SimulationResult) -> f64>,
-    /// A crossing time to watch for instead: the run goes step by step
-    /// (`Simulation::step`) and stops at the first step whose end has the tilt of the pivot's
-    /// cube at or below 0, as the peers' runners stop at the crossing
-    /// (docs/peer-comparison.md); the crossing is located within that step on IDA's
-    /// interpolant (`SimOptions::dense_output`) and `error` is then unused.
-    crossing: Option<f64>,
+    error: Error,
     /// Whether the error reads per-pair contact signals (`<pair>.f_n`): only then does the
     /// run record them (`SimOptions::contact_results`), at the output points only
     /// (`contact_phases(false)`: the error reads no contact phase).
@@ -107,13 +113,12 @@ fn cases() -> Vec<Case> {
             stop: 0.5,
             interval: 0.01,
             contact_signals: false,
-            crossing: None,
-            error: Box::new(move |res| {
+            error: Error::Of(Box::new(move |res| {
                 let a =
                     (downhill_speed(res, incline, 0.5) - downhill_speed(res, incline, 0.1)) / 0.4;
                 let rigid = G * (incline.sin() - 0.3 * incline.cos());
                 ((a - rigid) / rigid).abs()
-            }),
+            })),
         },
         Case {
             name: "block sliding to rest from 1 m/s (distance)",
@@ -131,12 +136,11 @@ fn cases() -> Vec<Case> {
             stop: 0.6,
             interval: 0.01,
             contact_signals: false,
-            crossing: None,
-            error: Box::new(|res| {
+            error: Error::Of(Box::new(|res| {
                 let d = res.signal("body.r_abs").unwrap().last().unwrap()[0] + 1.0;
                 let rigid = 1.0 / (2.0 * 0.3 * G);
                 ((d - rigid) / rigid).abs()
-            }),
+            })),
         },
         Case {
             name: "stack of three cubes (interface forces)",
@@ -144,8 +148,7 @@ fn cases() -> Vec<Case> {
             stop: 0.5,
             interval: 0.01,
             contact_signals: true,
-            crossing: None,
-            error: Box::new(|res| {
+            error: Error::Of(Box::new(|res| {
                 let w = 0.7 * G;
                 ["table|b0", "b0|b1", "b1|b2"]
                     .iter()
@@ -156,7 +159,7 @@ fn cases() -> Vec<Case> {
                         ((f - e) / e).abs()
                     })
                     .fold(0.0, f64::max)
-            }),
+            })),
         },
         Case {
             name: "cube pivoting on an edge (Housner, fall-back time)",
@@ -164,8 +167,7 @@ fn cases() -> Vec<Case> {
             stop: 1.1 * t_housner,
             interval: 0.01,
             contact_signals: false,
-            error: Box::new(|_| f64::NAN),
-            crossing: Some(t_housner),
+            error: Error::Crossing(t_housner),
         },
         Case {
             name: "cylinder rolling down a 20° incline (acceleration)",
@@ -173,8 +175,7 @@ fn cases() -> Vec<Case> {
             stop: 0.5,
             interval: 0.01,
             contact_signals: false,
-            error: cyl_error,
-            crossing: None,
+            error: Error::Of(cyl_error),
         },
         Case {
             name: "ball rolling down a 20° incline (acceleration; Hertz)",
@@ -182,8 +183,7 @@ fn cases() -> Vec<Case> {
             stop: 0.5,
             interval: 0.01,
             contact_signals: false,
-            error: ball_error,
-            crossing: None,
+            error: Error::Of(ball_error),
         },
     ]
 }
@@ -251,19 +251,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .analytic_jacobian(std::env::var("VC_DQ").is_err())
                 .jacobian_reuse(std::env::var("VC_NOREUSE").is_err())
                 .progress(false);
-            let opts = opts.dense_output(case.crossing.is_some());
+            let opts = opts.dense_output(matches!(case.error, Error::Crossing(_)));
             let mut walls = vec![];
             let mut last = None;
             for _ in 0..runs {
                 let t0 = Instant::now();
                 // (result, error, simulated span [s])
-                let (res, error, span) = match case.crossing {
-                    None => {
+                let (res, error, span) = match &case.error {
+                    Error::Of(error) => {
                         let res = model.simulate(&opts)?;
-                        let e = (case.error)(&res);
+                        let e = error(&res);
                         (res, e, case.stop)
                     }
-                    Some(t_ref) => {
+                    &Error::Crossing(t_ref) => {
                         let (res, t_hit) = until_level_ground(&model, &opts)?;
                         (res, ((t_hit - t_ref) / t_ref).abs(), t_hit)
                     }

@@ -138,6 +138,23 @@ fn slider_between_stops_loses_energy_as_e_squared_says() {
                 .progress(false),
         )
         .unwrap();
+    // Without phases (`contact_phases(false)`) a scene whose only stops are joint limits
+    // says which option it needs: the contact results were asked for.
+    let lean = s
+        .build()
+        .unwrap()
+        .simulate(
+            &SimOptions::new(0.2)
+                .contact_results(true)
+                .contact_phases(false)
+                .progress(false),
+        )
+        .unwrap();
+    let err = lean.contacts().unwrap_err();
+    assert!(
+        matches!(err, ResultError::ContactPhasesOff { .. }),
+        "{err:?}"
+    );
     // The speed at the middle of each flight (half-way between the end of one phase and the
     // start of the next).
     let phases = res.contacts().unwrap();

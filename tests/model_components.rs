@@ -16,26 +16,7 @@ const J_MOTOR: f64 = 0.0000135 + 0.000000409;
 
 /// The builder scene of tests/drive_trains.rs, with the block names of the `model!` below.
 fn builder_scene() -> SceneDesc {
-    let mut scene = SceneDesc::new();
-    let j = 0.32;
-    scene
-        .add(Object3D::new("world").scene(SceneOptions::default()))
-        .add(Object3D::new("load").solid(
-            Solid::new(Shape::Sphere { diameter: 0.1 }).mass_properties(
-                1.0,
-                Vector3::zeros(),
-                Matrix3::from_diagonal_element(j),
-            ),
-        ))
-        .add_joint(Joint::new("rev", "world", "load", JointKind::revolute(3)));
-    scene.add_component(ComponentDecl::new(
-        "ramp",
-        Ramp {
-            height: 2.95,
-            duration: 1.18,
-            ..Default::default()
-        },
-    ));
+    let mut scene = load_with_ramp();
     scene
         .add_component(ComponentDecl::new("gain_outer", Gain { k: 156.0 }).input("u", "ramp.y"))
         .add_component(

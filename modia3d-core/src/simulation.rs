@@ -641,9 +641,19 @@ impl Simulation {
     /// carrying out the scene's actions scheduled up to `t` and recording output points. On failure the error carries the results up to the failure; the
     /// simulation can then only be [`reset`](Self::reset).
     pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+        self.call(|sim| sim.advance_with_actions(t))
+    }
+
+    /// One public advancing call: `run` timed against the wall budget and added to the wall
+    /// time, then the statistics and warnings brought up to date; a failure carries the
+    /// results up to it.
+    fn call(
+        &mut self,
+        run: impl FnOnce(&mut Self) -> Result<(), SimErrorKind>,
+    ) -> Result<(), SimError> {
         let started = Instant::now();
         self.call_started = started;
-        let outcome = self.advance_with_actions(t);
+        let outcome = run(self);
         self.wall += started.elapsed().as_secs_f64();
         self.update_stats();
         self.update_warnings();
@@ -664,21 +674,8 @@ impl Simulation {
     /// and the dense output ([`SimOptions::dense_output`]) interpolates within the step. On
     /// failure as [`Simulation::advance_to`].
     pub fn step(&mut self) -> Result<f64, SimError> {
-        let started = Instant::now();
-        self.call_started = started;
-        let outcome = self.one_step_with_actions();
-        self.one_step = false;
-        self.wall += started.elapsed().as_secs_f64();
-        self.update_stats();
-        self.update_warnings();
-        self.report_warnings();
-        match outcome {
-            Ok(()) => Ok(self.time()),
-            Err(kind) => Err(SimError {
-                kind,
-                partial: Box::new(self.result.clone()),
-            }),
-        }
+        self.call(Self::one_step_with_actions)?;
+        Ok(self.time())
     }
 
     /// [`Simulation::step`]: the actions due now first, then one step towards the next one.
@@ -689,7 +686,9 @@ impl Simulation {
             .next_action_time()
             .map_or(self.opts.stop_time, |a| a.min(self.opts.stop_time));
         self.one_step = true;
-        self.advance(target)
+        let outcome = self.advance(target);
+        self.one_step = false;
+        outcome
     }
 
     /// The start warnings and those of the run so far; new ones are traced.

@@ -1599,17 +1599,6 @@ pub(super) mod tests {
         s
     }
 
-    /// `DaeSystem::quotient_residual` gives the bits of `residual` at every one-coordinate
-    /// perturbation of a state with eight contacts, and at perturbations of one coordinate of
-    /// every tree at once (a colour), called in a row after one `begin_quotients` as the
-    /// Jacobian calls them. A quotient places only the touched bodies (the others restored
-    /// from the Jacobian's point: the test fails without the restore), reuses the narrow
-    /// phase of pairs of unmoved bodies, and computes the dynamics rows of the trees touched
-    /// or coupled to them by a pair in the set (b1–b2) only (the test fails without the
-    /// contact couplings). The tip's pair must be recomputed when the rod turns (its body is
-    /// the rod's child): the rod's angle changes the tip's rows, so a reuse there would show.
-    /// Exact equality: every skipped quantity is a function of inputs the perturbation leaves
-    /// as they were, computed by the same operations.
     /// Two links on revolute joints driven by every block that has states or feedthrough
     /// (an elastic-gear DC drive under a PI speed loop and a limiter, a rigid drive under a
     /// `LimPID`, a `PID`, a `FirstOrder`, an `Integrator`, sums and expression inputs), so the
@@ -1812,6 +1801,47 @@ pub(super) mod tests {
         assert!(!st.analytic[st.block_of[xo]]);
     }
 
+    /// A source (no states, no inputs) has no partial derivatives to give: one written without
+    /// `provides_jacobian` leaves the states' columns analytic.
+    #[test]
+    fn a_source_needs_no_jacobian() {
+        #[derive(Debug)]
+        struct Clock;
+        impl crate::scene::Component for Clock {
+            fn kind(&self) -> &'static str {
+                "Clock"
+            }
+            fn inputs(&self) -> Vec<crate::scene::PortSpec> {
+                vec![]
+            }
+            fn outputs(&self) -> Vec<crate::scene::OutputSpec> {
+                vec![crate::scene::OutputSpec::new("y", "s", false)]
+            }
+            fn outputs_at(&self, io: &crate::scene::ComponentIo<'_>, y: &mut [f64]) {
+                y[0] = io.t;
+            }
+        }
+        let mut s = servo_scene();
+        s.add_component(crate::scene::ComponentDecl::new("clock", Clock));
+        let model = s.build().unwrap();
+        let mut dae = MultibodyDae::new(model.plan.clone(), model.contact.clone());
+        let mut st = BlockStructure::default();
+        assert!(dae.jacobian_structure(&mut st));
+        let xo = dae.plan().x_offset();
+        assert!(st.analytic[st.block_of[xo]]);
+    }
+
+    /// `DaeSystem::quotient_residual` gives the bits of `residual` at every one-coordinate
+    /// perturbation of a state with eight contacts, and at perturbations of one coordinate of
+    /// every tree at once (a colour), called in a row after one `begin_quotients` as the
+    /// Jacobian calls them. A quotient places only the touched bodies (the others restored
+    /// from the Jacobian's point: the test fails without the restore), reuses the narrow
+    /// phase of pairs of unmoved bodies, and computes the dynamics rows of the trees touched
+    /// or coupled to them by a pair in the set (b1–b2) only (the test fails without the
+    /// contact couplings). The tip's pair must be recomputed when the rod turns (its body is
+    /// the rod's child): the rod's angle changes the tip's rows, so a reuse there would show.
+    /// Exact equality: every skipped quantity is a function of inputs the perturbation leaves
+    /// as they were, computed by the same operations.
     #[test]
     fn quotient_residuals_match_the_full_residual_bit_for_bit() {
         let model = scene_with_arm().build().unwrap();

@@ -105,8 +105,8 @@ pub(crate) struct ComponentPlan {
     /// consistent derivatives then iterate on them.
     pub reads_acceleration: bool,
     /// Whether every component gives its partial derivatives
-    /// ([`Component::provides_jacobian`]): the states' columns are then formed by
-    /// [`ComponentState::state_columns`].
+    /// ([`Component::provides_jacobian`]) or has none (no states and no inputs): the states'
+    /// columns are then formed by [`ComponentState::state_columns`].
     pub all_jacobians: bool,
     /// Sizes of the six partial-derivative arrays of all components together.
     jac_len: [usize; 6],
@@ -241,7 +241,10 @@ impl ComponentPlan {
                 })
         });
         p.order.clone_from(&vc.order);
-        p.all_jacobians = vc.list.iter().all(|c| c.component.provides_jacobian());
+        // A component without states and inputs (a source) has no partial derivatives to give.
+        p.all_jacobians = vc.list.iter().all(|c| {
+            (c.states.is_empty() && c.inputs.is_empty()) || c.component.provides_jacobian()
+        });
         p.jac_len = jac_len;
         (p.nx, p.ny, p.nd, p.nz, p.nu, p.nfl, p.n_dep) = (nx, ny, nd, nz, nu, nfl, n_dep);
         p.nv = nv;

@@ -291,6 +291,8 @@ pub struct SimulationResult {
     contacts: Option<ContactRecord>,
     /// Contact phases (with `contact_results`).
     phases: Option<PhaseBook>,
+    /// The run recorded contact results without phases (`SimOptions::contact_phases(false)`).
+    phases_off: bool,
     /// Constraint multipliers `λ` of closed loops (`Plan::loops.m()` per time point).
     multipliers: Vec<f64>,
     /// The joint limits' force signals (name, unit), one per limited coordinate
@@ -449,6 +451,7 @@ impl SimulationResult {
             warnings: vec![],
             contacts: None,
             phases: None,
+            phases_off: false,
             multipliers: vec![],
             limit_signals: vec![],
             limit_forces: vec![],
@@ -536,6 +539,7 @@ impl SimulationResult {
 
     /// Records the per-pair contact signals and, with `phases`, the contact phases.
     pub(crate) fn enable_contact_record(&mut self, phases: bool) {
+        self.phases_off = !phases;
         if let Some(cp) = &self.model.contact {
             self.contacts = Some(ContactRecord::default());
             if phases {
@@ -709,7 +713,7 @@ impl SimulationResult {
         match (&self.phases, &self.model.contact) {
             (Some(book), _) => Ok(&book.phases),
             (None, None) if self.limit_stops.is_empty() => Ok(&[]),
-            (None, _) if self.contacts.is_some() => Err(ResultError::ContactPhasesOff {
+            (None, _) if self.phases_off => Err(ResultError::ContactPhasesOff {
                 what: "contacts()".into(),
             }),
             (None, _) => Err(ResultError::ContactResultsOff {

@@ -38,8 +38,8 @@ impl SimulationResult {
             done: vec![],
             time: old.time.clone(),
         });
-        if old.contacts.is_some() {
-            self.enable_contact_record(old.phases.is_some());
+        if old.contacts.is_some() || old.phases.is_some() || old.phases_off {
+            self.enable_contact_record(!old.phases_off);
         }
         if let Some(book) = old.phases.as_mut() {
             for ph in book.phases.iter_mut().filter(|ph| ph.end.is_none()) {

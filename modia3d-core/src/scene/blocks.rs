@@ -56,10 +56,6 @@ impl Component for Constant {
     fn kind(&self) -> &'static str {
         "Constant"
     }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
-    }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
     }
@@ -89,10 +85,6 @@ pub struct Step {
 impl Component for Step {
     fn kind(&self) -> &'static str {
         "Step"
-    }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -135,10 +127,6 @@ pub struct Ramp {
 impl Component for Ramp {
     fn kind(&self) -> &'static str {
         "Ramp"
-    }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -194,10 +182,6 @@ impl Component for Sine {
     fn kind(&self) -> &'static str {
         "Sine"
     }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
-    }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
     }
@@ -237,10 +221,6 @@ pub struct Table {
 impl Component for Table {
     fn kind(&self) -> &'static str {
         "Table"
-    }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -296,10 +276,6 @@ pub struct Input {
 impl Component for Input {
     fn kind(&self) -> &'static str {
         "Input"
-    }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -379,10 +355,6 @@ impl PtpPath {
 impl Component for PtpPath {
     fn kind(&self) -> &'static str {
         "PtpPath"
-    }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
-    fn provides_jacobian(&self) -> bool {
-        true
     }
     fn inputs(&self) -> Vec<PortSpec> {
         vec![]
@@ -1227,7 +1199,7 @@ impl Component for Sampled {
     fn kind(&self) -> &'static str {
         "Sampled"
     }
-    /// Its outputs depend on time and discrete states only: every partial derivative is 0.
+    /// Its output is a discrete state: every partial derivative is 0.
     fn provides_jacobian(&self) -> bool {
         true
     }

@@ -196,7 +196,8 @@ pub trait Component: fmt::Debug + Send + Sync {
     /// no. When every component of a scene says yes, the iteration matrix's columns of the
     /// components' states are formed from them by the chain rule through the signals
     /// (docs/drive-trains.md, "Jacobian"), exactly and without a residual evaluation per
-    /// state; otherwise those columns are difference quotients of the residual.
+    /// state; otherwise those columns are difference quotients of the residual. A component
+    /// without states and inputs (a source) has none to give and needs not say so.
     fn provides_jacobian(&self) -> bool {
         false
     }
