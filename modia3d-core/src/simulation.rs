@@ -17,6 +17,7 @@ use std::time::Instant;
 mod contact_phases;
 mod diagnosis;
 mod options;
+mod preload;
 mod segments;
 mod steady_state;
 mod warnings;
@@ -542,10 +543,14 @@ impl Simulation {
             result.enable_contact_record(opts.contact_phases);
         }
         let t0 = opts.start_time;
-        let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
-        dae.set_analytic_jacobian(opts.analytic_jacobian);
-        dae.set_contact_tightening(opts.effective_contact_tightening());
-        dae.set_tolerance(opts.rtol);
+        let new_dae = || {
+            let mut dae = MultibodyDae::new(plan.clone(), model.contact.clone());
+            dae.set_analytic_jacobian(opts.analytic_jacobian);
+            dae.set_contact_tightening(opts.effective_contact_tightening());
+            dae.set_tolerance(opts.rtol);
+            dae
+        };
+        let mut dae = new_dae();
         let mut y0 = plan.y0();
         // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
         y0.resize(crate::solver::DaeSystem::len(&dae), 0.0);
@@ -564,6 +569,17 @@ impl Simulation {
         if opts.steady_state {
             if let Err(e) = steady_state::solve(&mut dae, t0, &mut y0) {
                 return Err(fail(e, result));
+            }
+        }
+        if opts.preload_contacts && preload::solve(&mut dae, t0, &mut y0) {
+            // The preloaded start as a first event: a fresh contact set, so every pair in it
+            // starts here (its phase, its `δ̇⁻`) as from the given positions.
+            dae = new_dae();
+            if let Err(f) = dae.component_event(t0, &y0) {
+                return Err(fail(f.into(), result));
+            }
+            if let Err(e) = dae.handle_event(t0, &y0) {
+                return Err(fail(e.into(), result));
             }
         }
         let yp0 = match dae.consistent_derivative(t0, &mut y0) {

@@ -91,6 +91,19 @@ pub(super) struct PairSlot {
     used: bool,
 }
 
+/// A pair of the contact set at rest along its normal ([`ContactState::resting_volume_pairs`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RestingPair {
+    /// Index in the contact set.
+    pub k: usize,
+    /// The bodies of shape a and shape b (`None` = fixed to the world).
+    pub bodies: [Option<crate::dynamics::BodyId>; 2],
+    /// Point \[m\] and unit normal (from a to b), resolved in world, at the touch.
+    pub point: Vector3<f64>,
+    /// See `point`.
+    pub normal: Vector3<f64>,
+}
+
 /// Key of the shape pair `{a, b}` (either order).
 #[inline]
 fn key(a: usize, b: usize) -> u64 {
@@ -1037,6 +1050,32 @@ impl ContactState {
     pub(crate) fn active_pair(&self, k: usize) -> (&PairPlan, &PairState) {
         let sl = &self.slots[self.active[k] as usize];
         (&sl.plan, &sl.state)
+    }
+
+    /// The pairs of the contact set under the volume law whose penetration velocity at their
+    /// start `δ̇⁻` is at most `speed` \[m/s\] in size (bodies placed resting on one another),
+    /// each with its index `k` in the set, its bodies (shape a's, shape b's; `None` = fixed)
+    /// and the point \[m\] and unit normal (from a to b) of its last narrow phase (for the
+    /// contact preload, `simulation/preload.rs`: right after an event, where a touching pair's
+    /// overlap is still empty, these are its touch).
+    pub(crate) fn resting_volume_pairs(&self, cp: &ContactPlan, speed: f64) -> Vec<RestingPair> {
+        (0..self.active.len())
+            .filter_map(|k| {
+                let p = self.active[k] as usize;
+                let sl = &self.slots[p];
+                (sl.plan.law != PairLaw::Point && sl.state.delta_dot_minus.abs() <= speed).then(
+                    || {
+                        let sd = &sl.state.geometry;
+                        RestingPair {
+                            k,
+                            bodies: [cp.shapes[sl.plan.a].body, cp.shapes[sl.plan.b].body],
+                            point: self.point(cp, p, sd),
+                            normal: sd.normal,
+                        }
+                    },
+                )
+            })
+            .collect()
     }
 
     /// Pose of shape `s` as the last evaluation placed it (for a shape fixed to the world: its

@@ -24,7 +24,7 @@ mod step_guard;
 // `ContactError` is public (re-exported by lib.rs: `SimErrorKind::Contact` carries it); the
 // rest of the contact stage is internal.
 pub use contact_set::ContactError;
-pub(crate) use contact_set::{ContactState, Mode, PairGeometry, PairState};
+pub(crate) use contact_set::{ContactState, Mode, PairGeometry, PairState, RestingPair};
 pub(crate) use initial::initial_penetrations;
 pub use limits::DEFAULT_STOP_FREQUENCY;
 pub(crate) use limits::{LimitPlan, LimitState};

@@ -5,7 +5,7 @@
 //! stage calls and allocates nothing.
 
 use crate::contact::{
-    ContactError, ContactPlan, ContactState, LimitPlan, LimitState, Mode, StepGuard,
+    ContactError, ContactPlan, ContactState, LimitPlan, LimitState, Mode, RestingPair, StepGuard,
 };
 use crate::dynamics::components::{ComponentState, Point};
 use crate::dynamics::forces::UserFault;
@@ -720,6 +720,48 @@ impl MultibodyDae {
             yp[xo..xo + cs.xdot.len()].copy_from_slice(&cs.xdot);
         }
         Ok(yp)
+    }
+
+    /// The pairs of the contact set under the volume law at rest along their normal (see
+    /// [`ContactState::resting_volume_pairs`]); empty without collision pairs.
+    pub(crate) fn resting_volume_pairs(&self, speed: f64) -> Vec<RestingPair> {
+        match (self.contact.as_ref(), self.contact_plan.as_deref()) {
+            (Some(cs), Some(cp)) => cs.resting_volume_pairs(cp, speed),
+            _ => vec![],
+        }
+    }
+
+    /// For each pair of `pairs`: the normal component \[m/s²\] of the acceleration of its
+    /// body b relative to its body a at the pair's contact point (> 0 separating), from the
+    /// joint accelerations `vd` at positions `q`: `J(q)·v̇`, without the terms in the products
+    /// of velocities (zero for bodies at rest). The point and normal are those of the pair's
+    /// response when it carries a force (the overlap's centroid and normal), else the pair's
+    /// own (its touch). Uses the workspace's velocities as scratch: the next evaluation sets
+    /// them again.
+    pub(crate) fn normal_accelerations(
+        &mut self,
+        q: &[f64],
+        vd: &[f64],
+        pairs: &[RestingPair],
+        out: &mut Vec<f64>,
+    ) {
+        out.clear();
+        kinematics::position_velocity(&self.plan, &mut self.ws, q, vd);
+        let Some(cs) = self.contact.as_ref() else {
+            return;
+        };
+        for rp in pairs {
+            let (_, ps) = cs.active_pair(rp.k);
+            let r = &ps.response;
+            let (point, normal) = if r.f_n > 0.0 {
+                (r.point, r.normal)
+            } else {
+                (rp.point, rp.normal)
+            };
+            let (a1, _) = kinematics::point_velocity(&self.ws, rp.bodies[0], &point);
+            let (a2, _) = kinematics::point_velocity(&self.ws, rp.bodies[1], &point);
+            out.push((a2 - a1).dot(&normal));
+        }
     }
 
     /// Takes the first failure of a user force law since the last call (see
