@@ -259,8 +259,10 @@ fn ida_options(
     plan: &crate::dynamics::Plan,
     opts: &SimOptions,
     n: usize,
-    root_directions: Option<Vec<i32>>,
+    dae: &MultibodyDae,
 ) -> IdaOptions {
+    let volume_law = dae.contact_plan().is_some_and(|cp| cp.has_volume_law());
+    let root_directions = dae.root_directions();
     IdaOptions {
         rtol: opts.rtol,
         atol: loop_atol(plan, n, opts.effective_atol(&plan.scene.options)),
@@ -282,7 +284,13 @@ fn ida_options(
         // A stricter Newton test for the index-2 multipliers: on the free four-bar at rtol
         // 1e-10 it takes 11,400 steps over 5 s instead of 16,300 (fewer error-test failures
         // from inexact λ) and drifts less in energy.
-        nonlinear_convergence_coefficient: (plan.loops.m() > 0).then_some(0.05),
+        nonlinear_convergence_coefficient: match (plan.loops.m() > 0, volume_law) {
+            (_, true) => {
+                Some((VOLUME_NEWTON_PRODUCT / opts.rtol).clamp(VOLUME_NEWTON_COEFFICIENT, 0.33))
+            }
+            (true, false) => Some(0.05),
+            (false, false) => None,
+        },
         // IDA's own first step comes from ‖y'‖ and, with velocities starting at zero and
         // large accelerations, can be 1e-17 s, where the index-2 iteration matrix (condition
         // ∝ 1/h²) defeats Newton's method (Andrews' squeezer fails at t = 0 so); a first
@@ -296,6 +304,28 @@ fn ida_options(
         ..IdaOptions::default()
     }
 }
+
+/// IDA's Newton convergence coefficient in a scene with pairs under the volume law
+/// (`IDASetNonlinConvCoef`; IDA's own is 0.33, closed loops alone take 0.05). IDA accepts a
+/// corrector whose error is this fraction of the error test's tolerance, in the weighted norm
+/// of the states; but a volume-law force is `κ·V`, with a static depth of ~1e-8 m for wooden
+/// bodies, far below the positions' tolerance (`rtol·|r|`), so what IDA's 0.33 admits in a
+/// position is a force error the error test never sees. A wooden cylinder rolling down an
+/// incline fed on it: its tilt rate grew 5–10× per 19 ms step from 1e-10 rad/s until the
+/// steps collapsed (96 IDA steps at rtol 1e-2; 80 with 0.05, 76 with 0.02, 63 with 0.01). With
+/// 0.01 a cube sliding down an incline is 2e-11 off the rigid acceleration at rtol 1e-2
+/// (2.1e-3 with 0.33), the pivot and the rolling cylinder take 34–42 % fewer steps at rtol
+/// 1e-6 (379 and 250 instead of 575 and 432), and `falling_boxes` at rtol 1e-5 13,957 instead
+/// of 15,133 (BENCHMARKS.md, "Face contacts"). Scenes without such pairs keep IDA's coefficient, bit for bit. At tight
+/// tolerances the depth is resolved and the corrector's error meets the rounding of the
+/// forces instead (the same cube sliding to rest at rtol 1e-10 with 0.01: 499,771 Newton
+/// failures by t = 0.04 s), so the coefficient is `1e-8/rtol` within `[0.01, 0.33]`
+/// ([`VOLUME_NEWTON_PRODUCT`]): 0.01 from rtol 1e-6 up, IDA's 0.33 from 3e-8 down.
+const VOLUME_NEWTON_COEFFICIENT: f64 = 0.01;
+
+/// See [`VOLUME_NEWTON_COEFFICIENT`]: the product of Newton's coefficient and rtol below which
+/// the coefficient is not taken.
+const VOLUME_NEWTON_PRODUCT: f64 = 1e-8;
 
 /// First step of a run with closed loops, as a fraction of its span (see `Simulation::new`).
 const LOOP_FIRST_STEP: f64 = 1e-6;
@@ -587,7 +617,7 @@ impl Simulation {
             Err(e) => return Err(fail(derivative_error(e, t0), result)),
         };
         let root_functions = dae.num_roots_public();
-        let ida_opts = ida_options(&plan, opts, y0.len(), dae.root_directions());
+        let ida_opts = ida_options(&plan, opts, y0.len(), &dae);
         if let Some((lp, _)) = dae.limits() {
             result.enable_limits(lp, opts.contact_results && opts.contact_phases);
         }

@@ -190,6 +190,16 @@ struct PairMaterial {
 }
 
 impl ContactPlan {
+    /// Whether the scene can have a pair under the volume law: a shape on a moving body and
+    /// another shape with the volume law's form (`ContactProfile::Volume`; boxes, beams,
+    /// hulls, mesh parts, cylinders, cones). Sufficient for the run's settings that such
+    /// pairs need (`simulation.rs`, `ida_options`), not a promise that two of them meet.
+    pub(crate) fn has_volume_law(&self) -> bool {
+        let mut volumes = self.shapes.iter().filter(|s| s.volume.is_some());
+        let n = volumes.clone().count();
+        n >= 2 && volumes.any(|s| s.body.is_some())
+    }
+
     /// The narrow phase's stopping length \[m\] for shapes `a` and `b`: `mpr_tolerance` times
     /// the sum of their bounding radii (`geometry/narrow_phase/mod.rs`), the precision to
     /// which their signed distance is known.

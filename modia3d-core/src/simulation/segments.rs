@@ -279,7 +279,7 @@ impl Simulation {
             .consistent_derivative(t, &mut y)
             .map_err(|e| derivative_error(e, t))?;
         let roots = dae.num_roots_public();
-        let ida_opts = ida_options(&model.plan, &self.opts, y.len(), dae.root_directions());
+        let ida_opts = ida_options(&model.plan, &self.opts, y.len(), &dae);
         let ida = Ida::new(dae, t, &y, &yp, &ida_opts)?;
         // Nothing fails from here on: the run switches to the new structure.
         let old_ida = std::mem::replace(&mut self.ida, ida);
