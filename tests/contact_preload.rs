@@ -109,17 +109,7 @@ fn the_preload_moves_each_cube_by_its_static_depth_only() {
 /// given).
 #[test]
 fn spheres_impacts_and_deep_starts_start_as_given() {
-    let ball = on_incline(
-        Shape::Sphere { diameter: 0.1 },
-        0.05,
-        0.0,
-        0.0,
-        0.0,
-        [0.0; 3],
-        "DryWood",
-        ContactPairMaterial::new(0.6, 0.3, 0.001),
-        SceneOptions::default(),
-    );
+    let ball = on_plank(Shape::Sphere { diameter: 0.1 }, 0.05);
     let cube = |height: f64| box_drop(height, if height < 0.05 { 0.0 } else { -0.5 });
     for (name, scene) in [
         ("ball at rest", ball),
@@ -140,13 +130,11 @@ fn spheres_impacts_and_deep_starts_start_as_given() {
     }
 }
 
-/// A 0.1 m DryWood cube (`body`) above a DryWood plank (`plank`, top face at z = 0) with its
-/// centre at `height` \[m\], moving vertically at `vz` [m/s].
-fn box_drop(height: f64, vz: f64) -> SceneDesc {
-    let mut s = on_incline(
-        Shape::Box {
-            lengths: Vector3::new(0.1, 0.1, 0.1),
-        },
+/// A DryWood `shape` (`body`) at rest above a flat DryWood plank (`plank`, top face at
+/// z = 0) with its centre at `height` \[m\].
+fn on_plank(shape: Shape, height: f64) -> SceneDesc {
+    on_incline(
+        shape,
         height,
         0.0,
         0.0,
@@ -155,6 +143,17 @@ fn box_drop(height: f64, vz: f64) -> SceneDesc {
         "DryWood",
         ContactPairMaterial::new(0.6, 0.3, 0.001),
         SceneOptions::default(),
+    )
+}
+
+/// A 0.1 m DryWood cube on [`on_plank`] with its centre at `height` \[m\], moving vertically
+/// at `vz` [m/s].
+fn box_drop(height: f64, vz: f64) -> SceneDesc {
+    let mut s = on_plank(
+        Shape::Box {
+            lengths: Vector3::new(0.1, 0.1, 0.1),
+        },
+        height,
     );
     for j in &mut s.joints {
         if let JointKind::FreeMotion { v, .. } = &mut j.kind {
