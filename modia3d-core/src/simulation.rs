@@ -284,13 +284,16 @@ fn ida_options(
         // A stricter Newton test for the index-2 multipliers: on the free four-bar at rtol
         // 1e-10 it takes 11,400 steps over 5 s instead of 16,300 (fewer error-test failures
         // from inexact λ) and drifts less in energy.
-        nonlinear_convergence_coefficient: match (plan.loops.m() > 0, volume_law) {
-            (_, true) => {
-                Some((VOLUME_NEWTON_PRODUCT / opts.rtol).clamp(VOLUME_NEWTON_COEFFICIENT, 0.33))
-            }
-            (true, false) => Some(0.05),
-            (false, false) => None,
-        },
+        // With both, the stricter of the two.
+        nonlinear_convergence_coefficient: [
+            (plan.loops.m() > 0).then_some(LOOP_NEWTON_COEFFICIENT),
+            volume_law.then(|| {
+                (VOLUME_NEWTON_PRODUCT / opts.rtol).clamp(VOLUME_NEWTON_COEFFICIENT, 0.33)
+            }),
+        ]
+        .into_iter()
+        .flatten()
+        .reduce(f64::min),
         // IDA's own first step comes from ‖y'‖ and, with velocities starting at zero and
         // large accelerations, can be 1e-17 s, where the index-2 iteration matrix (condition
         // ∝ 1/h²) defeats Newton's method (Andrews' squeezer fails at t = 0 so); a first
@@ -315,13 +318,19 @@ fn ida_options(
 /// steps collapsed (96 IDA steps at rtol 1e-2; 80 with 0.05, 76 with 0.02, 63 with 0.01). With
 /// 0.01 a cube sliding down an incline is 2e-11 off the rigid acceleration at rtol 1e-2
 /// (2.1e-3 with 0.33), the pivot and the rolling cylinder take 34–42 % fewer steps at rtol
-/// 1e-6 (379 and 250 instead of 575 and 432), and `falling_boxes` at rtol 1e-5 13,957 instead
-/// of 15,133 (BENCHMARKS.md, "Face contacts"). Scenes without such pairs keep IDA's coefficient, bit for bit. At tight
-/// tolerances the depth is resolved and the corrector's error meets the rounding of the
-/// forces instead (the same cube sliding to rest at rtol 1e-10 with 0.01: 499,771 Newton
-/// failures by t = 0.04 s), so the coefficient is `1e-8/rtol` within `[0.01, 0.33]`
-/// ([`VOLUME_NEWTON_PRODUCT`]): 0.01 from rtol 1e-6 up, IDA's 0.33 from 3e-8 down.
+/// 1e-6 (379 and 250 instead of 575 and 432), and `falling_boxes` at rtol 1e-5 13,957
+/// instead of 15,133 (BENCHMARKS.md, "Face contacts"). Scenes without such pairs keep IDA's
+/// coefficient, bit for bit. At tight tolerances the depth is resolved and the corrector's
+/// error meets the rounding of the forces instead (the same cube sliding to rest at rtol
+/// 1e-10 with 0.01: 499,771 Newton failures by t = 0.04 s), so the coefficient is
+/// `1e-8/rtol` within `[0.01, 0.33]` ([`VOLUME_NEWTON_PRODUCT`]): 0.01 from rtol 1e-6 up,
+/// IDA's 0.33 from 3e-8 down. A scene with closed loops too takes the smaller of this and
+/// [`LOOP_NEWTON_COEFFICIENT`].
 const VOLUME_NEWTON_COEFFICIENT: f64 = 0.01;
+
+/// IDA's Newton convergence coefficient with closed loops: a stricter test for the index-2
+/// multipliers (see `ida_options`).
+const LOOP_NEWTON_COEFFICIENT: f64 = 0.05;
 
 /// See [`VOLUME_NEWTON_COEFFICIENT`]: the product of Newton's coefficient and rtol below which
 /// the coefficient is not taken.
@@ -580,6 +589,14 @@ impl Simulation {
             dae.set_tolerance(opts.rtol);
             dae
         };
+        // The start at `y0`: the components' discrete states (limiters' modes, samplers' first
+        // tick), then the initial contact set (event mode); consistent derivatives including
+        // contacts follow.
+        let begin = |dae: &mut MultibodyDae, y0: &[f64]| -> Result<(), SimErrorKind> {
+            dae.component_event(t0, y0)?;
+            dae.handle_event(t0, y0)?;
+            Ok(())
+        };
         let mut dae = new_dae();
         let mut y0 = plan.y0();
         // A scene without unknowns integrates one dummy state (see `MultibodyDae::len`).
@@ -588,13 +605,8 @@ impl Simulation {
         for (slot, &x) in y0.iter_mut().skip(xo).zip(&plan.components.x0) {
             *slot = x;
         }
-        // The components' discrete states at the start (limiters' modes, samplers' first tick).
-        if let Err(f) = dae.component_event(t0, &y0) {
-            return Err(fail(f.into(), result));
-        }
-        // The initial contact set (event mode), then consistent derivatives including contacts.
-        if let Err(e) = dae.handle_event(t0, &y0) {
-            return Err(fail(e.into(), result));
+        if let Err(e) = begin(&mut dae, &y0) {
+            return Err(fail(e, result));
         }
         if opts.steady_state {
             if let Err(e) = steady_state::solve(&mut dae, t0, &mut y0) {
@@ -605,11 +617,8 @@ impl Simulation {
             // The preloaded start as a first event: a fresh contact set, so every pair in it
             // starts here (its phase, its `δ̇⁻`) as from the given positions.
             dae = new_dae();
-            if let Err(f) = dae.component_event(t0, &y0) {
-                return Err(fail(f.into(), result));
-            }
-            if let Err(e) = dae.handle_event(t0, &y0) {
-                return Err(fail(e.into(), result));
+            if let Err(e) = begin(&mut dae, &y0) {
+                return Err(fail(e, result));
             }
         }
         let yp0 = match dae.consistent_derivative(t0, &mut y0) {

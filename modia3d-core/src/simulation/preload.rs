@@ -106,13 +106,14 @@ pub(super) fn solve(dae: &mut MultibodyDae, t: f64, y: &mut [f64]) -> bool {
             .all(|a| a.is_finite())
             .then(|| DVector::from_column_slice(&buf))
     };
-    let restore = |y: &mut [f64]| {
-        for (&u, &s) in unknowns.iter().zip(&start) {
-            y[u] = s;
+    // Writes `x` into the unknowns of `y`.
+    let put = |y: &mut [f64], x: &[f64]| {
+        for (&u, &v) in unknowns.iter().zip(x) {
+            y[u] = v;
         }
     };
     let Some(mut f) = accelerations(dae, y) else {
-        restore(y);
+        put(y, &start);
         return false;
     };
     if f.amax() == 0.0 {
@@ -147,10 +148,12 @@ pub(super) fn solve(dae: &mut MultibodyDae, t: f64, y: &mut [f64]) -> bool {
         let base: Vec<f64> = unknowns.iter().map(|&u| y[u]).collect();
         let mut lambda = 1.0;
         let mut next = None;
+        let mut trial = base.clone();
         for _ in 0..MAX_HALVINGS {
-            for (k, &u) in unknowns.iter().enumerate() {
-                y[u] = base[k] + lambda * step[k];
+            for ((x, b), s) in trial.iter_mut().zip(&base).zip(step.iter()) {
+                *x = b + lambda * s;
             }
+            put(y, &trial);
             match accelerations(dae, y) {
                 Some(g) if g.norm() < f.norm() => {
                     next = Some(g);
@@ -160,9 +163,7 @@ pub(super) fn solve(dae: &mut MultibodyDae, t: f64, y: &mut [f64]) -> bool {
             }
         }
         let Some(g) = next else {
-            for (k, &u) in unknowns.iter().enumerate() {
-                y[u] = base[k];
-            }
+            put(y, &base);
             if fresh {
                 break;
             }
@@ -184,7 +185,7 @@ pub(super) fn solve(dae: &mut MultibodyDae, t: f64, y: &mut [f64]) -> bool {
         .zip(&start)
         .all(|(&u, &s)| (y[u] - s).abs() <= REACH);
     if !(solved && near) {
-        restore(y);
+        put(y, &start);
         return false;
     }
     true
