@@ -55,7 +55,9 @@ pub struct ContactPairInfo {
     /// Regularisation velocity [m/s] of the `cor` blend (and of a point law's friction).
     pub v_min: f64,
     /// Regularisation velocity of sliding and spin friction [m/s]: `v_min` for a point law;
-    /// for the volume law the pair material's `v_min`, else `SceneOptions::v_min_volume`.
+    /// for the volume law the pair material's `v_min`, else `SceneOptions::v_min_volume`,
+    /// raised for a light body under a heavy scene (up to 10×; docs/contact-model.md §3.2,
+    /// "Friction's regularisation").
     pub v_slip: f64,
     /// Regularisation angular velocity [rad/s].
     pub w_min: f64,
