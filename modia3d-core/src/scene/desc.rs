@@ -96,7 +96,7 @@ pub struct SceneOptions {
     /// volume law whose contact-pair material sets no `v_min` regularises its friction at this
     /// speed instead of `v_min`. A contact held by friction creeps at about
     /// `v_min_volume·|F_t/f_n|/(3 μ_k)`, and the error it makes is proportional: a 0.1 m cube
-    /// pivoting on its edge falls back 3.4e-4 late with 1e-3 and 3.8e-5 with 1e-4 (the
+    /// pivoting on its edge falls back 3.4e-4 early with 1e-3 and 3.8e-5 with 1e-4 (the
     /// paper's 0.01 m/s: 3.2e-3). A pair whose lighter body is light against the whole scene
     /// gets up to ten times this (its friction's time constant stays ≥ 1e-7 s). Its `cor`
     /// blend and resting damping keep `v_min`; pairs with a sphere are unaffected.
